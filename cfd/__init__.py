@@ -1,0 +1,7 @@
+"""lfdrom.cfd: a compact 2-D Euler solver (cell-centred JST) on NACA C-grids, and its linearisation.
+
+Public entry points are listed in shared/DESIGN.md; this package knows nothing of identification.
+"""
+
+from .errors import ConvergenceError, FlowConditionError, GeometryError, MeshError
+from .mesh import Grid, grid_from_nodes

@@ -1,0 +1,1 @@
+"""lfdrom.studies: case catalogue, study files, runner, results store and reports."""

@@ -1,0 +1,33 @@
+"""Typed exceptions of the identification layer.
+
+Each subclasses a built-in exception so that callers may catch either the specific type or the
+built-in one (``except ValueError``). Messages say what was wrong and what to do about it.
+"""
+
+__all__ = [
+    "FrequencyDataError",
+    "FrequencyGridError",
+    "OrderError",
+    "ConstraintError",
+    "SolverError",
+]
+
+
+class FrequencyDataError(ValueError):
+    """Frequency-response data are malformed: wrong shape, NaN or inf, inconsistent sizes."""
+
+
+class FrequencyGridError(ValueError):
+    """Frequencies are unusable: not equispaced where required, outside [0, pi], T <= 0, ..."""
+
+
+class OrderError(ValueError):
+    """The requested model order is not supported by the data or by the Hankel sizes."""
+
+
+class ConstraintError(ValueError):
+    """A requested constraint cannot be imposed (e.g. a DC constraint with a pole at z = 1)."""
+
+
+class SolverError(RuntimeError):
+    """A convex solver failed (infeasible, unbounded or numerical failure)."""

@@ -1,0 +1,35 @@
+import numpy as np
+import pytest
+
+from cfd import MeshError, grid_from_nodes
+
+
+def _annulus(ni=41, nj=9, r0=1.0, r1=3.0):
+    # Nodes ordered with i clockwise and j outward: right-handed (i, j) in the sense of cfd.mesh.
+    theta = np.linspace(0.0, -1.5 * np.pi, ni)
+    r = np.geomspace(r0, r1, nj)
+    return np.outer(np.cos(theta), r), np.outer(np.sin(theta), r)
+
+
+def test_metrics_close_every_cell_and_sum_to_the_exact_area():
+    x, y = _annulus()
+    g = grid_from_nodes(x, y, n_wake=0)
+    closure = g.si[:, 1:, :] - g.si[:, :-1, :] + g.sj[:, :, 1:] - g.sj[:, :, :-1]
+    assert np.max(np.abs(closure)) < 1e-14
+    # Polygonal annulus sector area: sum of trapezoids between the polygonal arcs.
+    chords = lambda j: 0.5 * np.abs(x[:-1, j] * y[1:, j] - x[1:, j] * y[:-1, j]).sum()
+    assert g.area.sum() == pytest.approx(chords(-1) - chords(0), rel=1e-13)
+
+
+@pytest.mark.parametrize(
+    "mutate, match",
+    [
+        (lambda x, y: (x[:, ::-1], y[:, ::-1]), "inverted"),
+        (lambda x, y: (x[:5], y[:5]), "too small"),
+        (lambda x, y: (np.where(x > 2.5, np.nan, x), y), "NaN"),
+    ],
+)
+def test_bad_grids_raise_mesh_error(mutate, match):
+    x, y = _annulus()
+    with pytest.raises(MeshError, match=match):
+        grid_from_nodes(*mutate(x, y), n_wake=0)
