@@ -1,0 +1,619 @@
+"""Convex refits of the input/output matrices of a discrete state-space model.
+
+Given the state matrix ``A`` and one of the output/input matrices (``C`` or ``B``) of
+
+    G(z) = C (z I - A)^-1 B + D,
+
+the remaining matrices enter ``G`` linearly, so fitting them to frequency-response samples
+``G_k = G(z_k)``, ``z_k = exp(1j omega_d_k)``, is a (weighted) linear least-squares problem in real
+unknowns (step 6 of McKelvey's algorithms; real and imaginary parts are stacked). Two exact linear
+equality constraints can be added, which is what makes the refit more than least squares:
+
+- DC gain (``dc_gain``, ``z = 1``):          C (I - A)^-1 B + D = G_0,
+- Nyquist value (``feedthrough``, ``z = -1``): C (-I - A)^-1 B + D = D_c, the continuous feedthrough under
+  the bilinear map (``omega = infinity``); 0 for the aerofoil-gust systems. It is supplied, never solved for.
+
+Numerics
+--------
+For every input column ``j`` the unknowns are ``theta_j = [B[:, j]; D[:, j]]`` (``n + p`` reals) and
+the weighted regression matrix ``Phi_j`` (``2 K p`` rows) is column-equilibrated and factorised by a thin
+SVD, ``Phi_j = U S V^T``. In the reduced coordinates ``y = S~ V^T theta`` (``S~ = sqrt(S^2 + eps^2)``,
+``eps = 1e-13 S_max`` -- an invisible ridge that only matters when ``Phi`` is numerically rank deficient)
+the cost is ``||y - h||^2 + const`` with an identity regression matrix, and the constraints become
+``Q_e^T y = f^`` with orthonormal ``Q_e``. Both are perfectly conditioned, whatever the scaling of ``A``.
+
+Two solvers, same problem:
+
+- ``solver="clarabel"`` (default; what :func:`sysid.identify` uses for constrained refits): a cvxpy
+  problem solved by Clarabel. It is built ONCE per shape (``n, m, p, K``, constraint set, weight shape)
+  with cvxpy Parameters (``h``, ``Q_e``, ``f^``), so it is DPP and a re-solve only assigns Parameter values
+  (no recompilation). After the solve the constraint residual is measured in the original units; if it
+  exceeds ``tol`` (1e-10 by default) the solution is polished by the exact orthogonal projection onto the
+  constraint set in the reduced coordinates (the minimum-cost correction), reported as ``polished=True``.
+  Without constraints the minimiser is ``y = h`` in closed form and no solver is called
+  (``solver="closed-form"`` in the result).
+- ``solver="numpy"``: closed-form null-space method in the original coordinates (particular solution of
+  the constraints plus a least-squares fit in the null space of the constraint matrix). It shares no code
+  with the reduced-coordinate path and serves as the oracle in the tests.
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+from collections import OrderedDict
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .errors import ConstraintError, FrequencyDataError, SolverError
+
+__all__ = [
+    "BDFit",
+    "CDFit",
+    "AlternatingFit",
+    "fit_bd",
+    "fit_cd",
+    "fit_alternating",
+    "frequency_response",
+    "clear_refit_cache",
+]
+
+#: Distance of an eigenvalue of ``A`` to ``z = +-1`` below which a constraint there is refused.
+POLE_TOL = 1e-8
+#: Relative singular-value floor of the (column-scaled) regression matrix (invisible ridge).
+_RCOND = 1e-13
+#: Maximum number of compiled cvxpy problems kept (least recently used are dropped).
+_CACHE_SIZE = 64
+_PROBLEM_CACHE: "OrderedDict[tuple, _CompiledRefit]" = OrderedDict()
+
+
+# --------------------------------------------------------------------------------------------- results
+@dataclass(frozen=True)
+class BDFit:
+    """Result of :func:`fit_bd`.
+
+    Attributes
+    ----------
+    B : ndarray, shape (n, m), real
+    D : ndarray, shape (p, m), real
+    residual : float
+        Weighted least-squares cost ``sum w |G_k - G_model(z_k)|^2`` (weights as given; 1 if none).
+    status : str
+        Solver status (``"optimal"``, ``"optimal_inaccurate"``, ...).
+    solver : str
+        ``"clarabel"``, ``"numpy"`` or ``"closed-form"`` (no constraints: exact minimiser, no solver call).
+    constraint_residual : float
+        Max abs violation of the imposed equalities after polishing (0.0 when none are imposed).
+    solver_constraint_residual : float
+        The same, straight from the solver, before any polishing.
+    polished : bool
+        True when the solver's answer was projected onto the constraint set to reach ``tol``.
+    reused_problem : bool
+        True when a cached, already compiled cvxpy problem was re-solved with new Parameter values.
+    solve_time : float
+        Wall time of the call in seconds.
+    """
+
+    B: np.ndarray
+    D: np.ndarray
+    residual: float
+    status: str
+    solver: str = "closed-form"
+    constraint_residual: float = 0.0
+    solver_constraint_residual: float = 0.0
+    polished: bool = False
+    reused_problem: bool = False
+    solve_time: float = 0.0
+
+
+@dataclass(frozen=True)
+class CDFit:
+    """Result of :func:`fit_cd`: ``C`` (p, n) and ``D`` (p, m), real; other fields as in :class:`BDFit`."""
+
+    C: np.ndarray
+    D: np.ndarray
+    residual: float
+    status: str
+    solver: str = "closed-form"
+    constraint_residual: float = 0.0
+    solver_constraint_residual: float = 0.0
+    polished: bool = False
+    reused_problem: bool = False
+    solve_time: float = 0.0
+
+
+@dataclass(frozen=True)
+class AlternatingFit:
+    """Result of :func:`fit_alternating`.
+
+    Attributes
+    ----------
+    B, C, D : ndarray, shapes (n, m), (p, n), (p, m)
+    residual : float
+        Final weighted least-squares cost.
+    history : tuple of float
+        Cost after every half step (B/D, C/D, B/D, ...); non-increasing up to solver accuracy.
+    iterations : int
+        Number of full (B/D then C/D) iterations done.
+    status : str
+        Status of the last solve.
+    constraint_residual : float
+        Max abs violation of the imposed equalities at the returned (B, C, D).
+    """
+
+    B: np.ndarray
+    C: np.ndarray
+    D: np.ndarray
+    residual: float
+    history: tuple = field(default_factory=tuple)
+    iterations: int = 0
+    status: str = "optimal"
+    constraint_residual: float = 0.0
+
+
+# --------------------------------------------------------------------------------------------- helpers
+def _as_real_matrix(X, name: str, shape=None) -> np.ndarray:
+    X = np.asarray(X)
+    if np.iscomplexobj(X):
+        if np.abs(X.imag).max(initial=0.0) > 0:
+            raise FrequencyDataError(f"{name} must be real; got complex entries. Pass a real state-space matrix.")
+        X = X.real
+    X = np.asarray(X, dtype=float)
+    if X.ndim != 2:
+        raise FrequencyDataError(f"{name} must be a 2-D array; got shape {X.shape}.")
+    if shape is not None:
+        for got, want, axis in zip(X.shape, shape, ("rows", "columns")):
+            if want is not None and got != want:
+                raise FrequencyDataError(f"{name} has shape {X.shape}; expected {axis} = {want}.")
+    if not np.all(np.isfinite(X)):
+        raise FrequencyDataError(f"{name} contains NaN or inf; identify again or clean the data.")
+    return X
+
+
+def _validate(A, C, z, G, weights, dc_gain, feedthrough):
+    A = _as_real_matrix(A, "A")
+    n = A.shape[0]
+    if A.shape != (n, n) or n == 0:
+        raise FrequencyDataError(f"A must be square and non-empty; got shape {A.shape}.")
+    C = _as_real_matrix(C, "C (or B^T)", (None, n))
+    p = C.shape[0]
+    z = np.asarray(z, dtype=complex).ravel()
+    K = z.size
+    G = np.asarray(G)
+    if G.ndim == 1 and p == 1:
+        G = G.reshape(1, 1, -1)
+    if G.ndim != 3 or G.shape[0] != p or G.shape[2] != K:
+        raise FrequencyDataError(
+            f"G must have shape (p, m, K) = ({p}, m, {K}) to match C and z; got {G.shape}."
+        )
+    G = G.astype(complex)
+    if not (np.all(np.isfinite(G)) and np.all(np.isfinite(z))):
+        raise FrequencyDataError("G or z contains NaN or inf; remove or repair those frequency samples.")
+    m = G.shape[1]
+    if weights is not None:
+        w = np.asarray(weights, dtype=float)
+        if w.shape == (K,):
+            pass
+        elif w.shape == (p, m, K):
+            pass
+        else:
+            raise FrequencyDataError(f"weights must have shape (K,) = ({K},) or (p, m, K) = ({p}, {m}, {K}); got {w.shape}.")
+        if not np.all(np.isfinite(w)) or np.any(w < 0):
+            raise FrequencyDataError("weights must be finite and nonnegative.")
+        weights = w
+    cons = []
+    for name, val, z0 in (("dc_gain", dc_gain, 1.0), ("feedthrough", feedthrough, -1.0)):
+        if val is None:
+            continue
+        v = np.asarray(val)
+        if np.iscomplexobj(v):
+            if np.abs(v.imag).max(initial=0.0) > 1e-12 * max(1.0, np.abs(v).max(initial=0.0)):
+                raise ConstraintError(
+                    f"{name} must be real (G at z = {z0:+.0f} of a real system is real); got complex values. "
+                    "Pass its real part."
+                )
+            v = v.real
+        v = np.asarray(v, dtype=float)
+        if v.ndim == 0 and p == 1 and m == 1:
+            v = v.reshape(1, 1)
+        if v.shape != (p, m):
+            raise ConstraintError(f"{name} must have shape (p, m) = ({p}, {m}); got {v.shape}.")
+        if not np.all(np.isfinite(v)):
+            raise ConstraintError(f"{name} contains NaN or inf.")
+        cons.append((name, z0, v))
+    return A, C, z, G, weights, cons, n, p, m, K
+
+
+def frequency_response(A, B, C, D, z) -> np.ndarray:
+    """Evaluate ``G(z_k) = C (z_k I - A)^-1 B + D``.
+
+    Parameters
+    ----------
+    A, B, C, D : ndarray, shapes (n, n), (n, m), (p, n), (p, m)
+    z : ndarray, shape (K,), complex
+
+    Returns
+    -------
+    ndarray, shape (p, m, K), complex
+    """
+    A = np.asarray(A, dtype=float)
+    B = np.asarray(B, dtype=float)
+    C = np.asarray(C, dtype=float)
+    D = np.asarray(D, dtype=float)
+    z = np.asarray(z, dtype=complex).ravel()
+    n = A.shape[0]
+    M = z[:, None, None] * np.eye(n) - A  # (K, n, n)
+    X = np.linalg.solve(M, np.broadcast_to(B, (z.size,) + B.shape))  # (K, n, m)
+    H = C @ X + D  # (K, p, m)
+    return np.moveaxis(H, 0, -1)
+
+
+def _output_rows(A, C, z) -> np.ndarray:
+    """``F_k = C (z_k I - A)^-1`` for all k, shape (K, p, n), by one batched solve."""
+    n = A.shape[0]
+    M = z[:, None, None] * np.eye(n) - A.T  # (z I - A)^T
+    X = np.linalg.solve(M, np.broadcast_to(C.T, (z.size,) + C.T.shape))  # (K, n, p)
+    return np.swapaxes(X, 1, 2)
+
+
+def _constraint_rows(A, C, cons):
+    """Constraint matrix E (c, n+p) and right-hand sides F (c, m) for the imposed equalities."""
+    n = A.shape[0]
+    p = C.shape[0]
+    eig = np.linalg.eigvals(A) if cons else np.array([])
+    E_blocks, F_blocks = [], []
+    for name, z0, val in cons:
+        dist = float(np.min(np.abs(eig - z0)))
+        if dist < POLE_TOL:
+            where = "z = 1 (DC, omega = 0)" if z0 > 0 else "z = -1 (Nyquist, omega = infinity)"
+            fix = (
+                "drop dc_gain, or identify with stable=True (poles pulled inside radius 1 - margin) or at a lower order"
+                if z0 > 0
+                else "drop feedthrough, or identify with stable=True or at a lower order"
+            )
+            raise ConstraintError(
+                f"{name} cannot be imposed: A has an eigenvalue at {where} (distance {dist:.2e} < {POLE_TOL:g}), "
+                f"so C (zI - A)^-1 is undefined there. Fix: {fix}."
+            )
+        F0 = np.linalg.solve((z0 * np.eye(n) - A).T, C.T).T  # C (z0 I - A)^-1, (p, n)
+        E_blocks.append(np.hstack([F0, np.eye(p)]))
+        F_blocks.append(val)
+    if not cons:
+        return np.zeros((0, n + p)), np.zeros((0, 0))
+    return np.vstack(E_blocks), np.vstack(F_blocks)
+
+
+def _regressions(F, G, weights, m):
+    """Per input column j: weighted real regression (Phi_j, g_j), stacked Re then Im.
+
+    Rows are ordered (part, k, i) with part in (Re, Im). Returns lists of length m; the Phi_j are the
+    same object when the weights do not depend on the channel.
+    """
+    K, p, n = F.shape
+    base = np.concatenate([F, np.broadcast_to(np.eye(p), (K, p, p))], axis=2).reshape(K * p, n + p)
+    Phis, gs = [], []
+    shared = None
+    for j in range(m):
+        gj = G[:, j, :].T.reshape(K * p)  # row k*p + i holds G[i, j, k]
+        if weights is None:
+            sw = None
+        elif weights.ndim == 1:
+            sw = np.repeat(np.sqrt(weights), p)
+        else:
+            sw = np.sqrt(weights[:, j, :]).T.reshape(K * p)
+        if sw is None or weights.ndim == 1:
+            if shared is None:
+                Pc = base if sw is None else base * sw[:, None]
+                shared = np.vstack([Pc.real, Pc.imag])
+            Phi = shared
+        else:
+            Pc = base * sw[:, None]
+            Phi = np.vstack([Pc.real, Pc.imag])
+        if sw is not None:
+            gj = gj * sw
+        Phis.append(Phi)
+        gs.append(np.concatenate([gj.real, gj.imag]))
+    return Phis, gs
+
+
+def _reduce(Phi):
+    """Column-equilibrated SVD of Phi: returns (U, S, S~, M) with theta = M @ y, y = S~ V^T (cols-scaled theta)."""
+    s = np.linalg.norm(Phi, axis=0)
+    s[s == 0] = 1.0
+    U, S, Vt = np.linalg.svd(Phi / s, full_matrices=False)
+    eps = _RCOND * (S[0] if S.size else 1.0)
+    St = np.sqrt(S**2 + eps**2)
+    M = (Vt.T / St) / s[:, None]
+    return U, S, St, M
+
+
+class _CompiledRefit:
+    """A DPP cvxpy problem ``min sum_j ||y_j - h_j||^2 s.t. Q_j^T y_j = f_j`` built once per shape."""
+
+    def __init__(self, N: int, c: int, m: int):
+        import cvxpy as cp
+
+        self.y = [cp.Variable(N, name=f"y{j}") for j in range(m)]
+        self.h = [cp.Parameter(N, name=f"h{j}") for j in range(m)]
+        self.Q = [cp.Parameter((N, c), name=f"Q{j}") for j in range(m)]
+        self.f = [cp.Parameter(c, name=f"f{j}") for j in range(m)]
+        obj = cp.Minimize(sum(cp.sum_squares(self.y[j] - self.h[j]) for j in range(m)))
+        cons = [self.Q[j].T @ self.y[j] == self.f[j] for j in range(m)]
+        self.problem = cp.Problem(obj, cons)
+        assert self.problem.is_dpp()
+        self.n_solves = 0
+
+
+def clear_refit_cache() -> None:
+    """Forget all compiled refit problems (the next constrained refit compiles again)."""
+    _PROBLEM_CACHE.clear()
+
+
+def _get_compiled(key, N, c, m):
+    prob = _PROBLEM_CACHE.get(key)
+    reused = prob is not None
+    if prob is None:
+        prob = _CompiledRefit(N, c, m)
+        _PROBLEM_CACHE[key] = prob
+        while len(_PROBLEM_CACHE) > _CACHE_SIZE:
+            _PROBLEM_CACHE.popitem(last=False)
+    else:
+        _PROBLEM_CACHE.move_to_end(key)
+    return prob, reused
+
+
+def _solve_clarabel(key, hs, Qs, fs, m, N, c):
+    import cvxpy as cp
+
+    comp, reused = _get_compiled(key, N, c, m)
+    for j in range(m):
+        comp.h[j].value = hs[j]
+        comp.Q[j].value = Qs[j]
+        comp.f[j].value = fs[j]
+    try:
+        comp.problem.solve(
+            solver=cp.CLARABEL, tol_gap_abs=1e-12, tol_gap_rel=1e-12, tol_feas=1e-12, max_iter=200
+        )
+    except cp.error.SolverError as exc:  # pragma: no cover - depends on solver internals
+        raise SolverError(
+            f"Clarabel failed on the B/D refit ({exc}). Try solver='numpy', fewer constraints or a lower order."
+        ) from exc
+    status = comp.problem.status
+    if status not in ("optimal", "optimal_inaccurate") or any(y.value is None for y in comp.y):
+        raise SolverError(
+            f"Clarabel returned status {status!r} on the B/D refit. The constraints may be inconsistent; "
+            "try solver='numpy', drop a constraint or lower the order."
+        )
+    if status == "optimal_inaccurate":
+        warnings.warn(
+            "Clarabel reported 'optimal_inaccurate' on the B/D refit; the result is polished onto the "
+            "constraints but its cost may be slightly above optimal.",
+            RuntimeWarning,
+            stacklevel=4,
+        )
+    comp.n_solves += 1
+    return [np.asarray(y.value, dtype=float) for y in comp.y], status, reused
+
+
+def _null_space_solve(Phi, g, E, f):
+    """Closed-form constrained LS: theta = theta_p + Z w, E theta_p = f, E Z = 0 (the oracle)."""
+    Nn = Phi.shape[1]
+    if E.shape[0] == 0:
+        return np.linalg.lstsq(Phi, g, rcond=None)[0]
+    Qf, Rf = np.linalg.qr(E.T, mode="complete")  # E^T = Qf [R; 0]
+    c = E.shape[0]
+    R = Rf[:c, :c]
+    theta_p = Qf[:, :c] @ np.linalg.solve(R.T, f)
+    Z = Qf[:, c:]
+    if Z.shape[1] == 0:
+        return theta_p
+    w = np.linalg.lstsq(Phi @ Z, g - Phi @ theta_p, rcond=None)[0]
+    return theta_p + Z @ w
+
+
+# --------------------------------------------------------------------------------------------- public API
+def fit_bd(A, C, z, G, *, weights=None, dc_gain=None, feedthrough=None, solver: str = "clarabel", tol: float = 1e-10) -> BDFit:
+    """Fit ``B`` and ``D`` of ``G(z) = C (zI - A)^-1 B + D`` to samples, optionally with exact constraints.
+
+    Parameters
+    ----------
+    A : ndarray, shape (n, n), real
+        Discrete state matrix (kept fixed).
+    C : ndarray, shape (p, n), real
+        Output matrix (kept fixed).
+    z : ndarray, shape (K,), complex
+        Sample points, ``z = exp(1j omega_d)`` with ``omega_d`` in rad/sample.
+    G : ndarray, shape (p, m, K), complex
+        Frequency-response samples (``(K,)`` accepted for SISO).
+    weights : ndarray, shape (K,) or (p, m, K), nonnegative, optional
+        Weights of the squared residuals: the cost is ``sum w |G_k - G(z_k)|^2`` (use ``1/sigma^2`` for
+        noise of standard deviation ``sigma``).
+    dc_gain : ndarray, shape (p, m), real, optional
+        Imposes ``C (I - A)^-1 B + D = dc_gain`` exactly (to ``tol``).
+    feedthrough : ndarray, shape (p, m), real, optional
+        Imposes ``C (-I - A)^-1 B + D = feedthrough`` exactly (the ``omega_d = pi`` sample, i.e. the
+        continuous feedthrough under the bilinear map; 0 for the aerofoil).
+    solver : {"clarabel", "numpy"}
+        ``"clarabel"``: cached DPP cvxpy problem + exact polishing (default, used by ``identify``);
+        ``"numpy"``: closed-form null-space solution (the test oracle). Unconstrained fits never call a
+        solver (closed-form minimiser).
+    tol : float
+        Accepted max abs constraint violation, relative to ``max(1, max|rhs|)``; beyond it the solution is
+        polished by projection.
+
+    Returns
+    -------
+    BDFit
+
+    Raises
+    ------
+    ConstraintError
+        A constraint at ``z = +-1`` where ``A`` has an eigenvalue (within 1e-8), a malformed constraint, or
+        more independent constraints than unknowns.
+    SolverError
+        Clarabel failed.
+    FrequencyDataError
+        Malformed arrays.
+    """
+    t0 = time.perf_counter()
+    A, C, z, G, weights, cons, n, p, m, K = _validate(A, C, z, G, weights, dc_gain, feedthrough)
+    if solver not in ("clarabel", "numpy"):
+        raise ValueError(f"solver must be 'clarabel' or 'numpy'; got {solver!r}.")
+    E, Fr = _constraint_rows(A, C, cons)
+    c = E.shape[0]
+    N = n + p
+    if c > N:
+        raise ConstraintError(
+            f"{c} equality constraints but only {N} unknowns per input (n + p = {n} + {p}); "
+            "impose only one of dc_gain/feedthrough or raise the order."
+        )
+    F = _output_rows(A, C, z)
+    Phis, gs = _regressions(F, G, weights, m)
+    scale = max(1.0, float(np.abs(Fr).max(initial=0.0)))
+
+    thetas = [None] * m
+    status, used, polished, reused = "optimal", "closed-form", False, False
+    solver_res = 0.0
+    if solver == "numpy":
+        used = "numpy"
+        for j in range(m):
+            thetas[j] = _null_space_solve(Phis[j], gs[j], E, Fr[:, j] if c else None)
+        if c:
+            solver_res = max(float(np.abs(E @ th - Fr[:, j]).max()) for j, th in enumerate(thetas))
+    else:
+        reds = {}
+        hs, Qs, fs, Ms = [], [], [], []
+        for j in range(m):
+            key_id = id(Phis[j])
+            if key_id not in reds:
+                reds[key_id] = _reduce(Phis[j])
+            U, S, St, M = reds[key_id]
+            hs.append(S * (U.T @ gs[j]) / St)
+            Ms.append(M)
+            if c:
+                Eh = E @ M  # (c, N)
+                Qe, Re = np.linalg.qr(Eh.T)  # Eh = Re^T Qe^T
+                d = np.abs(np.diag(Re))
+                if d.min() <= 1e-12 * d.max():
+                    raise ConstraintError(
+                        "the imposed constraints are linearly dependent at this order (dc_gain and feedthrough "
+                        "rows coincide); impose only one of them or change the order."
+                    )
+                Qs.append(Qe)
+                fs.append(np.linalg.solve(Re.T, Fr[:, j]))
+        if c:
+            used = "clarabel"
+            wshape = None if weights is None else weights.shape
+            key = (n, m, p, K, tuple(name for name, _, _ in cons), wshape)
+            ys, status, reused = _solve_clarabel(key, hs, Qs, fs, m, N, c)
+            for j in range(m):
+                thetas[j] = Ms[j] @ ys[j]
+            res = [np.abs(E @ thetas[j] - Fr[:, j]).max() for j in range(m)]
+            solver_res = float(max(res))
+            for j in range(m):
+                if res[j] > tol * scale:
+                    y = ys[j] - Qs[j] @ (Qs[j].T @ ys[j] - fs[j])
+                    thetas[j] = Ms[j] @ y
+                    polished = True
+                    r = E @ thetas[j] - Fr[:, j]
+                    if np.abs(r).max() > tol * scale:  # last resort: min-norm correction in theta space
+                        thetas[j] = thetas[j] - np.linalg.lstsq(E, r, rcond=None)[0]
+        else:
+            for j in range(m):
+                thetas[j] = Ms[j] @ hs[j]
+    Theta = np.column_stack(thetas)  # (N, m)
+    B = Theta[:n, :].copy()
+    D = Theta[n:, :].copy()
+    residual = float(sum(np.sum((Phis[j] @ thetas[j] - gs[j]) ** 2) for j in range(m)))
+    cres = float(np.abs(E @ Theta - Fr).max()) if c else 0.0
+    return BDFit(
+        B=B,
+        D=D,
+        residual=residual,
+        status=status,
+        solver=used,
+        constraint_residual=cres,
+        solver_constraint_residual=solver_res,
+        polished=polished,
+        reused_problem=reused,
+        solve_time=time.perf_counter() - t0,
+    )
+
+
+def fit_cd(A, B, z, G, *, weights=None, dc_gain=None, feedthrough=None, solver: str = "clarabel", tol: float = 1e-10) -> CDFit:
+    """Fit ``C`` and ``D`` of ``G(z) = C (zI - A)^-1 B + D`` given ``A`` (n, n) and ``B`` (n, m).
+
+    Same data, weights, constraints and solvers as :func:`fit_bd`; solved as the B/D refit of the
+    transposed system ``G(z)^T = B^T (zI - A^T)^-1 C^T + D^T``.
+
+    Returns
+    -------
+    CDFit
+        ``C`` (p, n) and ``D`` (p, m), real.
+    """
+    A = _as_real_matrix(A, "A")
+    B = _as_real_matrix(B, "B", (A.shape[0], None))
+    G = np.asarray(G)
+    if G.ndim == 1 and B.shape[1] == 1:
+        G = G.reshape(1, 1, -1)
+    if G.ndim != 3:
+        raise FrequencyDataError(f"G must have shape (p, m, K); got {G.shape}.")
+    w = None if weights is None else np.asarray(weights, dtype=float)
+    if w is not None and w.ndim == 3:
+        w = np.swapaxes(w, 0, 1)
+    tr = lambda X: None if X is None else np.asarray(X).T  # noqa: E731
+    r = fit_bd(A.T, B.T, z, np.swapaxes(G, 0, 1), weights=w, dc_gain=tr(dc_gain), feedthrough=tr(feedthrough),
+               solver=solver, tol=tol)
+    return CDFit(
+        C=r.B.T.copy(),
+        D=r.D.T.copy(),
+        residual=r.residual,
+        status=r.status,
+        solver=r.solver,
+        constraint_residual=r.constraint_residual,
+        solver_constraint_residual=r.solver_constraint_residual,
+        polished=r.polished,
+        reused_problem=r.reused_problem,
+        solve_time=r.solve_time,
+    )
+
+
+def fit_alternating(A, C, z, G, *, iterations: int = 10, rtol: float = 1e-9, weights=None, dc_gain=None,
+                    feedthrough=None, solver: str = "clarabel", tol: float = 1e-10) -> AlternatingFit:
+    """Alternate B/D and C/D refits with ``A`` fixed (block-coordinate descent on a biconvex cost).
+
+    Each half step is the exact constrained minimiser over its block and the current iterate is feasible
+    for it, so the cost never increases. Stops after ``iterations`` full steps or when the relative
+    decrease of one full step falls below ``rtol``.
+
+    Parameters
+    ----------
+    A : ndarray, shape (n, n); C : ndarray, shape (p, n) -- starting output matrix
+    z, G, weights, dc_gain, feedthrough, solver, tol : as in :func:`fit_bd`
+    iterations : int
+        Maximum number of full (B/D then C/D) steps, >= 1.
+
+    Returns
+    -------
+    AlternatingFit
+    """
+    if iterations < 1:
+        raise ValueError(f"iterations must be >= 1; got {iterations}.")
+    history = []
+    C = np.asarray(C, dtype=float)
+    bd = cd = None
+    done = 0
+    for it in range(iterations):
+        bd = fit_bd(A, C, z, G, weights=weights, dc_gain=dc_gain, feedthrough=feedthrough, solver=solver, tol=tol)
+        history.append(bd.residual)
+        cd = fit_cd(A, bd.B, z, G, weights=weights, dc_gain=dc_gain, feedthrough=feedthrough, solver=solver, tol=tol)
+        history.append(cd.residual)
+        C = cd.C
+        done = it + 1
+        if it > 0 and history[-3] - history[-1] <= rtol * max(history[-3], np.finfo(float).tiny):
+            break
+    return AlternatingFit(
+        B=bd.B, C=cd.C, D=cd.D, residual=cd.residual, history=tuple(history), iterations=done,
+        status=cd.status, constraint_residual=cd.constraint_residual,
+    )
