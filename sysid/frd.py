@@ -1,0 +1,604 @@
+"""Frequency-response data and the McKelvey identification grid.
+
+A :class:`FrequencyResponse` holds complex samples ``H`` of shape ``(p, m, K)`` (outputs, inputs,
+frequencies, as in python-control) together with their frequencies, in two linked forms:
+
+- ``omega_d``: discrete frequencies in ``[0, pi]`` (radians per sample), the frequencies at which the
+  identified discrete model ``G(z)`` is evaluated with ``z = exp(1j * omega_d)``;
+- ``omega``: continuous angular frequencies in units of ``U_inf / c`` (convective), linked to ``omega_d``
+  through the bilinear (Tustin) map of the paper's Eq. 28::
+
+      omega = (2 / T) * tan(omega_d / 2),      omega_d = 2 * arctan(omega * T / 2)
+
+  so that ``omega_d = pi`` is ``omega = inf`` (the continuous feedthrough) and ``omega_d = 0`` is DC.
+
+Either form may be missing: data given on continuous frequencies without a sampling period ``T`` have
+``omega_d = None`` and ``T = None``; data given on a discrete grid without ``T`` have ``omega = None``.
+Identification needs both (see :func:`sysid.identify`).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import types
+from pathlib import Path
+from typing import Any, Mapping, Sequence
+
+import numpy as np
+
+from .errors import FrequencyDataError, FrequencyGridError
+
+__all__ = ["FrequencyResponse", "mckelvey_grid", "discrete_to_continuous", "continuous_to_discrete"]
+
+# Relative tolerance used to decide whether a grid is equispaced / a sample sits on 0 or pi.
+_GRID_RTOL = 1e-9
+
+
+# --------------------------------------------------------------------------------------------------
+# frequency maps
+# --------------------------------------------------------------------------------------------------
+def _check_T(T: Any) -> float:
+    """Return ``T`` as a positive finite float or raise :class:`FrequencyGridError`."""
+    try:
+        Tf = float(T)
+    except (TypeError, ValueError):
+        raise FrequencyGridError(
+            f"sampling period T must be a positive finite number, got {T!r}; pass e.g. T=70/(2*pi)"
+        ) from None
+    if not math.isfinite(Tf) or Tf <= 0.0:
+        raise FrequencyGridError(
+            f"sampling period T must be positive and finite, got T={T!r}; pass e.g. T=70/(2*pi)"
+        )
+    return Tf
+
+
+def discrete_to_continuous(omega_d: np.ndarray, T: float) -> np.ndarray:
+    """Bilinear map ``omega = (2/T) tan(omega_d / 2)`` (paper Eq. 28).
+
+    Parameters
+    ----------
+    omega_d : array_like, shape (K,)
+        Discrete frequencies in ``[0, pi]`` (rad/sample).
+    T : float
+        Sampling period (convective time units, chords / U_inf).
+
+    Returns
+    -------
+    omega : ndarray, shape (K,)
+        Continuous frequencies (U_inf / c units). ``omega_d == pi`` maps to exactly ``np.inf`` (never the
+        huge finite number ``tan(pi/2)`` gives in floating point).
+    """
+    T = _check_T(T)
+    wd = np.asarray(omega_d, dtype=float)
+    at_pi = np.isclose(wd, np.pi, rtol=0.0, atol=_GRID_RTOL * np.pi)
+    with np.errstate(over="ignore"):
+        omega = (2.0 / T) * np.tan(np.where(at_pi, 0.0, wd) / 2.0)
+    return np.where(at_pi, np.inf, omega)
+
+
+def continuous_to_discrete(omega: np.ndarray, T: float) -> np.ndarray:
+    """Inverse bilinear map ``omega_d = 2 arctan(omega T / 2)``; ``inf`` maps to exactly ``pi``.
+
+    Parameters
+    ----------
+    omega : array_like, shape (K,)
+        Continuous frequencies (U_inf / c units), nonnegative, ``inf`` allowed.
+    T : float
+        Sampling period.
+
+    Returns
+    -------
+    omega_d : ndarray, shape (K,)
+        Discrete frequencies in ``[0, pi]``.
+    """
+    T = _check_T(T)
+    w = np.asarray(omega, dtype=float)
+    return np.where(np.isinf(w), np.pi, 2.0 * np.arctan(np.where(np.isinf(w), 0.0, w) * T / 2.0))
+
+
+def mckelvey_grid(M: int, T: float) -> tuple[np.ndarray, np.ndarray]:
+    """McKelvey's equispaced identification grid and its continuous image.
+
+    Parameters
+    ----------
+    M : int
+        Number of intervals; the grid has ``M + 1`` points ``omega_d = pi k / M``, ``k = 0..M``.
+        The paper uses ``M = 256`` (257 frequencies).
+    T : float
+        Sampling period (convective time units); the paper uses ``T = 70 / (2 pi)``.
+
+    Returns
+    -------
+    omega_d : ndarray, shape (M + 1,)
+        Discrete frequencies, ``omega_d[0] = 0`` and ``omega_d[-1] = pi`` exactly.
+    omega : ndarray, shape (M + 1,)
+        Continuous frequencies (U_inf / c units), ``(2/T) tan(omega_d / 2)``; ``omega[0] = 0`` and
+        ``omega[-1] = np.inf`` exactly.
+    """
+    if isinstance(M, bool) or not isinstance(M, (int, np.integer)) or M < 1:
+        raise FrequencyGridError(f"M must be a positive integer (number of grid intervals), got {M!r}")
+    T = _check_T(T)
+    k = np.arange(M + 1)
+    omega_d = np.pi * k / M
+    omega_d[-1] = np.pi
+    omega = discrete_to_continuous(omega_d, T)
+    return omega_d, omega
+
+
+# --------------------------------------------------------------------------------------------------
+# validation helpers
+# --------------------------------------------------------------------------------------------------
+def _as_H(H: Any) -> np.ndarray:
+    """Coerce ``H`` to a complex (p, m, K) array; SISO (K,) -> (1, 1, K); (p, K) -> (p, 1, K)."""
+    try:
+        arr = np.array(H, dtype=complex)
+    except (TypeError, ValueError) as exc:
+        raise FrequencyDataError(f"H must be a numeric array of shape (p, m, K): {exc}") from None
+    if arr.ndim == 1:
+        arr = arr.reshape(1, 1, -1)
+    elif arr.ndim == 2:
+        # (p, K): one input, p outputs (single-input convenience)
+        arr = arr.reshape(arr.shape[0], 1, arr.shape[1])
+    elif arr.ndim != 3:
+        raise FrequencyDataError(
+            f"H must have shape (p, m, K) (outputs, inputs, frequencies), got {arr.ndim}-D shape {arr.shape}; "
+            "a 1-D array is read as SISO (K,) and a 2-D one as single-input (p, K)"
+        )
+    if arr.size == 0 or arr.shape[2] == 0:
+        raise FrequencyDataError(f"H is empty (shape {arr.shape}); give at least one output, input and frequency")
+    bad = ~np.isfinite(arr)
+    if bad.any():
+        i, j, k = np.argwhere(bad)[0]
+        raise FrequencyDataError(
+            f"H contains {int(bad.sum())} NaN/inf value(s), first at H[{i}, {j}, {k}]; remove or recompute "
+            "those frequencies (the omega = inf point carries the finite feedthrough value, not inf)"
+        )
+    return arr
+
+
+def _as_freq(x: Any, name: str, K: int) -> np.ndarray:
+    try:
+        arr = np.array(x, dtype=float).reshape(-1) if np.ndim(x) <= 1 else None
+    except (TypeError, ValueError):
+        raise FrequencyGridError(f"{name} must be a 1-D array of real frequencies, got {x!r}") from None
+    if arr is None:
+        raise FrequencyGridError(f"{name} must be 1-D, got shape {np.shape(x)}")
+    if arr.shape[0] != K:
+        raise FrequencyDataError(
+            f"{name} has {arr.shape[0]} frequencies but H has K={K} (H.shape[2]); give one frequency per sample"
+        )
+    if np.isnan(arr).any():
+        raise FrequencyGridError(f"{name} contains NaN at index {int(np.flatnonzero(np.isnan(arr))[0])}")
+    return arr
+
+
+def _check_names(names: Any, n: int, what: str, default_prefix: str) -> tuple[str, ...]:
+    if names is None:
+        return tuple(f"{default_prefix}[{i}]" for i in range(n))
+    if isinstance(names, str):
+        names = [names]
+    names = list(names)
+    if len(names) != n:
+        raise FrequencyDataError(
+            f"{what} has {len(names)} name(s) {names!r} but H has {n} {what} (H.shape[{0 if what == 'outputs' else 1}]); "
+            f"give one name per {what[:-1]}"
+        )
+    if not all(isinstance(s, str) for s in names):
+        raise FrequencyDataError(f"{what} names must be strings, got {names!r}")
+    return tuple(names)
+
+
+def _frozen(a: np.ndarray | None) -> np.ndarray | None:
+    if a is None:
+        return None
+    a = np.array(a, copy=True)
+    a.setflags(write=False)
+    return a
+
+
+# --------------------------------------------------------------------------------------------------
+# FrequencyResponse
+# --------------------------------------------------------------------------------------------------
+class FrequencyResponse:
+    """Immutable MIMO frequency-response samples on a discrete and/or continuous frequency grid.
+
+    Parameters
+    ----------
+    H : array_like, complex, shape (p, m, K)
+        Response samples (outputs, inputs, frequencies). A 1-D array ``(K,)`` is read as SISO and a 2-D
+        array ``(p, K)`` as single-input.
+    omega_d : array_like, shape (K,) or None
+        Discrete frequencies in ``[0, pi]`` (rad/sample). ``None`` only together with ``omega=``.
+    T : float or None
+        Sampling period (convective time units). With ``omega_d`` it defines ``omega`` by Eq. 28.
+    inputs, outputs : list of str, optional
+        Channel names (lengths ``m`` and ``p``); default ``u[i]`` and ``y[i]``.
+    metadata : dict, optional
+        Free-form JSON-serialisable information (case, solver settings...). Stored as a read-only copy.
+    omega : array_like, shape (K,), optional (keyword only)
+        Continuous frequencies (U_inf / c units, ``>= 0``, ``inf`` allowed). Normally built by
+        :meth:`from_continuous`; when given together with ``omega_d`` and ``T`` the two must agree by
+        Eq. 28.
+
+    Attributes
+    ----------
+    H : ndarray, complex, shape (p, m, K), read-only
+    omega_d : ndarray, shape (K,) or None, read-only
+    omega : ndarray, shape (K,) or None, read-only
+    T : float or None
+    inputs, outputs : tuple of str
+    metadata : mapping (read-only view)
+
+    Raises
+    ------
+    FrequencyDataError
+        NaN/inf in ``H``, inconsistent lengths, wrong number of names.
+    FrequencyGridError
+        ``omega_d`` outside ``[0, pi]``, negative ``omega``, ``T <= 0`` or not finite, no frequencies.
+    """
+
+    __slots__ = ("H", "omega_d", "omega", "T", "inputs", "outputs", "metadata")
+
+    def __init__(
+        self,
+        H: Any,
+        omega_d: Any,
+        T: float | None = None,
+        inputs: Sequence[str] | None = None,
+        outputs: Sequence[str] | None = None,
+        metadata: Mapping[str, Any] | None = None,
+        *,
+        omega: Any = None,
+    ) -> None:
+        Harr = _as_H(H)
+        p, m, K = Harr.shape
+        Tf = None if T is None else _check_T(T)
+
+        wd = None
+        if omega_d is not None:
+            wd = _as_freq(omega_d, "omega_d", K)
+            tol = _GRID_RTOL * np.pi
+            if (wd < -tol).any() or (wd > np.pi + tol).any():
+                bad = wd[(wd < -tol) | (wd > np.pi + tol)][0]
+                raise FrequencyGridError(
+                    f"omega_d must lie in [0, pi] (rad/sample), found {bad!r}; discrete frequencies above pi are "
+                    "aliases: map continuous frequencies with FrequencyResponse.from_continuous(H, omega, T)"
+                )
+            wd = np.clip(wd, 0.0, np.pi)
+            wd[np.isclose(wd, np.pi, rtol=0.0, atol=tol)] = np.pi
+
+        w = None
+        if omega is not None:
+            w = _as_freq(omega, "omega", K)
+            if (w < 0).any():
+                raise FrequencyGridError(
+                    f"omega must be nonnegative (U_inf/c units), found {w[w < 0][0]!r}; the response at -omega "
+                    "is the complex conjugate and is implied"
+                )
+            if wd is not None and Tf is not None:
+                wd_chk = continuous_to_discrete(w, Tf)
+                if not np.allclose(wd_chk, wd, rtol=1e-9, atol=1e-12):
+                    raise FrequencyGridError(
+                        "omega and omega_d disagree with the bilinear map omega = (2/T) tan(omega_d/2) for "
+                        f"T={Tf}; give only one of them"
+                    )
+        elif wd is not None and Tf is not None:
+            w = discrete_to_continuous(wd, Tf)
+        if wd is None and w is None:
+            raise FrequencyGridError("give the frequencies: omega_d (discrete, [0, pi]) or omega= (continuous)")
+        if wd is None and Tf is not None:
+            wd = continuous_to_discrete(w, Tf)
+
+        md = {} if metadata is None else dict(metadata)
+        sa = object.__setattr__
+        sa(self, "H", _frozen(Harr))
+        sa(self, "omega_d", _frozen(wd))
+        sa(self, "omega", _frozen(w))
+        sa(self, "T", Tf)
+        sa(self, "outputs", _check_names(outputs, p, "outputs", "y"))
+        sa(self, "inputs", _check_names(inputs, m, "inputs", "u"))
+        sa(self, "metadata", types.MappingProxyType(md))
+
+    # immutability ---------------------------------------------------------------------------------
+    def __setattr__(self, name: str, value: Any) -> None:
+        raise AttributeError(f"FrequencyResponse is immutable; cannot set {name!r} (build a new object)")
+
+    def __delattr__(self, name: str) -> None:
+        raise AttributeError(f"FrequencyResponse is immutable; cannot delete {name!r}")
+
+    def __repr__(self) -> str:
+        p, m, K = self.H.shape
+        grid = f"M={self.M}" if self.is_equispaced else f"K={K}"
+        return (
+            f"FrequencyResponse(p={p}, m={m}, {grid}, T={self.T}, outputs={list(self.outputs)}, "
+            f"inputs={list(self.inputs)})"
+        )
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, FrequencyResponse):
+            return NotImplemented
+
+        def same(a, b):
+            if a is None or b is None:
+                return a is None and b is None
+            return a.shape == b.shape and np.array_equal(a, b)
+
+        return (
+            same(self.H, other.H)
+            and same(self.omega_d, other.omega_d)
+            and same(self.omega, other.omega)
+            and self.T == other.T
+            and self.inputs == other.inputs
+            and self.outputs == other.outputs
+            and dict(self.metadata) == dict(other.metadata)
+        )
+
+    __hash__ = None  # type: ignore[assignment]
+
+    # constructors ---------------------------------------------------------------------------------
+    @classmethod
+    def from_continuous(
+        cls,
+        H: Any,
+        omega: Any,
+        T: float | None = None,
+        inputs: Sequence[str] | None = None,
+        outputs: Sequence[str] | None = None,
+        metadata: Mapping[str, Any] | None = None,
+    ) -> "FrequencyResponse":
+        """Build from samples at continuous frequencies.
+
+        Parameters
+        ----------
+        H : array_like, complex, shape (p, m, K)
+            Response samples.
+        omega : array_like, shape (K,)
+            Continuous frequencies (U_inf / c units), ``>= 0``; ``np.inf`` allowed (its value is the
+            feedthrough).
+        T : float, optional
+            Sampling period. When given, ``omega_d = 2 arctan(omega T / 2)`` (``inf -> pi``); otherwise
+            ``omega_d`` and ``T`` are ``None`` (the data cannot be identified until a ``T`` is chosen:
+            see :meth:`with_T`).
+        """
+        return cls(H, None, T, inputs=inputs, outputs=outputs, metadata=metadata, omega=omega)
+
+    def with_T(self, T: float) -> "FrequencyResponse":
+        """Return a copy with sampling period ``T``, mapping the continuous frequencies to ``omega_d``."""
+        if self.omega is None:
+            raise FrequencyGridError("this response has no continuous frequencies to map; it already has omega_d")
+        return FrequencyResponse.from_continuous(
+            self.H, self.omega, T, inputs=self.inputs, outputs=self.outputs, metadata=self.metadata
+        )
+
+    def replace(self, **changes: Any) -> "FrequencyResponse":
+        """Return a copy with some of ``H``, ``inputs``, ``outputs``, ``metadata`` replaced."""
+        allowed = {"H", "inputs", "outputs", "metadata"}
+        unknown = set(changes) - allowed
+        if unknown:
+            raise TypeError(f"replace() accepts only {sorted(allowed)}, got {sorted(unknown)}")
+        kw = dict(H=self.H, inputs=self.inputs, outputs=self.outputs, metadata=self.metadata)
+        kw.update(changes)
+        return FrequencyResponse(kw.pop("H"), self.omega_d, self.T, omega=self.omega, **kw)
+
+    # shape and grid properties --------------------------------------------------------------------
+    @property
+    def shape(self) -> tuple[int, int, int]:
+        """``(p, m, K)``: outputs, inputs, frequencies."""
+        return tuple(self.H.shape)  # type: ignore[return-value]
+
+    @property
+    def noutputs(self) -> int:
+        return self.H.shape[0]
+
+    @property
+    def ninputs(self) -> int:
+        return self.H.shape[1]
+
+    @property
+    def nfreq(self) -> int:
+        return self.H.shape[2]
+
+    @property
+    def z(self) -> np.ndarray:
+        """Points on the unit circle ``exp(1j omega_d)``, shape (K,); needs ``omega_d``."""
+        if self.omega_d is None:
+            raise FrequencyGridError("no discrete frequencies: give T (FrequencyResponse.with_T(T))")
+        return np.exp(1j * self.omega_d)
+
+    @property
+    def is_equispaced(self) -> bool:
+        """True when ``omega_d`` is McKelvey's grid ``pi k / M``, ``k = 0..M`` (in increasing order)."""
+        wd = self.omega_d
+        if wd is None or wd.size < 2:
+            return False
+        M = wd.size - 1
+        return bool(np.allclose(wd, np.pi * np.arange(M + 1) / M, rtol=0.0, atol=_GRID_RTOL * np.pi))
+
+    @property
+    def M(self) -> int | None:
+        """Number of grid intervals ``M`` (``K - 1``) for an equispaced grid, else ``None``."""
+        return self.nfreq - 1 if self.is_equispaced else None
+
+    def _index_of(self, target: str) -> int | None:
+        tol = _GRID_RTOL * np.pi
+        if target == "dc":
+            if self.omega_d is not None:
+                idx = np.flatnonzero(np.abs(self.omega_d) <= tol)
+            else:
+                idx = np.flatnonzero(self.omega == 0.0)
+        else:
+            if self.omega_d is not None:
+                idx = np.flatnonzero(np.abs(self.omega_d - np.pi) <= tol)
+            else:
+                idx = np.flatnonzero(np.isinf(self.omega))
+        return int(idx[0]) if idx.size else None
+
+    def _real_value(self, k: int | None, what: str) -> np.ndarray | None:
+        if k is None:
+            return None
+        v = self.H[:, :, k]
+        scale = max(float(np.abs(self.H).max()), np.finfo(float).tiny)
+        if np.abs(v.imag).max() > 1e-6 * scale:
+            import warnings
+
+            warnings.warn(
+                f"the {what} sample has a non-negligible imaginary part (max {np.abs(v.imag).max():.3g}); "
+                "a real system's response there is real, so only the real part is used",
+                RuntimeWarning,
+                stacklevel=3,
+            )
+        out = np.array(v.real)
+        out.setflags(write=False)
+        return out
+
+    @property
+    def dc_gain(self) -> np.ndarray | None:
+        """Real ``(p, m)`` value at ``omega = 0`` (``omega_d = 0``), or ``None`` if not sampled.
+
+        The imaginary part is dropped (a ``RuntimeWarning`` says so when it is not negligible).
+        """
+        return self._real_value(self._index_of("dc"), "omega = 0")
+
+    @property
+    def feedthrough(self) -> np.ndarray | None:
+        """Real ``(p, m)`` value at ``omega = inf`` (``omega_d = pi``), or ``None`` if not sampled.
+
+        This is the continuous model's feedthrough ``D_c`` and the discrete model's ``G(z = -1)``.
+        """
+        return self._real_value(self._index_of("nyquist"), "omega = inf")
+
+    # grid operations --------------------------------------------------------------------------------
+    def subsample(self, M_new: int) -> "FrequencyResponse":
+        """Coarser equispaced grid: keep every ``M / M_new``-th sample (e.g. M = 256 -> 128, 64, 32).
+
+        Raises
+        ------
+        FrequencyGridError
+            The grid is not equispaced, or ``M_new`` does not divide ``M``.
+        """
+        if not self.is_equispaced:
+            raise FrequencyGridError(
+                "subsample() needs an equispaced McKelvey grid omega_d = pi k / M, k = 0..M; "
+                "select frequencies with take(indices) instead"
+            )
+        M = self.M
+        if isinstance(M_new, bool) or not isinstance(M_new, (int, np.integer)) or M_new < 1 or M % M_new:
+            divisors = [d for d in range(1, M + 1) if M % d == 0]
+            raise FrequencyGridError(
+                f"M_new={M_new!r} must be a positive divisor of M={M} so that the coarse grid is a subset; "
+                f"choose one of {divisors}"
+            )
+        return self.take(np.arange(0, M + 1, M // M_new))
+
+    def take(self, indices: Any) -> "FrequencyResponse":
+        """Return the samples at the given frequency indices (order kept as given)."""
+        idx = np.asarray(indices, dtype=int).reshape(-1)
+        return FrequencyResponse(
+            self.H[:, :, idx],
+            None if self.omega_d is None else self.omega_d[idx],
+            self.T,
+            inputs=self.inputs,
+            outputs=self.outputs,
+            metadata=self.metadata,
+            omega=None if self.omega is None else self.omega[idx],
+        )
+
+    # persistence ------------------------------------------------------------------------------------
+    def save(self, path: str | Path) -> Path:
+        """Write to a ``.npz`` file (arrays) with names and metadata stored as JSON.
+
+        Returns the path written (``.npz`` appended when missing). Metadata must be JSON-serialisable.
+        """
+        path = Path(path)
+        if path.suffix != ".npz":
+            path = path.with_suffix(path.suffix + ".npz") if path.suffix else path.with_suffix(".npz")
+        try:
+            meta = json.dumps(dict(self.metadata))
+        except (TypeError, ValueError) as exc:
+            raise FrequencyDataError(
+                f"metadata is not JSON-serialisable ({exc}); store plain numbers, strings, lists and dicts"
+            ) from None
+        header = json.dumps(
+            {"format": "lfdrom.FrequencyResponse", "version": 1, "inputs": list(self.inputs),
+             "outputs": list(self.outputs), "T": self.T}
+        )
+        arrays = {"H": self.H, "header": np.array(header), "metadata": np.array(meta)}
+        if self.omega_d is not None:
+            arrays["omega_d"] = self.omega_d
+        if self.omega is not None:
+            arrays["omega"] = self.omega
+        np.savez(path, **arrays)
+        return path
+
+    @classmethod
+    def load(cls, path: str | Path) -> "FrequencyResponse":
+        """Read a file written by :meth:`save`."""
+        with np.load(Path(path), allow_pickle=False) as f:
+            if "header" not in f or "H" not in f:
+                raise FrequencyDataError(f"{path} is not a FrequencyResponse file (no 'header'/'H' entries)")
+            header = json.loads(str(f["header"]))
+            meta = json.loads(str(f["metadata"]))
+            H = f["H"]
+            wd = f["omega_d"] if "omega_d" in f else None
+            w = f["omega"] if "omega" in f else None
+        return cls(H, wd, header.get("T"), inputs=header["inputs"], outputs=header["outputs"], metadata=meta,
+                   omega=w)
+
+    # python-control ---------------------------------------------------------------------------------
+    def to_control(self):
+        """Convert to :class:`control.FrequencyResponseData` on the continuous frequencies ``omega``.
+
+        The FRD is a continuous-time object (python-control's discrete FRD uses ``z = exp(j omega dt)``,
+        not the bilinear map). An ``omega = inf`` sample is dropped, because FRD interpolation and plots
+        cannot use it; pass :attr:`feedthrough` back to :meth:`from_control` to restore it.
+
+        Raises
+        ------
+        FrequencyGridError
+            No continuous frequencies (discrete data without ``T``).
+        """
+        import control
+
+        if self.omega is None:
+            raise FrequencyGridError("no continuous frequencies: this response has omega_d but no T; give T")
+        keep = np.isfinite(self.omega)
+        return control.frd(
+            self.H[:, :, keep], self.omega[keep], inputs=list(self.inputs), outputs=list(self.outputs)
+        )
+
+    @classmethod
+    def from_control(
+        cls, frd, T: float | None = None, *, feedthrough: Any = None, metadata: Mapping[str, Any] | None = None
+    ) -> "FrequencyResponse":
+        """Build from a continuous-time :class:`control.FrequencyResponseData`.
+
+        Parameters
+        ----------
+        frd : control.FrequencyResponseData
+            Continuous-time FRD (``omega`` in the project's U_inf / c units).
+        T : float, optional
+            Sampling period for the discrete frequencies.
+        feedthrough : array_like (p, m), optional
+            Value at ``omega = inf`` to append (what :meth:`to_control` dropped).
+        """
+        if getattr(frd, "dt", 0) not in (0, None):
+            raise FrequencyGridError(
+                "from_control() expects a continuous-time FRD (dt = 0); a discrete FRD's frequencies follow "
+                "z = exp(j omega dt), not the bilinear map"
+            )
+        H = np.asarray(frd.frdata if hasattr(frd, "frdata") else frd.fresp, dtype=complex)
+        w = np.asarray(frd.omega, dtype=float)
+        order = np.argsort(w, kind="stable")
+        H, w = H[:, :, order], w[order]
+        if feedthrough is not None:
+            Dv = np.asarray(feedthrough, dtype=complex)
+            if Dv.ndim == 0:
+                Dv = Dv.reshape(1, 1)
+            if Dv.shape != H.shape[:2]:
+                raise FrequencyDataError(f"feedthrough has shape {Dv.shape}, expected (p, m) = {H.shape[:2]}")
+            H = np.concatenate([H, Dv[:, :, None]], axis=2)
+            w = np.append(w, np.inf)
+        return cls.from_continuous(
+            H, w, T, inputs=list(frd.input_labels), outputs=list(frd.output_labels), metadata=metadata
+        )

@@ -1,0 +1,445 @@
+"""Frequency-domain subspace identification (McKelvey, Akcay & Ljung, IEEE TAC 41(7), 1996).
+
+Two algorithms estimate ``A`` and ``C`` of a discrete model ``G(z) = D + C (zI - A)^-1 B`` from samples
+``G_k = G(exp(1j omega_k))``; ``B`` and ``D`` then come from a (constrained) least squares in
+:mod:`sysid.refit`.
+
+- **Algorithm 1** (:func:`mckelvey1`) needs the equispaced grid ``omega_k = pi k / M``, ``k = 0..M``. The
+  samples are extended to the full circle with complex conjugates, an inverse DFT of length ``2M`` gives the
+  time-aliased impulse response ``h_i = C A^(i-1) (I - A^(2M))^-1 B`` (``i >= 1``: aliasing changes ``B``
+  only), whose ``q x r`` block Hankel matrix has rank ``n``.
+- **Algorithm 2** (:func:`mckelvey2`) works on arbitrary frequencies: the data matrix
+  ``[W_q(omega_k) kron G_k]`` is projected onto the orthogonal complement of ``[W_q(omega_k) kron I_m]``
+  (real and imaginary parts stacked) by an LQ factorisation, and the SVD of that projection ``R22``
+  gives the range of the extended observability matrix.
+
+Both then read ``A`` from the shift invariance of ``Gamma = U_s`` (the ``n`` leading left singular
+vectors)::
+
+    Gamma1 = J1 U_s (drop the last block row),  Gamma2 = J2 U_s (drop the first),
+    A = Gamma1^+ Gamma2,  C = first p rows of U_s.
+
+The SVD is the expensive step and is done once per data set (:func:`hankel_svd`); models of every order
+are then cheap slices of it (:func:`from_basis`), which the order sweep in :mod:`sysid.order` uses.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .errors import FrequencyDataError, FrequencyGridError, OrderError
+
+__all__ = [
+    "SubspaceResult",
+    "HankelSVD",
+    "hankel_svd",
+    "hankel_singular_values",
+    "from_basis",
+    "mckelvey1",
+    "mckelvey2",
+    "subspace_identify",
+    "default_q",
+]
+
+_GRID_ATOL = 1e-9 * np.pi
+
+
+@dataclass(frozen=True)
+class HankelSVD:
+    """The SVD step of a subspace identification, shared by all model orders.
+
+    Attributes
+    ----------
+    U : ndarray, shape (q p, k)
+        Left singular vectors (columns), ``k = min`` of the matrix dimensions.
+    sv : ndarray, shape (k,)
+        Singular values, decreasing.
+    p, m : int
+        Outputs and inputs.
+    q : int
+        Block rows (the observability horizon).
+    r : int or None
+        Block columns of the Hankel matrix (Algorithm 1); ``None`` for Algorithm 2.
+    method : str
+        ``"mckelvey1"`` or ``"mckelvey2"``.
+    max_order : int
+        Largest order the sizes support (``< q``, ``<= (q - 1) p``, ``<= number of singular values``).
+    """
+
+    U: np.ndarray = field(repr=False)
+    sv: np.ndarray = field(repr=False)
+    p: int
+    m: int
+    q: int
+    r: int | None
+    method: str
+    max_order: int
+
+
+@dataclass(frozen=True)
+class SubspaceResult:
+    """``A`` and ``C`` of one order, with what produced them.
+
+    Attributes
+    ----------
+    A : ndarray, shape (n, n)
+        Discrete state matrix from the shift equation ``Gamma1 A = Gamma2`` (least squares).
+    C : ndarray, shape (p, n)
+        Output matrix (first ``p`` rows of ``U_s``).
+    singular_values : ndarray
+        All singular values of the Hankel matrix (Alg. 1) or of ``R22`` (Alg. 2), decreasing.
+    gamma1, gamma2 : ndarray, shape ((q - 1) p, n)
+        ``J1 U_s`` and ``J2 U_s``; the stability module fits ``A`` to ``gamma1 A ~= gamma2``.
+    q, r : int, int or None
+        Hankel block rows and columns (``r = None`` for Algorithm 2).
+    order : int
+    method : str
+    """
+
+    A: np.ndarray
+    C: np.ndarray
+    singular_values: np.ndarray = field(repr=False)
+    gamma1: np.ndarray = field(repr=False)
+    gamma2: np.ndarray = field(repr=False)
+    q: int
+    r: int | None
+    order: int
+    method: str
+
+    @property
+    def spectral_radius(self) -> float:
+        """Largest eigenvalue modulus of ``A``."""
+        return float(np.max(np.abs(np.linalg.eigvals(self.A)))) if self.A.size else 0.0
+
+
+# --------------------------------------------------------------------------------------------------
+# input handling
+# --------------------------------------------------------------------------------------------------
+def _as_G(G: Any) -> np.ndarray:
+    arr = np.asarray(G, dtype=complex)
+    if arr.ndim == 1:
+        arr = arr.reshape(1, 1, -1)
+    if arr.ndim != 3:
+        raise FrequencyDataError(f"G must have shape (p, m, K), got shape {arr.shape}")
+    if not np.isfinite(arr).all():
+        raise FrequencyDataError("G contains NaN or inf values; remove those frequencies")
+    return arr
+
+
+def _is_mckelvey_grid(omega_d: np.ndarray) -> bool:
+    M = omega_d.size - 1
+    return M >= 1 and bool(np.allclose(omega_d, np.pi * np.arange(M + 1) / M, rtol=0.0, atol=_GRID_ATOL))
+
+
+def _unpack(data: Any, omega_d: Any = None) -> tuple[np.ndarray, np.ndarray]:
+    """Accept a FrequencyResponse or (G, omega_d) arrays; return G (p, m, K) and omega_d (K,)."""
+    if hasattr(data, "H") and hasattr(data, "omega_d"):
+        if data.omega_d is None:
+            raise FrequencyGridError(
+                "the response has no discrete frequencies omega_d; give a sampling period T "
+                "(FrequencyResponse.with_T(T) or from_continuous(H, omega, T))"
+            )
+        return np.asarray(data.H), np.asarray(data.omega_d)
+    G = _as_G(data)
+    if omega_d is None:
+        # arrays without frequencies: assume McKelvey's grid
+        M = G.shape[2] - 1
+        if M < 1:
+            raise FrequencyGridError("need at least 2 frequencies")
+        return G, np.pi * np.arange(M + 1) / M
+    wd = np.asarray(omega_d, dtype=float).reshape(-1)
+    if wd.size != G.shape[2]:
+        raise FrequencyDataError(f"omega_d has {wd.size} frequencies but G has K={G.shape[2]} (G.shape[2])")
+    if (wd < -_GRID_ATOL).any() or (wd > np.pi + _GRID_ATOL).any():
+        raise FrequencyGridError("omega_d must lie in [0, pi] (rad/sample)")
+    return G, wd
+
+
+def default_q(method: str, p: int, m: int, K: int, r: int | None = None) -> tuple[int, int | None]:
+    """Default Hankel sizes.
+
+    Algorithm 1 (``K = M + 1`` samples): ``q = r = M``. This uses every one of the ``2M - 1`` aliased
+    impulse-response samples ``h_1 .. h_{2M-1}`` once along each anti-diagonal (``q + r = 2M``), which
+    averages noise best, and supports any order up to ``M - 1``.
+
+    Algorithm 2 (``K`` arbitrary frequencies): the projection needs ``q (m + p) <= 2 K m`` (more real
+    equations than rows), so ``q <= q_max = floor(2 K m / (m + p)) - 1``. The default is
+    ``q = min(q_max, max(2, K // 2))``: large enough for orders up to about ``K/2``, while the QR cost
+    ``O(K m q^2 (m + p)^2)`` stays small (``K = 257``: under 0.1 s).
+    """
+    if method == "mckelvey1":
+        M = K - 1
+        return M, (M if r is None else r)
+    qmax = (2 * K * m) // (m + p) - 1
+    return max(1, min(qmax, max(2, K // 2))), None
+
+
+# --------------------------------------------------------------------------------------------------
+# SVD step
+# --------------------------------------------------------------------------------------------------
+def _block_hankel(h: np.ndarray, q: int, r: int) -> np.ndarray:
+    """Block Hankel matrix, block (i, j) = h[:, :, i + j + 1] (0-based i, j): shape (q p, r m)."""
+    p, m, _ = h.shape
+    idx = np.arange(q)[:, None] + np.arange(r)[None, :] + 1  # (q, r)
+    blocks = h[:, :, idx]  # (p, m, q, r)
+    return blocks.transpose(2, 0, 3, 1).reshape(q * p, r * m)
+
+
+def _svd1(G: np.ndarray, q: int | None, r: int | None) -> HankelSVD:
+    p, m, K = G.shape
+    M = K - 1
+    if M < 1:
+        raise FrequencyGridError("Algorithm 1 needs at least 2 frequencies (M >= 1)")
+    q0, r0 = default_q("mckelvey1", p, m, K)
+    q = q0 if q is None else int(q)
+    r = r0 if r is None else int(r)
+    if q < 2 or r < 1 or q + r > 2 * M:
+        raise OrderError(
+            f"Hankel sizes q={q}, r={r} are invalid for M={M}: need q >= 2, r >= 1 and q + r <= 2M = {2 * M} "
+            "(the inverse DFT gives 2M - 1 usable impulse-response samples); reduce q or r, or use more "
+            "frequencies"
+        )
+    # full circle: G_{2M-k} = conj(G_k), k = 1..M-1
+    full = np.concatenate([G, np.conj(G[:, :, M - 1:0:-1])], axis=2)  # (p, m, 2M)
+    h = np.fft.ifft(full, axis=2).real  # h_i = (1/2M) sum_k G_k exp(+j 2 pi i k / 2M)
+    Hk = _block_hankel(h, q, r)
+    U, s, _ = np.linalg.svd(Hk, full_matrices=False)
+    max_order = min(q - 1, (q - 1) * p, r * m, s.size)
+    return HankelSVD(U=U, sv=s, p=p, m=m, q=q, r=r, method="mckelvey1", max_order=max_order)
+
+
+def _svd2(G: np.ndarray, omega_d: np.ndarray, q: int | None) -> HankelSVD:
+    p, m, K = G.shape
+    q0, _ = default_q("mckelvey2", p, m, K)
+    q = q0 if q is None else int(q)
+    if q < 2 or q * (m + p) > 2 * K * m:
+        qmax = (2 * K * m) // (m + p)
+        raise OrderError(
+            f"q={q} block rows is invalid for K={K} frequencies with m={m}, p={p}: need 2 <= q <= "
+            f"2 K m / (m + p) = {qmax}; reduce q or add frequencies"
+        )
+    z = np.exp(1j * omega_d)  # (K,)
+    W = z[None, :] ** np.arange(q)[:, None]  # (q, K): W_q(omega_k) as columns
+    # Gbig[(i, a), (k, b)] = z_k^i G_k[a, b]  -> (q p, K m)
+    Gbig = (W[:, None, :, None] * G.transpose(0, 2, 1)[None, :, :, :]).reshape(q * p, K * m)
+    # Ubig[(i, a), (k, b)] = z_k^i delta_ab -> (q m, K m)
+    eye = np.eye(m)
+    Ubig = (W[:, None, :, None] * eye[None, :, None, :]).reshape(q * m, K * m)
+    stack = np.concatenate([Ubig, Gbig], axis=0)
+    stack = np.concatenate([stack.real, stack.imag], axis=1)  # (q (m + p), 2 K m)
+    # LQ of stack = QR of its transpose: stack^T = Q R, stack = R^T Q^T = L Q^T.
+    R = np.linalg.qr(stack.T, mode="r")
+    L22 = R[q * m:, q * m:].T  # (q p, q p): the part of G orthogonal to the rows of U
+    U, s, _ = np.linalg.svd(L22, full_matrices=False)
+    max_order = min(q - 1, (q - 1) * p, s.size)
+    return HankelSVD(U=U, sv=s, p=p, m=m, q=q, r=None, method="mckelvey2", max_order=max_order)
+
+
+def _resolve_method(method: str, omega_d: np.ndarray) -> str:
+    if method == "auto":
+        return "mckelvey1" if _is_mckelvey_grid(omega_d) else "mckelvey2"
+    if method not in ("mckelvey1", "mckelvey2"):
+        raise ValueError(f"method must be 'auto', 'mckelvey1' or 'mckelvey2', got {method!r}")
+    if method == "mckelvey1" and not _is_mckelvey_grid(omega_d):
+        raise FrequencyGridError(
+            "Algorithm 1 (method='mckelvey1') needs the equispaced grid omega_d = pi k / M, k = 0..M "
+            "(sysid.mckelvey_grid); these frequencies are not on it: use method='mckelvey2' (Algorithm 2, "
+            "arbitrary frequencies) or method='auto'"
+        )
+    return method
+
+
+def hankel_svd(data: Any, omega_d: Any = None, *, method: str = "auto", q: int | None = None,
+               r: int | None = None) -> HankelSVD:
+    """Compute the SVD step once (reused for every model order).
+
+    Parameters
+    ----------
+    data : FrequencyResponse or array_like, complex, shape (p, m, K)
+        Frequency response. Plain arrays without ``omega_d`` are taken to lie on McKelvey's grid.
+    omega_d : array_like, shape (K,), optional
+        Discrete frequencies in ``[0, pi]`` (when ``data`` is an array).
+    method : {"auto", "mckelvey1", "mckelvey2"}
+        ``"auto"`` picks Algorithm 1 on the equispaced grid and Algorithm 2 otherwise.
+    q, r : int, optional
+        Block rows and columns; defaults in :func:`default_q`.
+
+    Returns
+    -------
+    HankelSVD
+    """
+    G, wd = _unpack(data, omega_d)
+    method = _resolve_method(method, wd)
+    if method == "mckelvey1":
+        return _svd1(G, q, r)
+    if r is not None:
+        raise OrderError("r (Hankel block columns) applies to Algorithm 1 only; leave r=None for 'mckelvey2'")
+    return _svd2(G, wd, q)
+
+
+def hankel_singular_values(data: Any, omega_d: Any = None, *, method: str = "auto", q: int | None = None,
+                           r: int | None = None) -> np.ndarray:
+    """Singular values that guide the order choice (same arguments as :func:`hankel_svd`), decreasing."""
+    return hankel_svd(data, omega_d, method=method, q=q, r=r).sv
+
+
+def _check_order(order: Any, svd: HankelSVD) -> int:
+    if isinstance(order, bool) or not isinstance(order, (int, np.integer)):
+        raise OrderError(f"order must be a positive integer, got {order!r}")
+    n = int(order)
+    if n < 1:
+        raise OrderError(f"order must be >= 1, got {n}")
+    if n > svd.max_order:
+        lim = []
+        if n >= svd.q:
+            lim.append(f"order < q = {svd.q} block rows")
+        if svd.r is not None and n > svd.r * svd.m:
+            lim.append(f"order <= r m = {svd.r * svd.m}")
+        if n > svd.sv.size:
+            lim.append(f"order <= {svd.sv.size} singular values")
+        fix = ("use more frequencies (larger M) or a lower order" if svd.method == "mckelvey1"
+               else "increase q (up to 2 K m / (m + p)), add frequencies, or lower the order")
+        raise OrderError(
+            f"order {n} is beyond what the data support with {svd.method} (q={svd.q}, r={svd.r}): need "
+            f"{' and '.join(lim) or f'order <= {svd.max_order}'}; the largest possible order is "
+            f"{svd.max_order}; {fix}"
+        )
+    return n
+
+
+def from_basis(svd: HankelSVD, order: int, *, warn: bool = True) -> SubspaceResult:
+    """``A`` and ``C`` of one order from a precomputed :class:`HankelSVD` (cheap).
+
+    Parameters
+    ----------
+    svd : HankelSVD
+    order : int
+        Model order ``n``, ``1 <= n <= svd.max_order``.
+    warn : bool
+        Warn (``RuntimeWarning``) when ``sv[n-1]`` is at round-off level relative to ``sv[0]``: the data
+        then support a lower order and the extra states are fitted to round-off.
+    """
+    n = _check_order(order, svd)
+    s = svd.sv
+    if warn and s[0] > 0 and s[n - 1] <= 1e3 * np.finfo(float).eps * s[0] * max(svd.U.shape):
+        rank = int(np.sum(s > 1e3 * np.finfo(float).eps * s[0] * max(svd.U.shape)))
+        warnings.warn(
+            f"singular value {n} is at round-off level ({s[n - 1]:.3g} vs {s[0]:.3g}): the data support order "
+            f"{rank}; the extra states are fitted to round-off",
+            RuntimeWarning,
+            stacklevel=2,
+        )
+    p = svd.p
+    Us = svd.U[:, :n]
+    gamma1 = Us[:-p]
+    gamma2 = Us[p:]
+    A = np.linalg.lstsq(gamma1, gamma2, rcond=None)[0]
+    C = np.array(Us[:p])
+    return SubspaceResult(A=A, C=C, singular_values=s, gamma1=np.array(gamma1), gamma2=np.array(gamma2),
+                          q=svd.q, r=svd.r, order=n, method=svd.method)
+
+
+def mckelvey1(G: Any, order: int, *, q: int | None = None, r: int | None = None) -> SubspaceResult:
+    """McKelvey's Algorithm 1 on the equispaced grid ``omega_d = pi k / M``, ``k = 0..M``.
+
+    Parameters
+    ----------
+    G : FrequencyResponse or array_like, complex, shape (p, m, M + 1)
+        Samples on the grid (a FrequencyResponse must be equispaced).
+    order : int
+        Model order ``n < q``.
+    q, r : int, optional
+        Hankel block rows / columns, ``q + r <= 2M``; default ``q = r = M``.
+
+    Raises
+    ------
+    FrequencyGridError
+        A FrequencyResponse whose frequencies are not equispaced (use :func:`mckelvey2`).
+    OrderError
+        ``order >= q`` or beyond the Hankel rank limit.
+    """
+    svd = hankel_svd(G, None, method="mckelvey1", q=q, r=r)
+    return from_basis(svd, order)
+
+
+def mckelvey2(G: Any, omega_d: Any, order: int, *, q: int | None = None) -> SubspaceResult:
+    """McKelvey's Algorithm 2 on arbitrary discrete frequencies.
+
+    Parameters
+    ----------
+    G : array_like, complex, shape (p, m, K), or FrequencyResponse (then ``omega_d`` may be None)
+    omega_d : array_like, shape (K,)
+        Discrete frequencies in ``[0, pi]`` (distinct).
+    order : int
+        Model order ``n < q``.
+    q : int, optional
+        Block rows; default in :func:`default_q`.
+    """
+    svd = hankel_svd(G, omega_d, method="mckelvey2", q=q)
+    return from_basis(svd, order)
+
+
+def subspace_identify(data: Any, order: int, *, omega_d: Any = None, method: str = "auto",
+                      q: int | None = None, r: int | None = None) -> SubspaceResult:
+    """``A`` and ``C`` by Algorithm 1 or 2 (``method="auto"``: 1 on the equispaced grid, else 2)."""
+    return from_basis(hankel_svd(data, omega_d, method=method, q=q, r=r), order)
+
+
+# --------------------------------------------------------------------------------------------------
+# fast unconstrained B/D least squares (numpy), used by the order sweep and for quick checks
+# --------------------------------------------------------------------------------------------------
+def _resolvent_C(A: np.ndarray, C: np.ndarray, z: np.ndarray) -> np.ndarray:
+    """``C (z_k I - A)^-1`` for all k: shape (K, p, n). Eigen-decomposition when well conditioned."""
+    n = A.shape[0]
+    lam, V = np.linalg.eig(A)
+    cond = np.linalg.cond(V)
+    if np.isfinite(cond) and cond < 1e8:
+        CV = C @ V  # (p, n)
+        Vinv = np.linalg.inv(V)
+        phi = (CV[None, :, :] / (z[:, None, None] - lam[None, None, :])) @ Vinv
+        return phi
+    Z = z[:, None, None] * np.eye(n)[None] - A[None]
+    # C (zI - A)^-1 = ((zI - A)^-T C^T)^T
+    return np.swapaxes(np.linalg.solve(np.swapaxes(Z, 1, 2), np.broadcast_to(C.T, (z.size, n, C.shape[0]))), 1, 2)
+
+
+def lstsq_bd(A: np.ndarray, C: np.ndarray, z: np.ndarray, G: np.ndarray,
+             weights: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Unconstrained real least squares for ``B``, ``D`` (McKelvey step 6), closed form in NumPy.
+
+    Minimises ``sum_k w_k ||G_k - D - C (z_k I - A)^-1 B||_F^2`` with real ``B`` (n, m), ``D`` (p, m).
+    All input columns share one regressor, so this is a single ``lstsq`` with ``m`` right-hand sides.
+
+    Parameters
+    ----------
+    A : (n, n), C : (p, n) real
+    z : (K,) complex, points on the unit circle
+    G : (p, m, K) complex
+    weights : (K,) nonnegative, optional
+
+    Returns
+    -------
+    B : ndarray (n, m), D : ndarray (p, m)
+    """
+    p, m, K = G.shape
+    n = A.shape[0]
+    phi = _resolvent_C(A, C, z)  # (K, p, n)
+    X = np.concatenate([phi, np.broadcast_to(np.eye(p), (K, p, p))], axis=2).reshape(K * p, n + p)
+    Y = G.transpose(2, 0, 1).reshape(K * p, m)
+    if weights is not None:
+        sw = np.sqrt(np.repeat(np.asarray(weights, dtype=float), p))[:, None]
+        X, Y = X * sw, Y * sw
+    Xr = np.concatenate([X.real, X.imag], axis=0)
+    Yr = np.concatenate([Y.real, Y.imag], axis=0)
+    theta = np.linalg.lstsq(Xr, Yr, rcond=None)[0]
+    return theta[:n], theta[n:]
+
+
+def evaluate_ss(A: np.ndarray, B: np.ndarray, C: np.ndarray, D: np.ndarray, z: np.ndarray) -> np.ndarray:
+    """``G(z_k) = C (z_k I - A)^-1 B + D`` for all k: shape (p, m, K)."""
+    phi = _resolvent_C(A, C, np.asarray(z, dtype=complex).reshape(-1))  # (K, p, n)
+    return (phi @ B + D[None]).transpose(1, 2, 0)
