@@ -1,0 +1,221 @@
+"""Discrete <-> continuous conversions of state-space models (paper Eqs. 26, 31, 32).
+
+All functions take and return :class:`control.StateSpace`; discrete models carry ``dt = T``. Channel
+names are kept.
+
+- :func:`d2c_bilinear`: discrete -> continuous, inverse Tustin with the paper's balanced ``2/sqrt(T)``
+  split of the input and output matrices (Eq. 26).
+- :func:`c2d_bilinear`: continuous -> discrete, Tustin (Eq. 31), the exact inverse of Eq. 26.
+- :func:`c2d_zoh`: continuous -> discrete, zero-order hold (Eq. 32), computed from the matrix exponential
+  of the augmented matrix ``[[A, B], [0, 0]] T`` so that a singular ``A`` (an integrator) is fine.
+
+The bilinear transforms give the same transfer function as ``control.c2d(sys, T, 'tustin')`` (in a
+different state basis). Both Tustin and ZOH preserve the DC gain.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+import scipy.linalg
+
+from .errors import FrequencyGridError
+
+__all__ = ["d2c_bilinear", "c2d_bilinear", "c2d_zoh"]
+
+# Reciprocal condition number below which (I + A) or (2/T I - A) is treated as singular.
+_RCOND_SINGULAR = 1e3 * np.finfo(float).eps
+
+
+def _check_model(model: Any, *, discrete: bool, func: str):
+    import control
+
+    if not isinstance(model, control.StateSpace):
+        if isinstance(model, control.LTI):
+            model = control.ss(model)
+        else:
+            raise TypeError(f"{func}() expects a control.StateSpace, got {type(model).__name__}")
+    if discrete:
+        if not model.isdtime(strict=True):
+            raise ValueError(
+                f"{func}() expects a discrete-time model (dt = T > 0); this one is continuous (dt = 0). "
+                "Use c2d_bilinear(model, T) or c2d_zoh(model, T) to discretise it"
+            )
+        if model.dt is True:
+            raise FrequencyGridError(
+                f"{func}() needs the sampling period: the model has dt=True (unspecified); build it with "
+                "dt=T, e.g. control.ss(A, B, C, D, T)"
+            )
+    elif not model.isctime(strict=True):
+        raise ValueError(
+            f"{func}() expects a continuous-time model (dt = 0); this one is discrete (dt = {model.dt}). "
+            "Use d2c_bilinear(model) first"
+        )
+    return model
+
+
+def _check_T(T: Any) -> float:
+    try:
+        Tf = float(T)
+    except (TypeError, ValueError):
+        raise FrequencyGridError(f"sampling period T must be a positive finite number, got {T!r}") from None
+    if not math.isfinite(Tf) or Tf <= 0.0:
+        raise FrequencyGridError(f"sampling period T must be positive and finite, got T={T!r}")
+    return Tf
+
+
+def _matrices(model) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    return (np.asarray(model.A, dtype=float), np.asarray(model.B, dtype=float),
+            np.asarray(model.C, dtype=float), np.asarray(model.D, dtype=float))
+
+
+def _lu_or_raise(Mtx: np.ndarray, message: str):
+    """LU factors of ``Mtx``; ``ValueError(message)`` when it is (numerically) singular."""
+    n = Mtx.shape[0]
+    if n == 0:
+        return None
+    rc = 1.0 / np.linalg.cond(Mtx) if np.all(np.isfinite(Mtx)) else 0.0
+    if not np.isfinite(rc) or rc < _RCOND_SINGULAR:
+        raise ValueError(message + f" (reciprocal condition number {rc:.2e})")
+    return scipy.linalg.lu_factor(Mtx)
+
+
+def _solve(lu, rhs: np.ndarray, trans: int = 0) -> np.ndarray:
+    if lu is None:
+        return rhs
+    return scipy.linalg.lu_solve(lu, rhs, trans=trans)
+
+
+def _build(A, B, C, D, dt, model):
+    import control
+
+    return control.ss(A, B, C, D, dt, inputs=list(model.input_labels), outputs=list(model.output_labels))
+
+
+def d2c_bilinear(model):
+    """Discrete -> continuous by the inverse bilinear (Tustin) map, paper Eq. 26.
+
+    With ``Ahat, Bhat, Chat, Dhat`` the discrete matrices and ``T = model.dt``::
+
+        A = (2/T) (I + Ahat)^-1 (Ahat - I)
+        B = (2/sqrt(T)) (I + Ahat)^-1 Bhat
+        C = (2/sqrt(T)) Chat (I + Ahat)^-1
+        D = Dhat - Chat (I + Ahat)^-1 Bhat
+
+    so that ``G_c(s) = G_d(z)`` with ``s = (2/T)(z - 1)/(z + 1)``; in particular
+    ``G_c(j omega) = G_d(exp(j omega_d))`` with ``omega = (2/T) tan(omega_d / 2)``.
+
+    Parameters
+    ----------
+    model : control.StateSpace
+        Discrete model with ``dt = T > 0``.
+
+    Returns
+    -------
+    control.StateSpace
+        Continuous model (``dt = 0``), time in the same units as ``T``.
+
+    Raises
+    ------
+    ValueError
+        Continuous model given, or ``I + Ahat`` singular (a pole at ``z = -1``, which maps to ``s = inf``).
+    FrequencyGridError
+        ``dt = True`` (sampling period unspecified).
+    """
+    model = _check_model(model, discrete=True, func="d2c_bilinear")
+    T = _check_T(model.dt)
+    Ad, Bd, Cd, Dd = _matrices(model)
+    n = Ad.shape[0]
+    I = np.eye(n)
+    lu = _lu_or_raise(
+        I + Ad,
+        "d2c_bilinear(): I + A is singular, the discrete model has a pole at z = -1 (omega = infinity) that the "
+        "bilinear map cannot take to a finite continuous pole; move or remove that pole (e.g. refit with a "
+        "different order)",
+    )
+    A = (2.0 / T) * _solve(lu, Ad - I)
+    B = (2.0 / math.sqrt(T)) * _solve(lu, Bd)
+    CinvT = _solve(lu, Cd.T, trans=1).T if n else Cd  # Chat (I + Ahat)^-1
+    C = (2.0 / math.sqrt(T)) * CinvT
+    D = Dd - CinvT @ Bd
+    return _build(A, B, C, D, 0, model)
+
+
+def c2d_bilinear(model, T: float):
+    """Continuous -> discrete by the bilinear (Tustin) map, paper Eq. 31 (the inverse of Eq. 26)::
+
+        Ahat = (2/T I + A) (2/T I - A)^-1
+        Bhat = (2/sqrt(T)) (2/T I - A)^-1 B
+        Chat = (2/sqrt(T)) C (2/T I - A)^-1
+        Dhat = D + C (2/T I - A)^-1 B
+
+    Parameters
+    ----------
+    model : control.StateSpace
+        Continuous model (``dt = 0``).
+    T : float
+        Sampling period, ``> 0``.
+
+    Returns
+    -------
+    control.StateSpace
+        Discrete model with ``dt = T``.
+
+    Raises
+    ------
+    ValueError
+        Discrete model given, or ``2/T I - A`` singular (a continuous pole at ``s = 2/T``, which maps to
+        ``z = inf``); change ``T``.
+    FrequencyGridError
+        ``T <= 0`` or not finite.
+    """
+    model = _check_model(model, discrete=False, func="c2d_bilinear")
+    T = _check_T(T)
+    A, B, C, D = _matrices(model)
+    n = A.shape[0]
+    I = np.eye(n)
+    W = (2.0 / T) * I - A
+    lu = _lu_or_raise(
+        W,
+        f"c2d_bilinear(): 2/T I - A is singular, the model has a pole at s = 2/T = {2.0 / T:.6g} that the "
+        "bilinear map sends to z = infinity; choose a different T",
+    )
+    Ad = _solve(lu, ((2.0 / T) * I + A).T, trans=1).T if n else A  # (2/T I + A)(2/T I - A)^-1
+    Bd = (2.0 / math.sqrt(T)) * _solve(lu, B)
+    CW = _solve(lu, C.T, trans=1).T if n else C  # C (2/T I - A)^-1
+    Cd = (2.0 / math.sqrt(T)) * CW
+    Dd = D + CW @ B
+    return _build(Ad, Bd, Cd, Dd, T, model)
+
+
+def c2d_zoh(model, T: float):
+    """Continuous -> discrete by zero-order hold, paper Eq. 32::
+
+        Ahat = exp(A T),  Bhat = int_0^T exp(A tau) d tau B,  Chat = C,  Dhat = D
+
+    ``Ahat`` and ``Bhat`` are read from ``expm([[A, B], [0, 0]] T) = [[Ahat, Bhat], [0, I]]``; ``A`` is never
+    inverted, so integrators (singular ``A``) are handled.
+
+    Parameters
+    ----------
+    model : control.StateSpace
+        Continuous model (``dt = 0``).
+    T : float
+        Sampling period, ``> 0``.
+
+    Returns
+    -------
+    control.StateSpace
+        Discrete model with ``dt = T``.
+    """
+    model = _check_model(model, discrete=False, func="c2d_zoh")
+    T = _check_T(T)
+    A, B, C, D = _matrices(model)
+    n, m = B.shape
+    aug = np.zeros((n + m, n + m))
+    aug[:n, :n] = A * T
+    aug[:n, n:] = B * T
+    E = scipy.linalg.expm(aug)
+    return _build(E[:n, :n], E[:n, n:], C, D, T, model)
