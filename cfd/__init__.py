@@ -4,4 +4,5 @@ Public entry points are listed in shared/DESIGN.md; this package knows nothing o
 """
 
 from .errors import ConvergenceError, FlowConditionError, GeometryError, MeshError
-from .mesh import Grid, grid_from_nodes
+from .geometry import Aerofoil, naca
+from .mesh import Grid, c_grid, grid_from_nodes

@@ -24,13 +24,16 @@ Face vectors are normals scaled by the face length (units: chords):
   (the edge from node ``(ic, j)`` to node ``(ic+1, j)``), pointing towards increasing ``j``.
 """
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
 from .errors import MeshError
 
-__all__ = ["Grid", "grid_from_nodes"]
+__all__ = ["Grid", "grid_from_nodes", "c_grid"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -153,3 +156,362 @@ def grid_from_nodes(x, y, n_wake):
     sj = np.stack([-dy_j, dx_j])
 
     return Grid(x=x, y=y, n_wake=n_wake, xc=xc, yc=yc, area=area, si=si, sj=sj)
+
+
+# ---------------------------------------------------------------------------------------------
+# C-grid generation
+# ---------------------------------------------------------------------------------------------
+#
+# Method (details in docs/mesh.md):
+#   1. Boundary nodes. Wall: two-sided Vinokur (tanh) distribution of arc length on each surface,
+#      with given spacings at the leading and trailing edges. Wake cut: a straight line along the
+#      trailing-edge bisector, geometric cells starting from the trailing-edge spacing. Far field:
+#      a semicircle of radius R about mid-chord, straight lines y = +-R and the outflow plane
+#      x = 0.5 + R.
+#   2. Initial grid: transfinite (linear) interpolation between the inner (wall + cut) and outer
+#      boundary along each i-line, with geometric spacing from a given first-cell height.
+#   3. Elliptic smoothing: the Thompson equations with Thomas-Middlecoff control functions
+#      (keep the boundary spacings) plus Sorenson-type wall terms that make the first j-line
+#      orthogonal to the wall and wake cut with the requested height. Each Picard step freezes
+#      the coefficients and solves the linear 9-point system for x and y with one sparse LU.
+
+
+def _solve_monotone(f, target, lo, hi, n_iter=100):
+    """Vectorised bisection for ``f(r) = target`` with ``f`` increasing on ``[lo, hi]``."""
+    target = np.asarray(target, dtype=float)
+    lo = np.full(target.shape, float(lo))
+    hi = np.full(target.shape, float(hi))
+    for _ in range(n_iter):  # iterations of the root finder, not a loop over cells
+        mid = 0.5 * (lo + hi)
+        below = f(mid) < target
+        lo = np.where(below, mid, lo)
+        hi = np.where(below, hi, mid)
+    return 0.5 * (lo + hi)
+
+
+def _geometric_sum(r, n):
+    """``1 + r + ... + r^(n-1)`` (vectorised, safe at r = 1)."""
+    r = np.asarray(r, dtype=float)
+    near = np.abs(r - 1.0) < 1e-9
+    return np.where(near, np.asarray(n, dtype=float), (r**n - 1.0) / np.where(near, 2.0, r - 1.0))
+
+
+def _geometric(n, first, length):
+    """Cumulative geometric distribution: ``n + 1`` points from 0 to ``length`` (last axis).
+
+    ``first`` and ``length`` broadcast; the ratio is found by bisection.
+    """
+    first = np.asarray(first, dtype=float)
+    length = np.asarray(length, dtype=float)
+    ratio = _solve_monotone(lambda r: first * _geometric_sum(r, n), length, 0.2, 5.0)
+    k = np.arange(n + 1)
+    frac = _geometric_sum(ratio[..., None], k) / _geometric_sum(ratio[..., None], n)
+    return length[..., None] * frac, ratio
+
+
+def _vinokur(n, ds0, ds1):
+    """Two-sided tanh stretching (Vinokur 1983): ``n + 1`` points on [0, 1].
+
+    Parameters
+    ----------
+    n : int
+        Number of intervals.
+    ds0, ds1 : float
+        First and last intervals as fractions of the length.
+
+    Returns
+    -------
+    ndarray, shape (n + 1,)
+        Increasing from 0 to 1.
+    """
+    xi = np.arange(n + 1) / n
+    b = 1.0 / (n * math.sqrt(ds0 * ds1))
+    if abs(b - 1.0) < 1e-8:
+        u = xi
+    elif b > 1.0:
+        d = float(_solve_monotone(lambda d: np.sinh(d) / d, b, 1e-8, 60.0))
+        u = 0.5 * (1.0 + np.tanh(d * (xi - 0.5)) / math.tanh(0.5 * d))
+    else:
+        # Spacings larger than uniform at both ends: the tangent form (sin(d)/d = b, d < pi).
+        d = float(_solve_monotone(lambda d: -np.sin(d) / d, -b, 1e-8, math.pi - 1e-8))
+        u = 0.5 * (1.0 + np.tan(d * (xi - 0.5)) / math.tan(0.5 * d))
+    a = math.sqrt(ds1 / ds0)
+    s = u / (a + (1.0 - a) * u)
+    s[0], s[-1] = 0.0, 1.0
+    return s
+
+
+def _check_sizes(ni, nj, n_surface, farfield):
+    for name, v in (("ni", ni), ("nj", nj), ("n_surface", n_surface)):
+        if not isinstance(v, (int, np.integer)) or isinstance(v, bool):
+            raise MeshError(f"{name} must be an integer, got {v!r}")
+    if n_surface < 8 or n_surface % 2:
+        raise MeshError(
+            f"n_surface = {n_surface} must be even (one half per surface) and at least 8; "
+            "e.g. n_surface=100 as in the paper"
+        )
+    n_wake2 = ni - 1 - n_surface
+    if n_wake2 < 2 or n_wake2 % 2:
+        raise MeshError(
+            f"ni - 1 - n_surface = {n_wake2} cells are left for the two wake branches; it must be even and "
+            f"at least 2 (one cell per branch): use ni = n_surface + 1 + 2 * n_wake, e.g. ni={n_surface + 81} "
+            f"for 40 wake cells per branch"
+        )
+    if nj < 8:
+        raise MeshError(f"nj = {nj} nodes across the domain is too few; use nj >= 8 (the paper uses 60)")
+    if not np.isfinite(farfield) or farfield < 3.0:
+        raise MeshError(f"farfield = {farfield} chords is too close; use at least 3 (default 25)")
+    return n_wake2 // 2
+
+
+def _boundaries(foil, ni, nj, n_surface, n_wake, farfield, le_spacing, te_spacing, wall_spacing, outer_blend):
+    """Inner (wall + cut) and outer boundary nodes and the first-cell heights along ``j = 0``."""
+    half = n_surface // 2
+    # Wall: lower surface TE -> LE, upper surface LE -> TE (arc length from the lower TE).
+    arc_le = foil.s_leading_edge_arc
+    arc_up = foil.perimeter - arc_le
+    low = arc_le * _vinokur(half, te_spacing / arc_le, le_spacing / arc_le)
+    up = arc_le + arc_up * _vinokur(half, le_spacing / arc_up, te_spacing / arc_up)
+    arc = np.concatenate([low, up[1:]])
+    xw, yw = foil.at_arc(arc)
+    xw[0] = xw[-1] = 1.0  # the sharp trailing edge, exactly
+    yw[-1] = yw[0]
+
+    # Wake cut: bisector of the trailing-edge wedge, pointing downstream.
+    t_low = np.array([xw[0] - xw[1], yw[0] - yw[1]])
+    t_up = np.array([xw[-1] - xw[-2], yw[-1] - yw[-2]])
+    bis = t_low / np.hypot(*t_low) + t_up / np.hypot(*t_up)
+    bis /= np.hypot(*bis)
+    x_out = 0.5 + farfield
+    length = (x_out - xw[0]) / bis[0]
+    dist, _ = _geometric(n_wake, te_spacing, length)
+    xk = xw[0] + dist * bis[0]
+    yk = yw[0] + dist * bis[1]
+    xk[-1] = x_out
+    x_in = np.concatenate([xk[::-1], xw[1:-1], xk])
+    y_in = np.concatenate([yk[::-1], yw[1:-1], yk])
+
+    # First-cell height: constant on the wall, growing along the cut (1 + d / 2 chords).
+    d = np.concatenate([dist[::-1], np.zeros(n_surface - 1), dist])
+    h = wall_spacing * (1.0 + 0.5 * d)
+
+    # Outer boundary. Straight parts follow the wake nodes blended with a uniform distribution;
+    # the semicircle follows the wall's arc position blended with uniform angle.
+    g = outer_blend
+    wfrac = dist / dist[-1]
+    sfrac = (1.0 - g) * wfrac + g * np.linspace(0.0, 1.0, n_wake + 1)
+    xs = 0.5 + (x_out - 0.5) * sfrac  # x along the straight part, from x = 0.5 outward
+    afrac = (1.0 - g) * (arc - arc[0]) / (arc[-1] - arc[0]) + g * np.linspace(0.0, 1.0, n_surface + 1)
+    ang = -0.5 * np.pi - np.pi * afrac  # from the bottom (-90 deg) round the front to the top (-270 deg)
+    xa = 0.5 + farfield * np.cos(ang)
+    ya = farfield * np.sin(ang)
+    xa[[0, -1]] = 0.5
+    ya[0], ya[-1] = -farfield, farfield
+    x_o = np.concatenate([xs[::-1], xa[1:-1], xs])
+    y_o = np.concatenate([np.full(n_wake + 1, -farfield), ya[1:-1], np.full(n_wake + 1, farfield)])
+    return x_in, y_in, x_o, y_o, h
+
+
+def _transfinite(x_in, y_in, x_o, y_o, h, nj):
+    """Straight i-lines from inner to outer boundary with geometric spacing from height ``h``."""
+    length = np.hypot(x_o - x_in, y_o - y_in)
+    dist, ratio = _geometric(nj - 1, h, length)
+    f = dist / length[:, None]
+    x = x_in[:, None] + f * (x_o - x_in)[:, None]
+    y = y_in[:, None] + f * (y_o - y_in)[:, None]
+    return x, y, f
+
+
+def _d_i(a):
+    """Central first difference along axis 0 on interior nodes: shape (ni-2, nj-2)."""
+    return 0.5 * (a[2:, 1:-1] - a[:-2, 1:-1])
+
+
+def _d_j(a):
+    return 0.5 * (a[1:-1, 2:] - a[1:-1, :-2])
+
+
+def _d_ii(a):
+    return a[2:, 1:-1] - 2.0 * a[1:-1, 1:-1] + a[:-2, 1:-1]
+
+
+def _d_jj(a):
+    return a[1:-1, 2:] - 2.0 * a[1:-1, 1:-1] + a[1:-1, :-2]
+
+
+def _d_ij(a):
+    return 0.25 * (a[2:, 2:] - a[2:, :-2] - a[:-2, 2:] + a[:-2, :-2])
+
+
+def _elliptic(x, y, f, h, n_iter, tol, decay, relax):
+    """Picard iterations of the Thompson equations with TM and Sorenson-type wall control.
+
+    ``alpha (r_ii + phi r_i) - 2 beta r_ij + gamma (r_jj + psi r_j) = 0`` on interior nodes,
+    boundary nodes fixed. Returns the smoothed ``x, y`` and the number of iterations.
+    """
+    ni, nj = x.shape
+    n = ni * nj
+    idx = np.arange(n).reshape(ni, nj)
+    P = idx[1:-1, 1:-1].ravel()
+
+    # Base control functions. psi keeps the geometric j-spacing of the initial i-lines; phi
+    # interpolates the i-spacing control of the inner and outer boundaries (Thomas-Middlecoff).
+    def boundary_phi(xb, yb):
+        xd, yd = 0.5 * (xb[2:] - xb[:-2]), 0.5 * (yb[2:] - yb[:-2])
+        xdd, ydd = xb[2:] - 2 * xb[1:-1] + xb[:-2], yb[2:] - 2 * yb[1:-1] + yb[:-2]
+        return -(xd * xdd + yd * ydd) / (xd**2 + yd**2)
+
+    fi = f[1:-1, 1:-1]
+    phi0 = np.clip((1.0 - fi) * boundary_phi(x[:, 0], y[:, 0])[:, None]
+                   + fi * boundary_phi(x[:, -1], y[:, -1])[:, None], -1.0, 1.0)
+    xj, yj = _d_j(x), _d_j(y)
+    psi0 = np.clip(-(xj * _d_jj(x) + yj * _d_jj(y)) / (xj**2 + yj**2), -1.0, 1.0)
+    psi_wall0 = psi0[:, 0]
+    phi_wall0 = phi0[:, 0]
+
+    # Desired wall derivative r_j: the unit normal (tangent turned +90 deg) times the height.
+    tx, ty = np.gradient(x[:, 0]), np.gradient(y[:, 0])
+    tn = np.hypot(tx, ty)
+    xn, yn = -ty / tn * h, tx / tn * h
+    xb, yb = x[1:-1, 0], y[1:-1, 0]
+    xi_w, yi_w = 0.5 * (x[2:, 0] - x[:-2, 0]), 0.5 * (y[2:, 0] - y[:-2, 0])
+    xii_w, yii_w = x[2:, 0] - 2 * xb + x[:-2, 0], y[2:, 0] - 2 * yb + y[:-2, 0]
+    xij_w, yij_w = 0.5 * (xn[2:] - xn[:-2]), 0.5 * (yn[2:] - yn[:-2])
+    xn_w, yn_w = xn[1:-1], yn[1:-1]
+    a_w = xn_w**2 + yn_w**2
+    b_w = xi_w * xn_w + yi_w * yn_w
+    g_w = xi_w**2 + yi_w**2
+    jac_w = xi_w * yn_w - yi_w * xn_w
+    decay_j = np.exp(-decay * np.arange(nj - 2))[None, :]
+    dphi = np.zeros(ni - 2)
+    dpsi = np.zeros(ni - 2)
+
+    scale = np.min(h)
+    it = 0
+    for it in range(1, n_iter + 1):  # Picard iterations; each is one vectorised sparse solve
+        # Sorenson-type wall control from the current first two interior j-lines.
+        xjj_w = 0.5 * (-7 * xb + 8 * x[1:-1, 1] - x[1:-1, 2]) - 3 * xn_w
+        yjj_w = 0.5 * (-7 * yb + 8 * y[1:-1, 1] - y[1:-1, 2]) - 3 * yn_w
+        rx = a_w * xii_w - 2 * b_w * xij_w + g_w * xjj_w
+        ry = a_w * yii_w - 2 * b_w * yij_w + g_w * yjj_w
+        phi_w = (-rx * yn_w + ry * xn_w) / (a_w * jac_w)
+        psi_w = (rx * yi_w - ry * xi_w) / (g_w * jac_w)
+        dphi += relax * (np.clip(phi_w - phi_wall0, -1.0, 1.0) - dphi)
+        dpsi += relax * (np.clip(psi_w - psi_wall0, -1.0, 1.0) - dpsi)
+        phi = phi0 + dphi[:, None] * decay_j
+        psi = psi0 + dpsi[:, None] * decay_j
+
+        xi_, yi_, xj_, yj_ = _d_i(x), _d_i(y), _d_j(x), _d_j(y)
+        al = xj_**2 + yj_**2
+        be = xi_ * xj_ + yi_ * yj_
+        ga = xi_**2 + yi_**2
+        coef = {
+            (0, 0): -2.0 * (al + ga),
+            (1, 0): al * (1.0 + 0.5 * phi),
+            (-1, 0): al * (1.0 - 0.5 * phi),
+            (0, 1): ga * (1.0 + 0.5 * psi),
+            (0, -1): ga * (1.0 - 0.5 * psi),
+            (1, 1): -0.5 * be,
+            (-1, -1): -0.5 * be,
+            (1, -1): 0.5 * be,
+            (-1, 1): 0.5 * be,
+        }
+        rows = [P] * len(coef)
+        cols = [idx[1 + di : ni - 1 + di, 1 + dj : nj - 1 + dj].ravel() for di, dj in coef]
+        vals = [c.ravel() for c in coef.values()]
+        bnd = np.setdiff1d(idx.ravel(), P, assume_unique=True)
+        A = sp.csc_matrix(
+            (np.concatenate(vals + [np.ones(bnd.size)]), (np.concatenate(rows + [bnd]), np.concatenate(cols + [bnd]))),
+            shape=(n, n),
+        )
+        rhs = np.zeros((n, 2))
+        rhs[bnd, 0] = x.ravel()[bnd]
+        rhs[bnd, 1] = y.ravel()[bnd]
+        sol = spla.splu(A).solve(rhs)
+        x_new, y_new = sol[:, 0].reshape(ni, nj), sol[:, 1].reshape(ni, nj)
+        change = np.max(np.hypot(x_new - x, y_new - y)) / scale
+        x, y = x_new, y_new
+        if change < tol:
+            break
+    return x, y, it
+
+
+def c_grid(
+    foil,
+    ni=181,
+    nj=60,
+    n_surface=100,
+    farfield=25.0,
+    wall_spacing=0.004,
+    le_spacing=None,
+    te_spacing=0.006,
+    smooth=True,
+    max_iter=60,
+    tol=1e-3,
+):
+    """A structured C-grid around an aerofoil (the paper's 181 x 60 grid by default).
+
+    Parameters
+    ----------
+    foil : Aerofoil
+        From ``cfd.naca``; needs ``at_arc``, ``perimeter`` and ``s_leading_edge_arc``.
+    ni, nj : int
+        Nodes around the C and outward (``ni - 1`` by ``nj - 1`` cells).
+    n_surface : int
+        Cells on the aerofoil, even; the two wake branches get ``(ni - 1 - n_surface) / 2``
+        cells each (40 for the defaults).
+    farfield : float
+        Far-field radius R in chords: a semicircle of radius R about mid-chord ``(0.5, 0)``,
+        joined by straight lines ``y = -R`` and ``y = +R`` to the outflow plane ``x = 0.5 + R``.
+    wall_spacing : float
+        Height of the first cell on the wall (chords). It grows along the wake cut as
+        ``wall_spacing * (1 + d / 2)`` with ``d`` the distance from the trailing edge.
+    le_spacing : float, optional
+        Surface spacing at the leading edge (chords, arc length). Default
+        ``clip(0.25 r_LE, 0.001, 0.005)`` with the leading-edge radius ``r_LE = 1.1019 t^2``:
+        about four cells per radian of nose curvature.
+    te_spacing : float
+        Surface spacing at the trailing edge and first wake cell (chords).
+    smooth : bool
+        Run the elliptic smoother (True) or return the transfinite initial grid (False).
+    max_iter : int
+        Maximum Picard iterations of the elliptic smoother.
+    tol : float
+        Stop when no node moves by more than ``tol * wall_spacing`` in one iteration.
+
+    Returns
+    -------
+    Grid
+        With ``n_wake = (ni - 1 - n_surface) / 2``; node ``(i, 0)`` and ``(ni-1-i, 0)`` coincide for
+        ``i <= n_wake``.
+
+    Raises
+    ------
+    MeshError
+        If the sizes do not fit the stencil or each other, the far field is too close, the spacings
+        are not positive and small enough, or the grid folds (inverted cells).
+    """
+    n_wake = _check_sizes(ni, nj, n_surface, farfield)
+    if le_spacing is None:
+        le_spacing = float(np.clip(0.25 * 1.1019 * foil.t**2, 0.001, 0.005))
+    half_len = min(foil.s_leading_edge_arc, foil.perimeter - foil.s_leading_edge_arc)
+    for name, v, hi in (
+        ("wall_spacing", wall_spacing, farfield / (nj - 1)),
+        ("le_spacing", le_spacing, half_len / (n_surface // 2)),
+        ("te_spacing", te_spacing, half_len / (n_surface // 2)),
+    ):
+        if not (np.isfinite(v) and 0.0 < v < hi):
+            raise MeshError(
+                f"{name} = {v} must be positive and below the uniform spacing {hi:.4g} chords; "
+                f"reduce it (defaults: wall 0.004, trailing edge 0.006) or add nodes"
+            )
+    x_in, y_in, x_o, y_o, h = _boundaries(
+        foil, ni, nj, n_surface, n_wake, float(farfield), le_spacing, te_spacing, wall_spacing, 0.5
+    )
+    x, y, f = _transfinite(x_in, y_in, x_o, y_o, h, nj)
+    if smooth:
+        x, y, _ = _elliptic(x, y, f, h, max_iter, tol, decay=0.3, relax=0.5)
+        # Cut nodes are boundary nodes: keep the two branches bit-identical.
+        x[ni - 1 - n_wake :, 0] = x[n_wake::-1, 0]
+        y[ni - 1 - n_wake :, 0] = y[n_wake::-1, 0]
+    return grid_from_nodes(x, y, n_wake)
