@@ -1,6 +1,9 @@
 """lfdrom.sysid: frequency-domain subspace identification with convex constrained refits.
 
 Works on any frequency-response data; knows nothing of CFD.
+
+Main entry points: :class:`FrequencyResponse`, :func:`mckelvey_grid`, :func:`identify`,
+:func:`order_sweep`, :func:`d2c_bilinear`, :func:`c2d_bilinear`, :func:`c2d_zoh`.
 """
 
 from .errors import ConstraintError, FrequencyDataError, FrequencyGridError, OrderError, SolverError
@@ -14,17 +17,26 @@ from .subspace import (
     mckelvey2,
     subspace_identify,
 )
+from .transforms import c2d_bilinear, c2d_zoh, d2c_bilinear
+from .metrics import FitErrors, dc_error, frf_errors, max_relative_error, rms_relative_error, spectral_radius
+from .order import OrderSweep, order_sweep
+from .identify import IdentificationResult, StabilisationReport, identify
+from .refit import BDFit, CDFit, fit_alternating, fit_bd, fit_cd
+from .stability import StabiliseResult, stabilise
 
 __all__ = [
+    # errors
     "ConstraintError",
     "FrequencyDataError",
     "FrequencyGridError",
     "OrderError",
     "SolverError",
+    # data
     "FrequencyResponse",
     "mckelvey_grid",
     "discrete_to_continuous",
     "continuous_to_discrete",
+    # subspace
     "HankelSVD",
     "SubspaceResult",
     "hankel_svd",
@@ -32,4 +44,30 @@ __all__ = [
     "mckelvey1",
     "mckelvey2",
     "subspace_identify",
+    # transforms
+    "d2c_bilinear",
+    "c2d_bilinear",
+    "c2d_zoh",
+    # metrics
+    "FitErrors",
+    "frf_errors",
+    "max_relative_error",
+    "rms_relative_error",
+    "dc_error",
+    "spectral_radius",
+    # order selection
+    "OrderSweep",
+    "order_sweep",
+    # pipeline
+    "identify",
+    "IdentificationResult",
+    "StabilisationReport",
+    # convex refits and stability (sysid.refit, sysid.stability)
+    "BDFit",
+    "CDFit",
+    "fit_bd",
+    "fit_cd",
+    "fit_alternating",
+    "StabiliseResult",
+    "stabilise",
 ]

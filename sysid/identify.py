@@ -1,0 +1,318 @@
+"""The identification pipeline: frequency response -> stable, constrained discrete state-space model.
+
+Steps (:func:`identify`):
+
+1. Subspace step (:mod:`sysid.subspace`): ``A``, ``C`` by McKelvey's Algorithm 1 (equispaced grid) or 2
+   (arbitrary frequencies), from one SVD.
+2. Optional stability enforcement (:mod:`sysid.stability`): when ``stable=True`` and the spectral radius
+   of ``A`` is ``>= 1 - margin``, ``A`` is replaced by the closest stable matrix for the shift equation
+   ``Gamma1 A ~= Gamma2`` (LMI, Lacy & Bernstein) or by eigenvalue reflection.
+3. Convex refit of ``B``, ``D`` (:func:`sysid.refit.fit_bd`), with exact equality constraints:
+
+   - DC gain ``G(z=1) = dc`` (``dc_gain="match"`` uses the data's ``omega = 0`` sample, or give an array);
+   - feedthrough: when the data contain the ``omega_d = pi`` (``omega = inf``) sample, its value is the
+     continuous model's feedthrough and is imposed as ``G(z=-1) = H(pi)`` -- never solved for.
+
+The result carries the model (``control.StateSpace`` with ``dt = T``), its errors on the data, which
+constraints were enforced, and what the stabilisation cost.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Mapping
+
+import numpy as np
+
+from .errors import ConstraintError, FrequencyGridError
+from .frd import FrequencyResponse
+from .metrics import FitErrors, dc_error, frf_errors, spectral_radius
+from .subspace import SubspaceResult, evaluate_ss, from_basis, hankel_svd
+
+__all__ = ["identify", "IdentificationResult", "StabilisationReport"]
+
+
+@dataclass(frozen=True)
+class StabilisationReport:
+    """What stability enforcement did.
+
+    Attributes
+    ----------
+    method : str
+        ``"lmi"``, ``"reflect"`` or ``"none"`` (``A`` was already stable with the margin).
+    status : str
+        Solver / method status from :func:`sysid.stability.stabilise`.
+    spectral_radius_before, spectral_radius_after : float
+    relative_change : float
+        ``||A_new - A||_F / ||A||_F``.
+    rms_error_before, rms_error_after : float
+        RMS relative FRF error of the refitted model with the original and with the stabilised ``A``
+        (same constraints); equal when nothing was changed.
+    max_error_before, max_error_after : float
+        The same for the max relative error.
+    """
+
+    method: str
+    status: str
+    spectral_radius_before: float
+    spectral_radius_after: float
+    relative_change: float
+    rms_error_before: float
+    rms_error_after: float
+    max_error_before: float
+    max_error_after: float
+
+
+@dataclass(frozen=True)
+class IdentificationResult:
+    """Result of :func:`identify`.
+
+    Attributes
+    ----------
+    model : control.StateSpace
+        Discrete model, ``dt = T``, named inputs and outputs of the data.
+    order : int
+    method : str
+        ``"mckelvey1"`` or ``"mckelvey2"``.
+    hankel_sv : ndarray
+        Singular values of the subspace step (guide for the order).
+    errors : FitErrors
+        FRF errors over the data (see :mod:`sysid.metrics`).
+    max_error, rms_error : float
+        Shortcuts for ``errors.max_rel`` and ``errors.rms_rel``.
+    dc_error : float or None
+        Relative DC-gain error ``max|G(1) - H(0)| / max|H(0)|`` when the data have an ``omega = 0`` sample.
+    enforced : dict
+        ``{"dc_gain": bool, "feedthrough": bool, "stable": bool}``: which constraints hold by
+        construction (``"stable"`` is True when ``stable=True`` was requested; see ``stabilisation``).
+    spectral_radius : float
+        Of the final ``A``.
+    stabilisation : StabilisationReport or None
+        ``None`` when ``stable=False``.
+    subspace : SubspaceResult
+        ``A``, ``C`` and Hankel data before stabilisation.
+    refit : object
+        The :class:`sysid.refit.BDFit` of the final model.
+    T : float
+    q, r : int, int or None
+        Hankel sizes.
+    data : FrequencyResponse
+        The data identified (for :meth:`frequency_response` and plots).
+    """
+
+    model: Any = field(repr=False)
+    order: int
+    method: str
+    hankel_sv: np.ndarray = field(repr=False)
+    errors: FitErrors = field(repr=False)
+    max_error: float = float("nan")
+    rms_error: float = float("nan")
+    dc_error: float | None = None
+    enforced: Mapping[str, bool] = field(default_factory=dict)
+    spectral_radius: float = float("nan")
+    stabilisation: StabilisationReport | None = None
+    subspace: SubspaceResult | None = field(default=None, repr=False)
+    refit: Any = field(default=None, repr=False)
+    T: float = float("nan")
+    q: int = 0
+    r: int | None = None
+    data: FrequencyResponse | None = field(default=None, repr=False)
+
+    def evaluate(self, omega_d: Any) -> np.ndarray:
+        """Model response ``G(exp(1j omega_d))``, shape (p, m, K), for discrete frequencies (rad/sample)."""
+        z = np.exp(1j * np.asarray(omega_d, dtype=float).reshape(-1))
+        m = self.model
+        return evaluate_ss(np.asarray(m.A), np.asarray(m.B), np.asarray(m.C), np.asarray(m.D), z)
+
+    def frequency_response(self, omega_d: Any = None) -> FrequencyResponse:
+        """Model response as a :class:`FrequencyResponse` on the data grid (or on ``omega_d``)."""
+        wd = self.data.omega_d if omega_d is None else np.asarray(omega_d, dtype=float)
+        return FrequencyResponse(
+            self.evaluate(wd), wd, self.T, inputs=list(self.model.input_labels),
+            outputs=list(self.model.output_labels), metadata={"source": "sysid.identify", "order": self.order},
+        )
+
+    def continuous(self):
+        """The continuous model by the inverse bilinear map (paper Eq. 26)."""
+        from .transforms import d2c_bilinear
+
+        return d2c_bilinear(self.model)
+
+
+def _resolve_dc(dc_gain: Any, frf: FrequencyResponse, dc_data: np.ndarray | None) -> np.ndarray | None:
+    p, m, _ = frf.shape
+    if dc_gain is None or dc_gain is False:
+        return None
+    if isinstance(dc_gain, str):
+        if dc_gain != "match":
+            raise ValueError(f"dc_gain must be None, 'match' or a (p, m) array, got {dc_gain!r}")
+        dc = dc_data
+        if dc is None:
+            raise ConstraintError(
+                "dc_gain='match' needs a sample at omega = 0 (omega_d = 0) in the data; add that frequency "
+                "(the steady solution) or pass the DC gain as a (p, m) array"
+            )
+        return np.array(dc, dtype=float)
+    dc = np.asarray(dc_gain)
+    if np.iscomplexobj(dc):
+        if np.abs(dc.imag).max() > 0:
+            raise ConstraintError("dc_gain must be real (a real system's DC gain is real)")
+        dc = dc.real
+    dc = np.array(dc, dtype=float)
+    if dc.ndim == 0 and (p, m) == (1, 1):
+        dc = dc.reshape(1, 1)
+    if dc.shape != (p, m):
+        raise ConstraintError(f"dc_gain has shape {dc.shape}, expected (p, m) = {(p, m)} (outputs, inputs)")
+    if not np.isfinite(dc).all():
+        raise ConstraintError("dc_gain contains NaN or inf")
+    return dc
+
+
+def identify(
+    frf: FrequencyResponse,
+    order: int,
+    dc_gain: Any = None,
+    stable: bool = False,
+    weights: Any = None,
+    method: str = "auto",
+    margin: float = 1e-3,
+    *,
+    q: int | None = None,
+    r: int | None = None,
+    stabilise_method: str = "lmi",
+    fix_feedthrough: bool = True,
+    solver: str = "clarabel",
+) -> IdentificationResult:
+    """Identify a discrete state-space model from frequency-response data.
+
+    Parameters
+    ----------
+    frf : FrequencyResponse
+        Data with a sampling period ``T`` (so that ``omega_d`` is known).
+    order : int
+        Model order ``n`` (number of states).
+    dc_gain : None, "match" or array_like (p, m)
+        ``None``: no DC constraint. ``"match"``: impose the data's ``omega = 0`` value exactly (the data
+        must contain that sample). Array: impose that real DC gain.
+    stable : bool
+        Enforce spectral radius ``< 1 - margin`` (only acts when the subspace ``A`` violates it).
+    weights : array_like, shape (K,) or (p, m, K), optional
+        Nonnegative weights of the squared residuals in the B/D refit (e.g. ``1/sigma^2``). The subspace
+        step is unweighted.
+    method : {"auto", "mckelvey1", "mckelvey2"}
+        Subspace algorithm; ``"auto"`` uses Algorithm 1 on the equispaced grid, else Algorithm 2.
+    margin : float
+        Stability margin (discrete spectral radius ``< 1 - margin``).
+    q, r : int, optional
+        Hankel sizes (see :func:`sysid.subspace.default_q`).
+    stabilise_method : {"lmi", "reflect"}
+        Passed to :func:`sysid.stability.stabilise`.
+    fix_feedthrough : bool
+        Impose ``G(z=-1) = H(omega_d = pi)`` when the data contain that sample (default True).
+    solver : {"clarabel", "numpy"}
+        Refit solver (see :func:`sysid.refit.fit_bd`).
+
+    Returns
+    -------
+    IdentificationResult
+
+    Raises
+    ------
+    FrequencyGridError
+        ``frf.T`` is None, or the grid does not suit ``method``.
+    OrderError
+        Order outside what the data support.
+    ConstraintError
+        Impossible constraint, e.g. a DC constraint when the model has a pole at ``z = 1``.
+    SolverError
+        A convex solver failed.
+    """
+    from .refit import fit_bd
+
+    if not isinstance(frf, FrequencyResponse):
+        raise TypeError(f"identify() expects a sysid.FrequencyResponse, got {type(frf).__name__}")
+    if frf.T is None or frf.omega_d is None:
+        raise FrequencyGridError(
+            "identify() needs the sampling period T to place the data on the unit circle "
+            "(omega_d = 2 arctan(omega T / 2)); build the data with a T, e.g. "
+            "FrequencyResponse.from_continuous(H, omega, T) or frf.with_T(T)"
+        )
+    if not (0.0 <= float(margin) < 1.0):
+        raise ValueError(f"margin must be in [0, 1), got {margin!r}")
+    T = frf.T
+    G = np.asarray(frf.H)
+    z = frf.z
+
+    svd = hankel_svd(frf, method=method, q=q, r=r)
+    sub = from_basis(svd, order)
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        dc_data = frf.dc_gain
+        ft_data = frf.feedthrough
+    for w in caught:  # report each once, from here
+        warnings.warn(str(w.message), w.category, stacklevel=2)
+    dc = _resolve_dc(dc_gain, frf, dc_data)
+    ft = ft_data if fix_feedthrough else None
+    if ft is not None:
+        ft = np.array(ft, dtype=float)
+
+    def refit(A):
+        fit = fit_bd(A, sub.C, z, G, weights=weights, dc_gain=dc, feedthrough=ft, solver=solver)
+        Hm = evaluate_ss(A, fit.B, sub.C, fit.D, z)
+        return fit, Hm, frf_errors(Hm, G)
+
+    A = sub.A
+    report = None
+    if stable:
+        from .stability import stabilise
+
+        rho0 = spectral_radius(A)
+        if rho0 >= 1.0 - margin:
+            fit0, _, err0 = refit(A) if not _has_pole_at_constraint(A, dc, ft) else (None, None, None)
+            st = stabilise(A, method=stabilise_method, margin=margin, gamma1=sub.gamma1, gamma2=sub.gamma2)
+            A = np.asarray(st.A, dtype=float)
+            fit, Hm, err = refit(A)
+            report = StabilisationReport(
+                method=st.method, status=st.status, spectral_radius_before=st.spectral_radius_before,
+                spectral_radius_after=st.spectral_radius_after, relative_change=st.relative_change,
+                rms_error_before=err0.rms_rel if err0 else float("nan"),
+                max_error_before=err0.max_rel if err0 else float("nan"),
+                rms_error_after=err.rms_rel, max_error_after=err.max_rel,
+            )
+        else:
+            fit, Hm, err = refit(A)
+            report = StabilisationReport(
+                method="none", status="already_stable", spectral_radius_before=rho0, spectral_radius_after=rho0,
+                relative_change=0.0, rms_error_before=err.rms_rel, rms_error_after=err.rms_rel,
+                max_error_before=err.max_rel, max_error_after=err.max_rel,
+            )
+    else:
+        fit, Hm, err = refit(A)
+
+    import control
+
+    model = control.ss(A, fit.B, sub.C, fit.D, T, inputs=list(frf.inputs), outputs=list(frf.outputs))
+    dc_err = None
+    if dc_data is not None:
+        with np.errstate(all="ignore"):
+            dc_model = evaluate_ss(A, fit.B, sub.C, fit.D, np.array([1.0 + 0j]))[:, :, 0]
+        dc_err = dc_error(dc_model.real, dc_data) if np.isfinite(dc_model).all() else float("inf")
+    enforced = {"dc_gain": dc is not None, "feedthrough": ft is not None, "stable": bool(stable)}
+    return IdentificationResult(
+        model=model, order=sub.order, method=sub.method, hankel_sv=svd.sv, errors=err, max_error=err.max_rel,
+        rms_error=err.rms_rel, dc_error=dc_err, enforced=enforced, spectral_radius=spectral_radius(A),
+        stabilisation=report, subspace=sub, refit=fit, T=T, q=svd.q, r=svd.r, data=frf,
+    )
+
+
+def _has_pole_at_constraint(A: np.ndarray, dc, ft) -> bool:
+    """True when a constraint point (z = 1 for DC, z = -1 for feedthrough) is (nearly) a pole of A."""
+    lam = np.linalg.eigvals(A)
+    bad = False
+    if dc is not None:
+        bad |= bool(np.any(np.abs(lam - 1.0) < 1e-8))
+    if ft is not None:
+        bad |= bool(np.any(np.abs(lam + 1.0) < 1e-8))
+    return bad

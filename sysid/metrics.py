@@ -1,0 +1,109 @@
+"""Error metrics for identified models against frequency-response data.
+
+Relative errors are normalised per output channel, so that they stay meaningful where the response
+itself is small (e.g. the zero feedthrough at ``omega = inf``, where a pointwise relative error would
+divide by zero):
+
+- ``max_rel[i] = max_{j,k} |H_model[i,j,k] - H[i,j,k]| / max_{j,k} |H[i,j,k]|``  (peak-normalised);
+- ``rms_rel[i] = sqrt(mean_{j,k} |dH[i,j,k]|^2) / sqrt(mean_{j,k} |H[i,j,k]|^2)`` (energy-normalised);
+
+and the overall values are ``max_i max_rel[i]`` and ``||dH||_F / ||H||_F``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import FrequencyDataError
+
+__all__ = ["FitErrors", "frf_errors", "max_relative_error", "rms_relative_error", "dc_error", "spectral_radius"]
+
+_TINY = np.finfo(float).tiny
+
+
+def _pair(H_model, H_data):
+    Hm = np.asarray(H_model, dtype=complex)
+    Hd = np.asarray(H_data, dtype=complex)
+    if Hm.ndim == 1:
+        Hm = Hm.reshape(1, 1, -1)
+    if Hd.ndim == 1:
+        Hd = Hd.reshape(1, 1, -1)
+    if Hm.shape != Hd.shape:
+        raise FrequencyDataError(f"H_model has shape {Hm.shape} but H_data has shape {Hd.shape}; they must match")
+    return Hm, Hd
+
+
+@dataclass(frozen=True)
+class FitErrors:
+    """FRF error summary.
+
+    Attributes
+    ----------
+    max_rel : float
+        Largest peak-normalised error over all outputs.
+    rms_rel : float
+        ``||H_model - H||_F / ||H||_F`` over all samples.
+    max_rel_per_output, rms_rel_per_output : ndarray, shape (p,)
+    """
+
+    max_rel: float
+    rms_rel: float
+    max_rel_per_output: np.ndarray
+    rms_rel_per_output: np.ndarray
+
+
+def max_relative_error(H_model, H_data, *, per_output: bool = False):
+    """Peak-normalised max error (see module docstring); shape (p,) with ``per_output=True``."""
+    Hm, Hd = _pair(H_model, H_data)
+    err = np.abs(Hm - Hd).max(axis=(1, 2))
+    scale = np.maximum(np.abs(Hd).max(axis=(1, 2)), _TINY)
+    per = err / scale
+    return per if per_output else float(per.max())
+
+
+def rms_relative_error(H_model, H_data, *, per_output: bool = False):
+    """Energy-normalised RMS error (see module docstring); shape (p,) with ``per_output=True``."""
+    Hm, Hd = _pair(H_model, H_data)
+    if per_output:
+        num = np.sqrt(np.mean(np.abs(Hm - Hd) ** 2, axis=(1, 2)))
+        den = np.maximum(np.sqrt(np.mean(np.abs(Hd) ** 2, axis=(1, 2))), _TINY)
+        return num / den
+    return float(np.linalg.norm(Hm - Hd) / max(np.linalg.norm(Hd), _TINY))
+
+
+def frf_errors(H_model, H_data) -> FitErrors:
+    """All FRF error metrics at once. Arrays of shape (p, m, K) (or (K,) for SISO)."""
+    return FitErrors(
+        max_rel=max_relative_error(H_model, H_data),
+        rms_rel=rms_relative_error(H_model, H_data),
+        max_rel_per_output=max_relative_error(H_model, H_data, per_output=True),
+        rms_rel_per_output=rms_relative_error(H_model, H_data, per_output=True),
+    )
+
+
+def dc_error(dc_model, dc_data, *, relative: bool = True) -> float:
+    """Max error of the DC gain, ``max |G_model(1) - G_data(0)|``.
+
+    Parameters
+    ----------
+    dc_model, dc_data : array_like, shape (p, m)
+    relative : bool
+        Divide by ``max |dc_data|`` (when it is nonzero).
+    """
+    a = np.asarray(dc_model)
+    b = np.asarray(dc_data)
+    if a.shape != b.shape:
+        raise FrequencyDataError(f"dc_model has shape {a.shape} but dc_data has shape {b.shape}")
+    err = float(np.abs(a - b).max()) if a.size else 0.0
+    if relative:
+        scale = float(np.abs(b).max()) if b.size else 0.0
+        return err / scale if scale > 0 else err
+    return err
+
+
+def spectral_radius(A) -> float:
+    """Largest eigenvalue modulus of ``A`` (shape (n, n)); 0 for an empty matrix."""
+    A = np.asarray(A)
+    return float(np.max(np.abs(np.linalg.eigvals(A)))) if A.size else 0.0

@@ -1,0 +1,202 @@
+"""Model-order selection: a sweep over ``N_r = 1..N_max`` from one SVD.
+
+The subspace SVD (:func:`sysid.subspace.hankel_svd`) is computed once; the model of order ``n`` uses its
+first ``n`` left singular vectors, so every order costs only a small least-squares problem for ``A``
+(shift equation) and one for ``B``, ``D`` (closed form in NumPy, :func:`sysid.subspace.lstsq_bd`, no
+constraints and no convex solver: this is a screening tool; refit the chosen order with
+:func:`sysid.identify`).
+
+Two suggestions are returned (see :class:`OrderSweep`):
+
+- **gap rule** (``order_gap``): the order ``n`` with the largest drop ``log s_n - log s_{n+1}`` of the
+  singular values, ``n = 1..N_max``. Sharp for (nearly) noise-free data.
+- **hold-out rule** (``order_holdout``): identify on the even-indexed frequencies only (a second SVD, of
+  the half data set: on McKelvey's grid with even ``M`` that is again an equispaced grid with ``M/2``) and
+  measure the RMS relative error on the odd-indexed ones. The suggestion is the *smallest* order whose
+  hold-out error is within ``(1 + holdout_tol)`` times the best hold-out error plus ``holdout_atol``
+  (defaults 10 % and 1e-10, so round-off-level differences of exact data do not favour spurious states).
+
+``suggested`` is the hold-out order when the hold-out is computed, else the gap order.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .errors import OrderError
+from .subspace import HankelSVD, evaluate_ss, hankel_svd, lstsq_bd
+
+__all__ = ["OrderSweep", "order_sweep"]
+
+
+@dataclass(frozen=True)
+class OrderSweep:
+    """Result of :func:`order_sweep`; arrays are indexed by ``orders`` (``1..N_max``).
+
+    Attributes
+    ----------
+    orders : ndarray of int, shape (N,)
+    singular_values : ndarray
+        All singular values of the full-data SVD, decreasing.
+    max_error, rms_error : ndarray, shape (N,)
+        Relative FRF errors of each order fitted to all data (definitions in :mod:`sysid.metrics`).
+    holdout_error : ndarray, shape (N,) or None
+        RMS relative error on the odd-indexed frequencies of the model identified on the even-indexed ones
+        (NaN where the half data set cannot support the order).
+    spectral_radius : ndarray, shape (N,)
+        Of each order's ``A`` (fitted to all data).
+    order_gap, order_holdout : int, int or None
+        Suggestions by the two rules (module docstring).
+    suggested : int
+    method : str
+    q, r : int, int or None
+    elapsed : float
+        Wall time of the sweep in seconds.
+    """
+
+    orders: np.ndarray
+    singular_values: np.ndarray = field(repr=False)
+    max_error: np.ndarray = field(repr=False)
+    rms_error: np.ndarray = field(repr=False)
+    holdout_error: np.ndarray | None = field(repr=False)
+    spectral_radius: np.ndarray = field(repr=False)
+    order_gap: int
+    order_holdout: int | None
+    suggested: int
+    method: str
+    q: int
+    r: int | None
+    elapsed: float
+
+    def table(self) -> str:
+        """Plain-text table: order, singular value, max/RMS error, hold-out error, spectral radius."""
+        rows = ["order  sing.value   max_err     rms_err     holdout     rho"]
+        for i, n in enumerate(self.orders):
+            ho = self.holdout_error[i] if self.holdout_error is not None else np.nan
+            rows.append(f"{n:5d}  {self.singular_values[n - 1]:.3e}  {self.max_error[i]:.3e}  "
+                        f"{self.rms_error[i]:.3e}  {ho:.3e}  {self.spectral_radius[i]:.4f}")
+        return "\n".join(rows)
+
+
+def _sweep_errors(svd: HankelSVD, orders: np.ndarray, z_fit: np.ndarray, G_fit: np.ndarray,
+                  z_val: np.ndarray, G_val: np.ndarray):
+    """For each order: A, C from the SVD, B, D by closed-form LS on (z_fit, G_fit), errors on (z_val, G_val)."""
+    p = svd.p
+    nrm_val = max(np.linalg.norm(G_val), np.finfo(float).tiny)
+    peak = np.maximum(np.abs(G_val).max(axis=(1, 2)), np.finfo(float).tiny)
+    rms = np.full(orders.size, np.nan)
+    mx = np.full(orders.size, np.nan)
+    rho = np.full(orders.size, np.nan)
+    U1 = svd.U[:-p]
+    U2 = svd.U[p:]
+    with np.errstate(all="ignore"):
+        for i, n in enumerate(orders):
+            if n > svd.max_order:
+                continue
+            A = np.linalg.lstsq(U1[:, :n], U2[:, :n], rcond=None)[0]
+            C = svd.U[:p, :n]
+            try:
+                B, D = lstsq_bd(A, C, z_fit, G_fit)
+                dH = evaluate_ss(A, B, C, D, z_val) - G_val
+            except np.linalg.LinAlgError:
+                continue
+            rms[i] = np.linalg.norm(dH) / nrm_val
+            mx[i] = np.max(np.abs(dH).max(axis=(1, 2)) / peak)
+            rho[i] = np.max(np.abs(np.linalg.eigvals(A)))
+    rms[~np.isfinite(rms)] = np.nan
+    mx[~np.isfinite(mx)] = np.nan
+    return mx, rms, rho
+
+
+def order_sweep(
+    frf: Any,
+    max_order: int | None = None,
+    *,
+    method: str = "auto",
+    q: int | None = None,
+    r: int | None = None,
+    holdout: bool = True,
+    holdout_tol: float = 0.1,
+    holdout_atol: float = 1e-10,
+) -> OrderSweep:
+    """Fit every order ``1..max_order`` from one SVD and suggest an order.
+
+    Parameters
+    ----------
+    frf : FrequencyResponse
+        Data with discrete frequencies ``omega_d``.
+    max_order : int, optional
+        Largest order swept; default ``min(40, largest order the data support)``.
+    method : {"auto", "mckelvey1", "mckelvey2"}
+        Subspace algorithm (see :func:`sysid.subspace.hankel_svd`).
+    q, r : int, optional
+        Hankel sizes for the full-data SVD (the hold-out SVD uses its own defaults).
+    holdout : bool
+        Compute the hold-out errors (even-indexed frequencies fit, odd-indexed validate).
+    holdout_tol, holdout_atol : float
+        Tolerances of the hold-out rule (module docstring).
+
+    Returns
+    -------
+    OrderSweep
+
+    Raises
+    ------
+    OrderError
+        ``max_order`` beyond what the data support.
+    """
+    t0 = time.perf_counter()
+    svd = hankel_svd(frf, method=method, q=q, r=r)
+    G = np.asarray(frf.H)
+    z = np.exp(1j * np.asarray(frf.omega_d))
+    if max_order is None:
+        max_order = min(40, svd.max_order)
+    if isinstance(max_order, bool) or not isinstance(max_order, (int, np.integer)) or max_order < 1:
+        raise OrderError(f"max_order must be a positive integer, got {max_order!r}")
+    if max_order > svd.max_order:
+        raise OrderError(
+            f"max_order={max_order} is beyond what the data support with {svd.method} (q={svd.q}, r={svd.r}): "
+            f"the largest order is {svd.max_order}; lower max_order or use more frequencies"
+        )
+    orders = np.arange(1, max_order + 1)
+    mx, rms, rho = _sweep_errors(svd, orders, z, G, z, G)
+
+    s = svd.sv
+    floor = np.finfo(float).tiny
+    logs = np.log(np.maximum(s[: max_order + 1], floor))
+    if logs.size > max_order:
+        gaps = logs[:max_order] - logs[1 : max_order + 1]
+    else:  # no s_{N_max + 1}: the last order has no gap
+        gaps = np.append(logs[:-1] - logs[1:], -np.inf)
+    order_gap = int(np.argmax(gaps) + 1)
+
+    ho_err = None
+    order_ho = None
+    if holdout:
+        K = G.shape[2]
+        even = np.arange(0, K, 2)
+        odd = np.arange(1, K, 2)
+        if odd.size and even.size >= 2:
+            half = frf.take(even)
+            ho_method = "mckelvey2" if method == "mckelvey2" else "auto"
+            try:
+                svd_h = hankel_svd(half, method=ho_method)
+            except OrderError:
+                svd_h = None
+            if svd_h is not None:
+                _, ho_err, _ = _sweep_errors(svd_h, orders, z[even], G[:, :, even], z[odd], G[:, :, odd])
+                finite = np.isfinite(ho_err)
+                if finite.any():
+                    best = np.min(ho_err[finite])
+                    ok = finite & (ho_err <= (1.0 + holdout_tol) * best + holdout_atol)
+                    order_ho = int(orders[np.argmax(ok)])
+    suggested = order_ho if order_ho is not None else order_gap
+    return OrderSweep(
+        orders=orders, singular_values=s, max_error=mx, rms_error=rms, holdout_error=ho_err,
+        spectral_radius=rho, order_gap=order_gap, order_holdout=order_ho, suggested=suggested,
+        method=svd.method, q=svd.q, r=svd.r, elapsed=time.perf_counter() - t0,
+    )
