@@ -1,0 +1,248 @@
+"""Tests of sysid.frd: FrequencyResponse, the McKelvey grid and the bilinear frequency map."""
+
+
+import numpy as np
+import pytest
+
+import sysid
+from sysid import FrequencyDataError, FrequencyGridError, FrequencyResponse, mckelvey_grid
+
+
+def first_order(z, a=0.5):
+    """G(z) = 1 / (z - a): DC gain 1/(1 - a), Nyquist value -1/(1 + a)."""
+    return 1.0 / (z - a)
+
+
+# ------------------------------------------------------------------------------------------- grid
+@pytest.mark.parametrize("M", [1, 4, 32, 256])
+@pytest.mark.parametrize("T", [0.5, 70 / (2 * np.pi)])
+def test_mckelvey_grid_points_and_map(M, T):
+    wd, w = mckelvey_grid(M, T)
+    assert wd.shape == w.shape == (M + 1,)
+    np.testing.assert_allclose(wd, np.pi * np.arange(M + 1) / M, rtol=0, atol=1e-15)
+    assert wd[0] == 0.0 and wd[-1] == np.pi
+    assert w[0] == 0.0
+    assert w[-1] == np.inf  # exactly inf, not tan(pi/2) ~ 1.6e16
+    np.testing.assert_allclose(w[:-1], 2.0 / T * np.tan(wd[:-1] / 2.0), rtol=1e-14)
+
+
+def test_mckelvey_grid_known_values():
+    wd, w = mckelvey_grid(4, 1.0)
+    # omega = 2 tan(omega_d / 2): tan(pi/8) = sqrt(2) - 1, tan(pi/4) = 1, tan(3 pi / 8) = sqrt(2) + 1
+    np.testing.assert_allclose(w[:4], [0.0, 2 * (np.sqrt(2) - 1), 2.0, 2 * (np.sqrt(2) + 1)], rtol=1e-14)
+
+
+@pytest.mark.parametrize("M, T, exc, match", [
+    (0, 1.0, FrequencyGridError, "positive integer"),
+    (2.5, 1.0, FrequencyGridError, "positive integer"),
+    (8, 0.0, FrequencyGridError, "T"),
+    (8, -1.0, FrequencyGridError, "T"),
+    (8, np.nan, FrequencyGridError, "T"),
+    (8, np.inf, FrequencyGridError, "T"),
+])
+def test_mckelvey_grid_bad_input(M, T, exc, match):
+    with pytest.raises(exc, match=match):
+        mckelvey_grid(M, T)
+
+
+def test_bilinear_maps_are_inverse():
+    w = np.array([0.0, 0.1, 1.0, 10.0, 1e3, np.inf])
+    wd = sysid.continuous_to_discrete(w, 0.7)
+    assert wd[-1] == np.pi
+    back = sysid.discrete_to_continuous(wd, 0.7)
+    np.testing.assert_allclose(back[:-1], w[:-1], rtol=1e-12)
+    assert back[-1] == np.inf
+
+
+# ------------------------------------------------------------------------------------ construction
+def test_shapes_and_defaults():
+    wd, _ = mckelvey_grid(8, 1.0)
+    H = first_order(np.exp(1j * wd))
+    frf = FrequencyResponse(H, wd, 1.0)  # SISO 1-D convenience
+    assert frf.H.shape == (1, 1, 9) and frf.shape == (1, 1, 9)
+    assert frf.inputs == ("u[0]",) and frf.outputs == ("y[0]",)
+    assert frf.is_equispaced and frf.M == 8
+    two = FrequencyResponse(np.vstack([H, 2 * H]), wd, 1.0, outputs=["Cl", "Cm"], inputs=["gust"])
+    assert two.H.shape == (2, 1, 9)  # (p, K) is single-input
+    assert two.outputs == ("Cl", "Cm") and two.inputs == ("gust",)
+
+
+def test_immutable():
+    wd, _ = mckelvey_grid(4, 1.0)
+    frf = FrequencyResponse(np.ones(5), wd, 1.0, metadata={"a": 1})
+    with pytest.raises(AttributeError, match="immutable"):
+        frf.T = 2.0
+    with pytest.raises(ValueError, match="read-only"):
+        frf.H[0, 0, 0] = 3.0
+    with pytest.raises(ValueError, match="read-only"):
+        frf.omega_d[0] = 3.0
+    with pytest.raises(TypeError):
+        frf.metadata["a"] = 2
+
+
+def test_constructor_copies_input():
+    wd, _ = mckelvey_grid(4, 1.0)
+    H = np.ones((1, 1, 5), dtype=complex)
+    frf = FrequencyResponse(H, wd, 1.0)
+    H[0, 0, 0] = 7.0
+    assert frf.H[0, 0, 0] == 1.0
+
+
+_WD5 = np.pi * np.arange(5) / 4
+
+
+@pytest.mark.parametrize("kwargs, exc, match", [
+    (dict(H=np.array([1, np.nan, 1, 1, 1])), FrequencyDataError, "NaN"),
+    (dict(H=np.array([1, 1, np.inf, 1, 1])), FrequencyDataError, r"H\[0, 0, 2\]"),
+    (dict(H=np.ones((1, 1, 1, 5))), FrequencyDataError, r"\(p, m, K\)"),
+    (dict(H=np.ones(4)), FrequencyDataError, "omega_d has 5 frequencies but H has K=4"),
+    (dict(omega_d=_WD5 * 1.1), FrequencyGridError, r"\[0, pi\]"),
+    (dict(omega_d=_WD5 - 0.1), FrequencyGridError, r"\[0, pi\]"),
+    (dict(T=0.0), FrequencyGridError, "T"),
+    (dict(T=-2.0), FrequencyGridError, "T"),
+    (dict(T=np.nan), FrequencyGridError, "T"),
+    (dict(T=np.inf), FrequencyGridError, "T"),
+    (dict(inputs=["a", "b"]), FrequencyDataError, "inputs"),
+    (dict(outputs=["Cl", "Cm"]), FrequencyDataError, "outputs"),
+    (dict(omega_d=None), FrequencyGridError, "give the frequencies"),
+])
+def test_bad_input_raises(kwargs, exc, match):
+    args = dict(H=np.ones(5), omega_d=_WD5, T=1.0)
+    args.update(kwargs)
+    with pytest.raises(exc, match=match):
+        FrequencyResponse(args.pop("H"), args.pop("omega_d"), args.pop("T"), **args)
+
+
+def test_typed_errors_are_value_errors():
+    with pytest.raises(ValueError):
+        FrequencyResponse(np.ones(5), _WD5, -1.0)
+
+
+def test_from_continuous_maps_frequencies():
+    w = np.array([0.0, 0.5, 2.0, np.inf])
+    H = np.array([1.0, 0.5 - 0.2j, 0.1j, 0.0])
+    frf = FrequencyResponse.from_continuous(H, w, T=2.0)
+    np.testing.assert_allclose(frf.omega_d, [0.0, 2 * np.arctan(0.5), 2 * np.arctan(2.0), np.pi], rtol=1e-15)
+    assert frf.omega[-1] == np.inf and frf.T == 2.0
+    bare = FrequencyResponse.from_continuous(H, w)
+    assert bare.omega_d is None and bare.T is None
+    np.testing.assert_array_equal(bare.with_T(2.0).omega_d, frf.omega_d)
+
+
+def test_from_continuous_negative_frequency():
+    with pytest.raises(FrequencyGridError, match="nonnegative"):
+        FrequencyResponse.from_continuous(np.ones(3), [-1.0, 0.0, 1.0], T=1.0)
+
+
+def test_discrete_grid_without_T_has_no_continuous_frequencies():
+    frf = FrequencyResponse(np.ones(5), _WD5, None)
+    assert frf.omega is None and frf.T is None and frf.is_equispaced
+
+
+# -------------------------------------------------------------------------------- special values
+def test_dc_gain_and_feedthrough_of_known_system():
+    wd, _ = mckelvey_grid(16, 1.0)
+    frf = FrequencyResponse(first_order(np.exp(1j * wd), a=0.5), wd, 1.0)
+    np.testing.assert_allclose(frf.dc_gain, [[2.0]], rtol=1e-14)  # 1 / (1 - 0.5)
+    np.testing.assert_allclose(frf.feedthrough, [[-2.0 / 3.0]], rtol=1e-14)  # 1 / (-1 - 0.5)
+    inner = frf.take(np.arange(1, 16))
+    assert inner.dc_gain is None and inner.feedthrough is None
+
+
+def test_dc_gain_from_continuous_without_T():
+    frf = FrequencyResponse.from_continuous([[[3.0, 1.0j, 0.0]]], [0.0, 1.0, np.inf])
+    np.testing.assert_allclose(frf.dc_gain, [[3.0]])
+    np.testing.assert_allclose(frf.feedthrough, [[0.0]])
+
+
+def test_complex_dc_sample_warns():
+    frf = FrequencyResponse([1.0 + 0.5j, 1.0, 0.0], np.pi * np.arange(3) / 2, 1.0)
+    with pytest.warns(RuntimeWarning, match="imaginary"):
+        dc = frf.dc_gain
+    np.testing.assert_allclose(dc, [[1.0]])
+
+
+# -------------------------------------------------------------------------------------- subsample
+@pytest.mark.parametrize("M_new", [128, 64, 32, 1])
+def test_subsample(M_new):
+    wd, _ = mckelvey_grid(256, 2.0)
+    H = first_order(np.exp(1j * wd), a=-0.3)
+    frf = FrequencyResponse(H, wd, 2.0, metadata={"case": "x"})
+    sub = frf.subsample(M_new)
+    wd_new, w_new = mckelvey_grid(M_new, 2.0)
+    assert sub.M == M_new and sub.is_equispaced
+    np.testing.assert_allclose(sub.omega_d, wd_new, atol=1e-15)
+    np.testing.assert_allclose(sub.omega[:-1], w_new[:-1], rtol=1e-13)
+    np.testing.assert_allclose(sub.H[0, 0], first_order(np.exp(1j * wd_new), a=-0.3), rtol=1e-13)
+    assert sub.metadata["case"] == "x" and sub.T == 2.0
+
+
+@pytest.mark.parametrize("M_new", [3, 0, 512, 100])
+def test_subsample_not_a_divisor(M_new):
+    wd, _ = mckelvey_grid(256, 2.0)
+    frf = FrequencyResponse(np.ones(257), wd, 2.0)
+    with pytest.raises(FrequencyGridError, match="divisor"):
+        frf.subsample(M_new)
+
+
+def test_subsample_non_equispaced():
+    frf = FrequencyResponse(np.ones(4), [0.0, 0.1, 0.5, np.pi], 1.0)
+    assert not frf.is_equispaced and frf.M is None
+    with pytest.raises(FrequencyGridError, match="equispaced"):
+        frf.subsample(1)
+
+
+# ----------------------------------------------------------------------------------- persistence
+def test_save_load_round_trip(tmp_path):
+    rng = np.random.default_rng(0)
+    wd, _ = mckelvey_grid(8, 0.3)
+    H = rng.standard_normal((2, 3, 9)) + 1j * rng.standard_normal((2, 3, 9))
+    meta = {"case": "NACA2410", "mach": 0.735, "grid": [181, 60], "nested": {"k": True}}
+    frf = FrequencyResponse(H, wd, 0.3, inputs=["a", "b", "c"], outputs=["Cl", "Cm"], metadata=meta)
+    path = frf.save(tmp_path / "resp")
+    assert path.suffix == ".npz"
+    back = FrequencyResponse.load(path)
+    assert back == frf
+    assert back.outputs == ("Cl", "Cm") and dict(back.metadata) == meta
+    assert back.omega[-1] == np.inf
+
+
+def test_save_load_continuous_only(tmp_path):
+    frf = FrequencyResponse.from_continuous([1.0, 0.5j], [0.0, 3.0], metadata={"x": 1})
+    back = FrequencyResponse.load(frf.save(tmp_path / "c.npz"))
+    assert back == frf and back.omega_d is None
+
+
+def test_save_rejects_non_json_metadata(tmp_path):
+    frf = FrequencyResponse(np.ones(5), _WD5, 1.0, metadata={"a": object()})
+    with pytest.raises(FrequencyDataError, match="JSON"):
+        frf.save(tmp_path / "bad.npz")
+
+
+# -------------------------------------------------------------------------------- python-control
+def test_control_round_trip_drops_and_restores_infinity():
+    import control
+
+    sysc = control.ss([[-1.0, 2.0], [-2.0, -0.5]], [[1.0], [0.5]], [[1.0, 0.0], [0.3, 1.0]], [[0.0], [0.0]])
+    T = 0.8
+    wd, w = mckelvey_grid(16, T)
+    H = np.stack([sysc(1j * x) for x in w[:-1]], axis=-1)  # (p, m, K-1)
+    H = np.concatenate([H, np.zeros((2, 1, 1))], axis=2)  # feedthrough 0 at omega = inf
+    frf = FrequencyResponse(H, wd, T, inputs=["gust"], outputs=["Cl", "Cm"])
+    fr = frf.to_control()
+    assert isinstance(fr, control.FrequencyResponseData)
+    assert np.all(np.isfinite(fr.omega)) and len(fr.omega) == 16
+    assert list(fr.output_labels) == ["Cl", "Cm"] and list(fr.input_labels) == ["gust"]
+    # the FRD interpolates the true continuous response at its own points
+    np.testing.assert_allclose(fr(1j * w[3]), sysc(1j * w[3]), rtol=1e-12)
+    back = FrequencyResponse.from_control(fr, T, feedthrough=frf.feedthrough)
+    np.testing.assert_allclose(back.H, frf.H, rtol=1e-14)
+    np.testing.assert_allclose(back.omega_d, frf.omega_d, rtol=1e-14)
+    assert back.omega[-1] == np.inf and back.outputs == frf.outputs
+    no_inf = FrequencyResponse.from_control(fr, T)
+    assert no_inf.nfreq == 16 and no_inf.feedthrough is None
+
+
+def test_to_control_needs_continuous_frequencies():
+    with pytest.raises(FrequencyGridError, match="T"):
+        FrequencyResponse(np.ones(5), _WD5, None).to_control()
