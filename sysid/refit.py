@@ -439,8 +439,8 @@ def fit_bd(A, C, z, G, *, weights=None, dc_gain=None, feedthrough=None, solver: 
         ``"numpy"``: closed-form null-space solution (the test oracle). Unconstrained fits never call a
         solver (closed-form minimiser).
     tol : float
-        Accepted max abs constraint violation, relative to ``max(1, max|rhs|)``; beyond it the solution is
-        polished by projection.
+        Accepted max abs constraint violation (absolute, in the units of ``G``); beyond it the solver's
+        solution is polished by projection onto the constraint set.
 
     Returns
     -------
@@ -470,7 +470,7 @@ def fit_bd(A, C, z, G, *, weights=None, dc_gain=None, feedthrough=None, solver: 
         )
     F = _output_rows(A, C, z)
     Phis, gs = _regressions(F, G, weights, m)
-    scale = max(1.0, float(np.abs(Fr).max(initial=0.0)))
+    scale = 1.0  # tol is absolute, in the units of G
 
     thetas = [None] * m
     status, used, polished, reused = "optimal", "closed-form", False, False

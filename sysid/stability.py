@@ -13,7 +13,9 @@ Two methods, both returning a real matrix with spectral radius below ``1 - margi
     (``Gamma1 A = Gamma2``), and ``Q = A_new P``. By a Schur complement (``P >> 0`` from the lower block)
     the LMI is ``rho^2 P - A_new P A_new^T >> delta I``, a Lyapunov inequality for ``A_new^T``: for a left
     eigenvector ``v^H A_new = lambda v^H``, ``(rho^2 - |lambda|^2) v^H P v > 0``, so ``|lambda| < rho``.
-    (``P^-1 Q`` would be the certificate of the transposed form ``A^T P A``; it is *not* stable in general.)
+    (``P^-1 Q = P^-1 (Q P^-1) P`` is similar to ``Q P^-1``, hence equally stable, but it is the same map in
+    another state basis and does not approximate ``A``: the objective ``||(A - Q P^-1) P||_F`` is about
+    ``Q P^-1``.)
     ``P`` is defined up to a positive scale; ``trace(P) = n`` fixes it so that ``delta`` (default 1e-6) is a
     relative strictness, and the data of the objective are normalised to unit Frobenius norm. When the
     shift equation is given, the objective is reduced to a ``2n x 2n`` triangular factor ``R`` of
@@ -186,6 +188,8 @@ def _lmi(A, rho, gamma1, gamma2, delta, solver_opts, subspace):
         return _lmi_sdp(A, rho, G1, G2, delta, solver_opts)
     # ordered real Schur form: eigenvalues with |lambda| >= rho first (T11, k x k), the rest stay untouched
     T, Z, k = sla.schur(A, output="real", sort=lambda re, im: np.hypot(re, im) >= rho)
+    if k == 0:  # nothing outside (only reached with force=True): the full SDP is what was asked for
+        return _lmi_sdp(A, rho, G1, G2, delta, solver_opts)
     Z1 = Z[:, :k]
     if G1 is not None:
         # (G1 Z) T ~= G2 Z; its first k columns involve only T11: (G1 Z1) T11 ~= G2 Z1
