@@ -343,90 +343,65 @@ def _d_ij(a):
     return 0.25 * (a[2:, 2:] - a[2:, :-2] - a[:-2, 2:] + a[:-2, :-2])
 
 
-def _elliptic(x, y, f, h, n_iter, tol, decay, relax):
-    """Picard iterations of the Thompson equations with TM and Sorenson-type wall control.
+def _elliptic(x, y, f, n_iter, tol, phi_decay, cross=True, freeze=False):
+    """Picard iterations of the Thompson equations with spacing-control functions.
 
-    ``alpha (r_ii + phi r_i) - 2 beta r_ij + gamma (r_jj + psi r_j) = 0`` on interior nodes,
-    boundary nodes fixed. Returns the smoothed ``x, y`` and the number of iterations.
+    Solves ``alpha (r_ii + phi r_i) - 2 beta r_ij + gamma (r_jj + psi r_j) = 0`` on interior nodes
+    (``r = (x, y)``, unit index spacing) with the boundary nodes fixed. ``psi`` keeps the geometric
+    j-spacing of the initial i-lines; ``phi`` is the Thomas-Middlecoff i-spacing control of the
+    inner boundary, decaying outward as ``exp(-phi_decay * j)``, blended with that of the outer
+    boundary. Each iteration freezes the coefficients and solves the 9-point system for ``x`` and
+    ``y`` with one sparse LU factorisation.
+
+    Returns the smoothed ``x, y`` (shape (ni, nj)) and the number of iterations.
     """
     ni, nj = x.shape
     n = ni * nj
     idx = np.arange(n).reshape(ni, nj)
-    P = idx[1:-1, 1:-1].ravel()
+    inner = idx[1:-1, 1:-1].ravel()
+    bnd = np.setdiff1d(idx.ravel(), inner, assume_unique=True)
 
-    # Base control functions. psi keeps the geometric j-spacing of the initial i-lines; phi
-    # interpolates the i-spacing control of the inner and outer boundaries (Thomas-Middlecoff).
     def boundary_phi(xb, yb):
         xd, yd = 0.5 * (xb[2:] - xb[:-2]), 0.5 * (yb[2:] - yb[:-2])
         xdd, ydd = xb[2:] - 2 * xb[1:-1] + xb[:-2], yb[2:] - 2 * yb[1:-1] + yb[:-2]
         return -(xd * xdd + yd * ydd) / (xd**2 + yd**2)
 
-    fi = f[1:-1, 1:-1]
-    phi0 = np.clip((1.0 - fi) * boundary_phi(x[:, 0], y[:, 0])[:, None]
-                   + fi * boundary_phi(x[:, -1], y[:, -1])[:, None], -1.0, 1.0)
+    w_in = (1.0 - f[1:-1, 1:-1]) ** phi_decay
+    phi = np.clip(
+        w_in * boundary_phi(x[:, 0], y[:, 0])[:, None] + (1.0 - w_in) * boundary_phi(x[:, -1], y[:, -1])[:, None],
+        -1.0,
+        1.0,
+    )
     xj, yj = _d_j(x), _d_j(y)
-    psi0 = np.clip(-(xj * _d_jj(x) + yj * _d_jj(y)) / (xj**2 + yj**2), -1.0, 1.0)
-    psi_wall0 = psi0[:, 0]
-    phi_wall0 = phi0[:, 0]
+    psi = np.clip(-(xj * _d_jj(x) + yj * _d_jj(y)) / (xj**2 + yj**2), -1.0, 1.0)
 
-    # Desired wall derivative r_j: the unit normal (tangent turned +90 deg) times the height.
-    tx, ty = np.gradient(x[:, 0]), np.gradient(y[:, 0])
-    tn = np.hypot(tx, ty)
-    xn, yn = -ty / tn * h, tx / tn * h
-    xb, yb = x[1:-1, 0], y[1:-1, 0]
-    xi_w, yi_w = 0.5 * (x[2:, 0] - x[:-2, 0]), 0.5 * (y[2:, 0] - y[:-2, 0])
-    xii_w, yii_w = x[2:, 0] - 2 * xb + x[:-2, 0], y[2:, 0] - 2 * yb + y[:-2, 0]
-    xij_w, yij_w = 0.5 * (xn[2:] - xn[:-2]), 0.5 * (yn[2:] - yn[:-2])
-    xn_w, yn_w = xn[1:-1], yn[1:-1]
-    a_w = xn_w**2 + yn_w**2
-    b_w = xi_w * xn_w + yi_w * yn_w
-    g_w = xi_w**2 + yi_w**2
-    jac_w = xi_w * yn_w - yi_w * xn_w
-    decay_j = np.exp(-decay * np.arange(nj - 2))[None, :]
-    dphi = np.zeros(ni - 2)
-    dpsi = np.zeros(ni - 2)
-
-    scale = np.min(h)
+    offsets = [(0, 0), (1, 0), (-1, 0), (0, 1), (0, -1), (1, 1), (-1, -1), (1, -1), (-1, 1)]
+    cols = np.concatenate([idx[1 + di : ni - 1 + di, 1 + dj : nj - 1 + dj].ravel() for di, dj in offsets] + [bnd])
+    rows = np.concatenate([inner] * len(offsets) + [bnd])
+    rhs = np.zeros((n, 2))
+    rhs[bnd, 0] = x.ravel()[bnd]
+    rhs[bnd, 1] = y.ravel()[bnd]
+    scale = np.min(np.hypot(x[:, 1] - x[:, 0], y[:, 1] - y[:, 0]))
     it = 0
-    for it in range(1, n_iter + 1):  # Picard iterations; each is one vectorised sparse solve
-        # Sorenson-type wall control from the current first two interior j-lines.
-        xjj_w = 0.5 * (-7 * xb + 8 * x[1:-1, 1] - x[1:-1, 2]) - 3 * xn_w
-        yjj_w = 0.5 * (-7 * yb + 8 * y[1:-1, 1] - y[1:-1, 2]) - 3 * yn_w
-        rx = a_w * xii_w - 2 * b_w * xij_w + g_w * xjj_w
-        ry = a_w * yii_w - 2 * b_w * yij_w + g_w * yjj_w
-        phi_w = (-rx * yn_w + ry * xn_w) / (a_w * jac_w)
-        psi_w = (rx * yi_w - ry * xi_w) / (g_w * jac_w)
-        dphi += relax * (np.clip(phi_w - phi_wall0, -1.0, 1.0) - dphi)
-        dpsi += relax * (np.clip(psi_w - psi_wall0, -1.0, 1.0) - dpsi)
-        phi = phi0 + dphi[:, None] * decay_j
-        psi = psi0 + dpsi[:, None] * decay_j
-
-        xi_, yi_, xj_, yj_ = _d_i(x), _d_i(y), _d_j(x), _d_j(y)
-        al = xj_**2 + yj_**2
-        be = xi_ * xj_ + yi_ * yj_
-        ga = xi_**2 + yi_**2
-        coef = {
-            (0, 0): -2.0 * (al + ga),
-            (1, 0): al * (1.0 + 0.5 * phi),
-            (-1, 0): al * (1.0 - 0.5 * phi),
-            (0, 1): ga * (1.0 + 0.5 * psi),
-            (0, -1): ga * (1.0 - 0.5 * psi),
-            (1, 1): -0.5 * be,
-            (-1, -1): -0.5 * be,
-            (1, -1): 0.5 * be,
-            (-1, 1): 0.5 * be,
-        }
-        rows = [P] * len(coef)
-        cols = [idx[1 + di : ni - 1 + di, 1 + dj : nj - 1 + dj].ravel() for di, dj in coef]
-        vals = [c.ravel() for c in coef.values()]
-        bnd = np.setdiff1d(idx.ravel(), P, assume_unique=True)
-        A = sp.csc_matrix(
-            (np.concatenate(vals + [np.ones(bnd.size)]), (np.concatenate(rows + [bnd]), np.concatenate(cols + [bnd]))),
-            shape=(n, n),
-        )
-        rhs = np.zeros((n, 2))
-        rhs[bnd, 0] = x.ravel()[bnd]
-        rhs[bnd, 1] = y.ravel()[bnd]
+    for it in range(1, n_iter + 1):  # Picard iterations; each one is a single sparse solve
+        if it == 1 or not freeze:
+            xi_, yi_, xj_, yj_ = _d_i(x), _d_i(y), _d_j(x), _d_j(y)
+            al = xj_**2 + yj_**2
+            be = (xi_ * xj_ + yi_ * yj_) if cross else np.zeros_like(al)
+            ga = xi_**2 + yi_**2
+        vals = [
+            -2.0 * (al + ga),
+            al * (1.0 + 0.5 * phi),
+            al * (1.0 - 0.5 * phi),
+            ga * (1.0 + 0.5 * psi),
+            ga * (1.0 - 0.5 * psi),
+            -0.5 * be,
+            -0.5 * be,
+            0.5 * be,
+            0.5 * be,
+        ]
+        data = np.concatenate([v.ravel() for v in vals] + [np.ones(bnd.size)])
+        A = sp.csc_matrix((data, (rows, cols)), shape=(n, n))
         sol = spla.splu(A).solve(rhs)
         x_new, y_new = sol[:, 0].reshape(ni, nj), sol[:, 1].reshape(ni, nj)
         change = np.max(np.hypot(x_new - x, y_new - y)) / scale
@@ -434,6 +409,41 @@ def _elliptic(x, y, f, h, n_iter, tol, decay, relax):
         if change < tol:
             break
     return x, y, it
+
+
+def _redistribute(x, y, frac):
+    """Move the nodes along each i-line to the arc-length fractions ``frac`` (shape (ni, nj))."""
+    seg = np.hypot(np.diff(x, axis=1), np.diff(y, axis=1))
+    arc = np.concatenate([np.zeros((x.shape[0], 1)), np.cumsum(seg, axis=1)], axis=1)
+    target = frac * arc[:, -1:]
+    # Segment k of each line with arc[k] <= target < arc[k+1] (vectorised over all lines).
+    k = np.clip(np.sum(arc[:, None, :] <= target[:, :, None], axis=2) - 1, 0, x.shape[1] - 2)
+    rows = np.arange(x.shape[0])[:, None]
+    a0, a1 = arc[rows, k], arc[rows, k + 1]
+    w = (target - a0) / (a1 - a0)
+    xr = (1 - w) * x[rows, k] + w * x[rows, k + 1]
+    yr = (1 - w) * y[rows, k] + w * y[rows, k + 1]
+    xr[:, [0, -1]], yr[:, [0, -1]] = x[:, [0, -1]], y[:, [0, -1]]
+    return xr, yr
+
+
+def _orthogonal_blend(x, y, dist, n_layers):
+    """Make the grid orthogonal to the wall and cut near ``j = 0``.
+
+    Blends each node towards the straight normal extrusion ``r(i, 0) + dist(i, j) n(i)`` with the
+    weight ``w(j) = (1 - j / n_layers)^3`` for ``j < n_layers`` (zero beyond). ``w`` has zero
+    slope only in the limit, but ``w(0) = 1`` and the first-layer weight is close to 1, so the
+    first j-edge is normal to the wall to within a fraction of a degree and has the height
+    ``dist(i, 1)``.
+    """
+    tx, ty = np.gradient(x[:, 0]), np.gradient(y[:, 0])
+    tn = np.hypot(tx, ty)
+    nx, ny = -ty / tn, tx / tn  # tangent turned +90 deg: outward for the right-handed (i, j) frame
+    j = np.arange(x.shape[1])
+    w = np.where(j < n_layers, 0.5 * (1.0 + np.cos(np.pi * np.clip(j - 1, 0, None) / (n_layers - 1))), 0.0)[None, :]
+    xo = x[:, :1] + dist * nx[:, None]
+    yo = y[:, :1] + dist * ny[:, None]
+    return (1.0 - w) * x + w * xo, (1.0 - w) * y + w * yo
 
 
 def c_grid(
@@ -446,8 +456,9 @@ def c_grid(
     le_spacing=None,
     te_spacing=0.006,
     smooth=True,
-    max_iter=60,
+    max_iter=100,
     tol=1e-3,
+    n_layers=8,
 ):
     """A structured C-grid around an aerofoil (the paper's 181 x 60 grid by default).
 
@@ -510,7 +521,12 @@ def c_grid(
     )
     x, y, f = _transfinite(x_in, y_in, x_o, y_o, h, nj)
     if smooth:
-        x, y, _ = _elliptic(x, y, f, h, max_iter, tol, decay=0.3, relax=0.5)
+        dist = f * np.hypot(x_o - x_in, y_o - y_in)[:, None]
+        x, y, n_it = _elliptic(x, y, f, max_iter, tol, phi_decay=1.0)
+        x, y = _redistribute(x, y, f)
+        seg = np.hypot(np.diff(x, axis=1), np.diff(y, axis=1))
+        dist = np.concatenate([np.zeros((ni, 1)), np.cumsum(seg, axis=1)], axis=1)
+        x, y = _orthogonal_blend(x, y, dist, n_layers=n_layers)
         # Cut nodes are boundary nodes: keep the two branches bit-identical.
         x[ni - 1 - n_wake :, 0] = x[n_wake::-1, 0]
         y[ni - 1 - n_wake :, 0] = y[n_wake::-1, 0]
