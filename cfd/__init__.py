@@ -5,4 +5,4 @@ Public entry points are listed in shared/DESIGN.md; this package knows nothing o
 
 from .errors import ConvergenceError, FlowConditionError, GeometryError, MeshError
 from .geometry import Aerofoil, naca
-from .mesh import Grid, c_grid, grid_from_nodes
+from .mesh import Grid, GridQuality, c_grid, grid_from_nodes, grid_quality
