@@ -243,7 +243,7 @@ def identify(
     G = np.asarray(frf.H)
     z = frf.z
 
-    svd = hankel_svd(frf, method=method, q=q, r=r)
+    svd = hankel_svd(frf, method=method, q=q, r=r, order=order if isinstance(order, (int, np.integer)) and not isinstance(order, bool) and order >= 1 else None)
     sub = from_basis(svd, order)
     import warnings
 

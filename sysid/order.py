@@ -134,7 +134,9 @@ def order_sweep(
     method : {"auto", "mckelvey1", "mckelvey2"}
         Subspace algorithm (see :func:`sysid.subspace.hankel_svd`).
     q, r : int, optional
-        Hankel sizes for the full-data SVD (the hold-out SVD uses its own defaults).
+        Hankel sizes for the full-data SVD; default for the target order ``max_order``
+        (:func:`sysid.subspace.default_q`: ``q = min(M, 2 max_order + 2)``, ``r = 2M - q``). The hold-out
+        SVD uses the defaults of the half data set.
     holdout : bool
         Compute the hold-out errors (even-indexed frequencies fit, odd-indexed validate).
     holdout_tol, holdout_atol : float
@@ -150,13 +152,13 @@ def order_sweep(
         ``max_order`` beyond what the data support.
     """
     t0 = time.perf_counter()
-    svd = hankel_svd(frf, method=method, q=q, r=r)
-    G = np.asarray(frf.H)
-    z = np.exp(1j * np.asarray(frf.omega_d))
     if max_order is None:
-        max_order = min(40, svd.max_order)
+        max_order = min(40, hankel_svd(frf, method=method, q=q, r=r).max_order)
     if isinstance(max_order, bool) or not isinstance(max_order, (int, np.integer)) or max_order < 1:
         raise OrderError(f"max_order must be a positive integer, got {max_order!r}")
+    svd = hankel_svd(frf, method=method, q=q, r=r, order=int(max_order))
+    G = np.asarray(frf.H)
+    z = np.exp(1j * np.asarray(frf.omega_d))
     if max_order > svd.max_order:
         raise OrderError(
             f"max_order={max_order} is beyond what the data support with {svd.method} (q={svd.q}, r={svd.r}): "
@@ -184,7 +186,7 @@ def order_sweep(
             half = frf.take(even)
             ho_method = "mckelvey2" if method == "mckelvey2" else "auto"
             try:
-                svd_h = hankel_svd(half, method=ho_method)
+                svd_h = hankel_svd(half, method=ho_method, order=int(max_order))
             except OrderError:
                 svd_h = None
             if svd_h is not None:
