@@ -1,0 +1,169 @@
+"""Tests of sysid.transforms: bilinear (Eqs. 26, 31) and zero-order-hold (Eq. 32) conversions."""
+
+import control
+import numpy as np
+import pytest
+from sysid_synth import random_system
+
+from sysid import FrequencyGridError, c2d_bilinear, c2d_zoh, d2c_bilinear
+
+
+def stable_continuous(n, p, m, seed):
+    """Random stable continuous system: poles with negative real parts in a random basis."""
+    rng = np.random.default_rng(seed)
+    re = -rng.uniform(0.1, 3.0, n)
+    A0 = np.diag(re)
+    for i in range(0, n - 1, 2):  # oscillatory pairs
+        w = rng.uniform(0.2, 4.0)
+        A0[i, i + 1], A0[i + 1, i] = w, -w
+        A0[i + 1, i + 1] = A0[i, i]
+    S = rng.standard_normal((n, n)) + 2 * np.eye(n)
+    A = S @ A0 @ np.linalg.inv(S)
+    return control.ss(A, rng.standard_normal((n, m)), rng.standard_normal((p, n)), rng.standard_normal((p, m)))
+
+
+def tf_discrete(sys, z):
+    """G(z) = C (zI - A)^-1 B + D evaluated directly (independent of control's evaluation)."""
+    A, B, C, D = (np.asarray(x) for x in (sys.A, sys.B, sys.C, sys.D))
+    return np.stack([C @ np.linalg.solve(zk * np.eye(A.shape[0]) - A, B) + D for zk in z], axis=-1)
+
+
+# ------------------------------------------------------------------------------- known values
+def test_d2c_scalar_known_values():
+    # Ahat = 0.5, Bhat = 1, Chat = 1, Dhat = 0, T = 2: Eq. 26 gives A = (2/2)(0.5-1)/(1.5) = -1/3,
+    # B = C = (2/sqrt 2)/1.5, D = -1/1.5.
+    sysd = control.ss([[0.5]], [[1.0]], [[1.0]], [[0.0]], 2.0)
+    sysc = d2c_bilinear(sysd)
+    assert sysc.isctime(strict=True)
+    np.testing.assert_allclose(sysc.A, [[-1.0 / 3.0]], rtol=1e-15)
+    np.testing.assert_allclose(sysc.B, [[np.sqrt(2) / 1.5]], rtol=1e-15)
+    np.testing.assert_allclose(sysc.C, [[np.sqrt(2) / 1.5]], rtol=1e-15)
+    np.testing.assert_allclose(sysc.D, [[-1.0 / 1.5]], rtol=1e-15)
+
+
+def test_zoh_integrators_known_values():
+    T = 0.4
+    # single integrator: Ahat = 1, Bhat = T
+    d = c2d_zoh(control.ss([[0.0]], [[1.0]], [[1.0]], [[0.0]]), T)
+    np.testing.assert_allclose(d.A, [[1.0]])
+    np.testing.assert_allclose(d.B, [[T]], rtol=1e-15)
+    # double integrator: Ahat = [[1, T], [0, 1]], Bhat = [T^2/2, T]
+    d2 = c2d_zoh(control.ss([[0.0, 1.0], [0.0, 0.0]], [[0.0], [1.0]], [[1.0, 0.0]], [[0.0]]), T)
+    np.testing.assert_allclose(d2.A, [[1.0, T], [0.0, 1.0]], atol=1e-15)
+    np.testing.assert_allclose(d2.B, [[T ** 2 / 2], [T]], rtol=1e-14)
+    assert d2.dt == T
+
+
+def test_zoh_first_order_known_values():
+    a, T = -2.0, 0.3
+    d = c2d_zoh(control.ss([[a]], [[1.0]], [[1.0]], [[0.5]]), T)
+    np.testing.assert_allclose(d.A, [[np.exp(a * T)]], rtol=1e-14)
+    np.testing.assert_allclose(d.B, [[(np.exp(a * T) - 1) / a]], rtol=1e-14)
+    np.testing.assert_allclose(d.D, [[0.5]])
+
+
+# ------------------------------------------------------------------ equality with python-control
+@pytest.mark.parametrize("seed", [0, 1, 2])
+@pytest.mark.parametrize("T", [0.05, 0.7, 70 / (2 * np.pi)])
+def test_c2d_bilinear_matches_control_tustin(seed, T):
+    sysc = stable_continuous(4, 2, 3, seed)
+    ours = c2d_bilinear(sysc, T)
+    ref = control.c2d(sysc, T, "tustin")
+    assert ours.dt == T
+    z = np.exp(1j * np.linspace(0.0, np.pi * 0.999, 40))
+    G1, G2 = tf_discrete(ours, z), tf_discrete(ref, z)
+    np.testing.assert_allclose(G1, G2, rtol=1e-9, atol=1e-9 * np.abs(G2).max())
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+@pytest.mark.parametrize("T", [0.05, 0.7, 3.0])
+def test_c2d_zoh_matches_control_zoh(seed, T):
+    sysc = stable_continuous(4, 2, 3, seed)
+    ours = c2d_zoh(sysc, T)
+    ref = control.c2d(sysc, T, "zoh")
+    np.testing.assert_allclose(ours.A, ref.A, rtol=1e-12, atol=1e-13)
+    np.testing.assert_allclose(ours.B, ref.B, rtol=1e-12, atol=1e-13)
+    np.testing.assert_allclose(ours.C, ref.C)
+    np.testing.assert_allclose(ours.D, ref.D)
+
+
+@pytest.mark.parametrize("seed", [3, 4])
+def test_d2c_bilinear_transfer_function_on_mapped_frequencies(seed):
+    # G_c(j omega) = G_d(exp(j omega_d)) with omega = (2/T) tan(omega_d / 2) (paper Eq. 28)
+    A, B, C, D, _ = random_system(5, 2, 2, seed)
+    T = 1.3
+    sysd = control.ss(A, B, C, D, T)
+    sysc = d2c_bilinear(sysd)
+    wd = np.linspace(0.0, 3.0, 30)
+    w = 2.0 / T * np.tan(wd / 2)
+    Gc = np.stack([np.asarray(sysc.C) @ np.linalg.solve(1j * x * np.eye(5) - np.asarray(sysc.A), sysc.B)
+                   + sysc.D for x in w], axis=-1)
+    np.testing.assert_allclose(Gc, tf_discrete(sysd, np.exp(1j * wd)), rtol=1e-11, atol=1e-11)
+    # the Nyquist value is the continuous feedthrough
+    np.testing.assert_allclose(sysc.D, tf_discrete(sysd, [-1.0])[:, :, 0].real, rtol=1e-11, atol=1e-12)
+
+
+# ------------------------------------------------------------------------------- round trips
+@pytest.mark.parametrize("seed", [0, 1, 2])
+@pytest.mark.parametrize("T", [0.1, 70 / (2 * np.pi)])
+def test_round_trip_continuous_discrete_continuous(seed, T):
+    sysc = stable_continuous(5, 2, 2, seed)
+    back = d2c_bilinear(c2d_bilinear(sysc, T))
+    for X, Y in [(back.A, sysc.A), (back.B, sysc.B), (back.C, sysc.C), (back.D, sysc.D)]:
+        np.testing.assert_allclose(X, Y, rtol=1e-10, atol=1e-11 * max(1.0, np.abs(Y).max()))
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_round_trip_discrete_continuous_discrete(seed):
+    A, B, C, D, _ = random_system(6, 2, 1, seed)
+    sysd = control.ss(A, B, C, D, 0.25, inputs=["gust"], outputs=["Cl", "Cm"])
+    back = c2d_bilinear(d2c_bilinear(sysd), 0.25)
+    for X, Y in [(back.A, A), (back.B, B), (back.C, C), (back.D, D)]:
+        np.testing.assert_allclose(X, Y, rtol=1e-10, atol=1e-12)
+    assert back.dt == 0.25
+    assert list(back.input_labels) == ["gust"] and list(back.output_labels) == ["Cl", "Cm"]
+
+
+@pytest.mark.parametrize("conv", ["bilinear", "zoh"])
+def test_dc_gain_preserved(conv):
+    sysc = stable_continuous(4, 2, 2, 9)
+    dc = np.asarray(sysc.D) - np.asarray(sysc.C) @ np.linalg.solve(sysc.A, sysc.B)  # G_c(0)
+    sysd = c2d_bilinear(sysc, 0.5) if conv == "bilinear" else c2d_zoh(sysc, 0.5)
+    np.testing.assert_allclose(tf_discrete(sysd, [1.0])[:, :, 0].real, dc, rtol=1e-11, atol=1e-12)
+
+
+# ------------------------------------------------------------------------------------ errors
+def test_d2c_rejects_continuous_model():
+    with pytest.raises(ValueError, match="discrete-time"):
+        d2c_bilinear(control.ss([[-1.0]], [[1.0]], [[1.0]], [[0.0]]))
+
+
+@pytest.mark.parametrize("func", [c2d_bilinear, c2d_zoh])
+def test_c2d_rejects_discrete_model(func):
+    with pytest.raises(ValueError, match="continuous-time"):
+        func(control.ss([[0.5]], [[1.0]], [[1.0]], [[0.0]], 0.1), 0.1)
+
+
+@pytest.mark.parametrize("func", [c2d_bilinear, c2d_zoh])
+@pytest.mark.parametrize("T", [0.0, -1.0, np.nan, np.inf])
+def test_c2d_rejects_bad_T(func, T):
+    with pytest.raises(FrequencyGridError, match="T"):
+        func(control.ss([[-1.0]], [[1.0]], [[1.0]], [[0.0]]), T)
+
+
+def test_d2c_pole_at_minus_one():
+    sysd = control.ss([[-1.0, 0.0], [0.0, 0.5]], [[1.0], [1.0]], [[1.0, 1.0]], [[0.0]], 0.5)
+    with pytest.raises(ValueError, match="z = -1"):
+        d2c_bilinear(sysd)
+
+
+def test_c2d_bilinear_pole_at_two_over_T():
+    T = 0.5
+    sysc = control.ss([[2.0 / T]], [[1.0]], [[1.0]], [[0.0]])
+    with pytest.raises(ValueError, match="s = 2/T"):
+        c2d_bilinear(sysc, T)
+
+
+def test_d2c_needs_sampling_period():
+    with pytest.raises(FrequencyGridError, match="dt=True"):
+        d2c_bilinear(control.ss([[0.5]], [[1.0]], [[1.0]], [[0.0]], True))
