@@ -1,0 +1,113 @@
+import numpy as np
+import pytest
+
+from cfd import Aerofoil, GeometryError, naca
+
+
+@pytest.mark.parametrize("code", ["0006", "0010", "0012", "0018"])
+def test_symmetric_max_thickness_t_at_30_percent_chord(code):
+    foil = naca(code)
+    x = np.linspace(0.0, 1.0, 200001)
+    yt = foil.thickness(x)
+    assert 2 * yt.max() == pytest.approx(foil.t, rel=2e-4)
+    assert x[np.argmax(yt)] == pytest.approx(0.30, abs=0.005)
+
+
+@pytest.mark.parametrize("code", ["0006", "0012", "2410", "4412"])
+def test_trailing_edge_is_closed_and_leading_edge_at_origin(code):
+    foil = naca(code)
+    x, y = foil.surface(np.array([0.0, 0.5, 1.0]))
+    assert np.allclose(x, [1.0, 0.0, 1.0], atol=1e-15)
+    assert np.allclose(y, 0.0, atol=1e-15)
+    assert abs(foil.thickness(1.0)) < 1e-15
+
+
+def test_closed_te_coefficients_sum_to_zero_and_differ_from_open():
+    # -0.1036 makes the thickness polynomial vanish at x = 1; the open-TE -0.1015 leaves 0.0021.
+    assert 0.2969 - 0.1260 - 0.3516 + 0.2843 - 0.1036 == pytest.approx(0.0, abs=1e-12)
+
+
+def test_camber_line_maximum_m_at_p():
+    foil = naca("2410")
+    x = np.linspace(0.0, 1.0, 100001)
+    yc, dyc = foil.camber(x)
+    assert yc.max() == pytest.approx(0.02, rel=1e-8)
+    assert x[np.argmax(yc)] == pytest.approx(0.4, abs=1e-4)
+    assert np.gradient(yc, x)[1000:-1000] == pytest.approx(dyc[1000:-1000], abs=1e-6)
+
+
+def test_area_of_naca0012():
+    # Exact integral of 2 y_t with the closed TE: 10 t (2/3 a0 + a1/2 + a2/3 + a3/4 + a4/5) = 0.68088 t;
+    # the textbook 0.685 t is the open-TE value (a4 = -0.1015).
+    exact = 10 * 0.12 * (2 / 3 * 0.2969 - 0.1260 / 2 - 0.3516 / 3 + 0.2843 / 4 - 0.1036 / 5)
+    assert exact == pytest.approx(0.68088 * 0.12, rel=1e-4)
+    assert naca("0012").area() == pytest.approx(exact, rel=1e-5)
+    assert naca("0012").area() == pytest.approx(0.685 * 0.12, rel=0.01)
+
+
+def test_zero_lift_angle_of_2410_thin_aerofoil_theory():
+    assert naca("2410").zero_lift_angle_deg() == pytest.approx(-2.08, abs=0.01)
+    assert naca("0012").zero_lift_angle_deg() == 0.0
+
+
+def test_thickness_is_normal_to_camber_line():
+    foil = naca("4412")
+    s = np.array([0.2, 0.3, 0.7, 0.8])
+    x, y = foil.surface(s)
+    xs = 0.5 * (1 - np.cos(np.pi * (2 * s - 1)))
+    yc, dyc = foil.camber(xs)
+    # The offset from the camber point has length y_t and is perpendicular to the camber tangent.
+    dx, dy = x - xs, y - yc
+    assert np.hypot(dx, dy) == pytest.approx(foil.thickness(xs), rel=1e-12)
+    assert dx + dy * dyc == pytest.approx(0.0, abs=1e-15)
+
+
+def test_at_arc_places_points_on_the_surface_at_the_requested_arc_length():
+    foil = naca("2410")
+    arc = np.linspace(0, foil.perimeter, 11)
+    x, y = foil.at_arc(arc)
+    # Points on the surface: the parameter of each point reproduces it.
+    dense_x, dense_y = foil.surface(np.linspace(0, 1, 200001))
+    d = np.hypot(x[:, None] - dense_x[None], y[:, None] - dense_y[None]).min(axis=1)
+    assert d.max() < 2e-5
+    seg = np.hypot(np.diff(dense_x), np.diff(dense_y)).cumsum()
+    assert foil.perimeter == pytest.approx(seg[-1], rel=1e-6)
+    assert foil.s_leading_edge_arc == pytest.approx(0.5 * foil.perimeter, rel=0.02)
+
+
+def test_naca_returns_frozen_aerofoil_and_points():
+    foil, x, y = naca(12, n=40)
+    assert isinstance(foil, Aerofoil) and foil.code == "0012" and foil.name == "NACA0012"
+    assert (foil.m, foil.p, foil.t) == (0.0, 0.0, 0.12)
+    assert x.shape == y.shape == (41,)
+    with pytest.raises(AttributeError):
+        foil.t = 0.2
+    assert naca("NACA 2410") == naca("2410")
+
+
+@pytest.mark.parametrize(
+    "code, match",
+    [
+        ("012", "3 characters, not 4"),
+        ("00120", "5 characters"),
+        ("00a2", "non-digit"),
+        ("0000", "zero thickness"),
+        ("2012", "no position of maximum camber"),
+        ("0412", "zero camber"),
+        (1.5, "must be a string"),
+        (12345, "not a 4-digit number"),
+    ],
+)
+def test_invalid_codes_raise_geometry_error_with_an_example(code, match):
+    with pytest.raises(GeometryError, match=match) as err:
+        naca(code)
+    assert "e.g." in str(err.value) or "such as" in str(err.value)
+
+
+def test_invalid_point_count_and_parameters():
+    with pytest.raises(GeometryError, match="n=200"):
+        naca("0012", n=2)
+    with pytest.raises(GeometryError, match=r"\[0, 1\]"):
+        naca("0012").surface([1.5])
+    with pytest.raises(GeometryError, match="perimeter"):
+        naca("0012").at_arc([10.0])
