@@ -1,0 +1,222 @@
+"""Tests of sysid.identify: the full pipeline (subspace -> stability -> constrained refit)."""
+
+import warnings
+
+import control
+import numpy as np
+import pytest
+from sysid_synth import freqresp, pole_mismatch, random_system
+
+import sysid
+from sysid import (ConstraintError, FrequencyGridError, FrequencyResponse, IdentificationResult, OrderError,
+                   identify, mckelvey_grid)
+
+
+def data(n=6, p=2, m=2, seed=0, M=64, T=1.0, sigma=0.0, rho=0.95):
+    A, B, C, D, poles = random_system(n, p, m, seed, rho=rho)
+    wd, _ = mckelvey_grid(M, T)
+    G = freqresp(A, B, C, D, np.exp(1j * wd))
+    if sigma:
+        rng = np.random.default_rng(1000 + seed)
+        G = G + sigma * (rng.standard_normal(G.shape) + 1j * rng.standard_normal(G.shape))
+    frf = FrequencyResponse(G, wd, T, inputs=[f"u{j}" for j in range(m)], outputs=[f"y{i}" for i in range(p)])
+    return frf, (A, B, C, D, poles)
+
+
+# ---------------------------------------------------------------------------- exact recovery
+@pytest.mark.parametrize("seed", [0, 1, 2])
+@pytest.mark.parametrize("method", ["mckelvey1", "mckelvey2"])
+def test_exact_recovery(seed, method):
+    frf, (A, B, C, D, poles) = data(seed=seed)
+    res = identify(frf, 6, method=method)
+    assert isinstance(res, IdentificationResult)
+    assert res.model.dt == 1.0 and res.model.nstates == 6 and res.order == 6 and res.method == method
+    assert list(res.model.input_labels) == ["u0", "u1"] and list(res.model.output_labels) == ["y0", "y1"]
+    assert res.max_error < 1e-8 and res.rms_error < 1e-8
+    assert pole_mismatch(np.linalg.eigvals(res.model.A), poles) < 1e-8
+    # the model matches the TRUE system away from the data points too
+    zf = np.exp(1j * np.linspace(0.0, np.pi, 333))
+    Gt = freqresp(A, B, C, D, zf)
+    Gm = freqresp(res.model.A, res.model.B, res.model.C, res.model.D, zf)
+    assert np.abs(Gm - Gt).max() < 1e-8 * np.abs(Gt).max()
+    assert res.enforced == {"dc_gain": False, "feedthrough": True, "stable": False}
+    np.testing.assert_allclose(res.spectral_radius, np.abs(poles).max(), rtol=1e-8)
+
+
+def test_exact_recovery_arbitrary_frequencies_from_continuous():
+    # Continuous data on a non-equispaced grid, with T: identify uses Algorithm 2 on omega_d.
+    A, B, C, D, poles = random_system(4, 1, 2, 5)
+    T = 0.5
+    sysd = control.ss(A, B, C, D, T)
+    sysc = sysid.d2c_bilinear(sysd)
+    w = np.concatenate([[0.0], np.geomspace(0.01, 50.0, 30), [np.inf]])
+    H = np.stack([np.asarray(sysc.C) @ np.linalg.solve(1j * x * np.eye(4) - np.asarray(sysc.A), sysc.B) + sysc.D
+                  for x in w[:-1]], axis=-1)
+    H = np.concatenate([H, np.asarray(sysc.D)[:, :, None]], axis=2)
+    frf = FrequencyResponse.from_continuous(H, w, T)
+    res = identify(frf, 4, dc_gain="match")
+    assert res.method == "mckelvey2"
+    assert res.max_error < 1e-8 and res.dc_error < 1e-10
+    assert pole_mismatch(np.linalg.eigvals(res.model.A), poles) < 1e-8
+    # the continuous model reproduces the continuous data (paper Eq. 26)
+    sc = res.continuous()
+    Hc = np.stack([np.asarray(sc.C) @ np.linalg.solve(1j * x * np.eye(4) - np.asarray(sc.A), sc.B) + sc.D
+                   for x in w[:-1]], axis=-1)
+    np.testing.assert_allclose(Hc, H[:, :, :-1], atol=1e-8 * np.abs(H).max())
+
+
+# ---------------------------------------------------------------------------------- constraints
+def test_dc_match_and_feedthrough_exact_on_noisy_data():
+    frf, _ = data(seed=3, sigma=0.02)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # noisy DC / Nyquist samples are complex
+        dc_data, ft_data = frf.H[:, :, 0].real, frf.H[:, :, -1].real
+        res = identify(frf, 6, dc_gain="match")
+    m = res.model
+    G1 = freqresp(m.A, m.B, m.C, m.D, [1.0])[:, :, 0]
+    Gm1 = freqresp(m.A, m.B, m.C, m.D, [-1.0])[:, :, 0]
+    np.testing.assert_allclose(G1.real, dc_data, atol=1e-9)  # DC imposed exactly
+    np.testing.assert_allclose(Gm1.real, ft_data, atol=1e-9)  # G(z=-1) = H(pi): continuous feedthrough
+    assert res.enforced["dc_gain"] and res.enforced["feedthrough"]
+    assert res.dc_error < 1e-9
+    # the continuous model's D is the Nyquist value
+    np.testing.assert_allclose(res.continuous().D, ft_data, atol=1e-9)
+    # and the fit is still at the noise level
+    assert res.rms_error < 0.05
+
+
+def test_dc_gain_array_and_zero_feedthrough():
+    A, B, C, D, _ = random_system(5, 1, 1, 11)
+    wd, _ = mckelvey_grid(32, 1.0)
+    G = freqresp(A, B, C, D, np.exp(1j * wd))
+    G[:, :, -1] = 0.0  # aerofoil-style data: zero feedthrough at omega = inf
+    frf = FrequencyResponse(G, wd, 1.0)
+    target = np.array([[2.5]])
+    res = identify(frf, 5, dc_gain=target)
+    m = res.model
+    np.testing.assert_allclose(freqresp(m.A, m.B, m.C, m.D, [1.0])[:, :, 0].real, target, atol=1e-9)
+    np.testing.assert_allclose(freqresp(m.A, m.B, m.C, m.D, [-1.0])[:, :, 0], 0.0, atol=1e-9)
+    np.testing.assert_allclose(res.continuous().D, 0.0, atol=1e-9)
+
+
+def test_fix_feedthrough_off():
+    frf, _ = data(seed=4, sigma=0.02)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        res = identify(frf, 6, fix_feedthrough=False)
+    assert res.enforced["feedthrough"] is False
+
+
+def test_dc_match_needs_zero_frequency():
+    frf, _ = data(seed=0, M=32)
+    inner = frf.take(np.arange(1, 33))
+    with pytest.raises(ConstraintError, match="omega = 0"):
+        identify(inner, 6, dc_gain="match")
+
+
+def test_dc_gain_wrong_shape():
+    frf, _ = data(seed=0, M=32)
+    with pytest.raises(ConstraintError, match=r"\(p, m\)"):
+        identify(frf, 6, dc_gain=np.ones((3, 2)))
+
+
+def test_dc_constraint_with_pole_at_one():
+    # an integrator (pole exactly at z = 1) is recovered from data that avoid omega = 0; a DC constraint
+    # is then impossible and the refit's ConstraintError propagates
+    A = np.diag([1.0, 0.5, -0.3])
+    B = np.ones((3, 1))
+    C = np.array([[1.0, 2.0, 1.0]])
+    wd = np.linspace(0.05, np.pi, 40)
+    frf = FrequencyResponse(freqresp(A, B, C, np.zeros((1, 1)), np.exp(1j * wd)), wd, 1.0)
+    res = identify(frf, 3)
+    assert np.min(np.abs(np.linalg.eigvals(res.model.A) - 1.0)) < 1e-9
+    with pytest.raises(ConstraintError, match="z = 1"):
+        identify(frf, 3, dc_gain=np.array([[1.0]]))
+
+
+# ------------------------------------------------------------------------------------ stability
+@pytest.mark.parametrize("stabilise_method", ["lmi", "reflect"])
+def test_stable_enforced_on_overfitted_noisy_data(stabilise_method):
+    frf, _ = data(seed=1, sigma=0.05, rho=0.97)
+    margin = 0.05
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        free = identify(frf, 16)
+        res = identify(frf, 16, stable=True, margin=margin, stabilise_method=stabilise_method, dc_gain="match")
+    assert free.spectral_radius >= 1 - margin  # the case really needs stabilisation
+    assert res.spectral_radius < 1 - margin
+    assert np.max(np.abs(np.linalg.eigvals(res.model.A))) < 1 - margin
+    rep = res.stabilisation
+    assert rep.method == stabilise_method
+    np.testing.assert_allclose(rep.spectral_radius_before, free.spectral_radius, rtol=1e-12)
+    assert rep.spectral_radius_after < 1 - margin and rep.relative_change > 0
+    assert rep.rms_error_after == pytest.approx(res.rms_error)
+    assert res.enforced["stable"] and res.enforced["dc_gain"]
+    assert res.dc_error < 1e-9  # constraints still exact after stabilisation
+
+
+def test_stable_when_already_stable_changes_nothing():
+    frf, _ = data(seed=2)
+    res = identify(frf, 6, stable=True)
+    assert res.stabilisation.method == "none" and res.stabilisation.relative_change == 0.0
+    assert res.max_error < 1e-8
+
+
+# ---------------------------------------------------------------------------------- weights
+def test_weights_reach_the_refit():
+    # The subspace step is unweighted, so A and C are the same with and without weights; the refit
+    # minimises the WEIGHTED cost, so it must do at least as well on that cost as the unweighted fit,
+    # and weighting outliers out must improve the fit at the clean samples.
+    A, B, C, D, poles = random_system(4, 1, 1, 12)
+    wd = np.sort(np.random.default_rng(0).uniform(0.0, np.pi, 50))
+    G = freqresp(A, B, C, D, np.exp(1j * wd))
+    bad = np.zeros(50, dtype=bool)
+    bad[[5, 17, 33]] = True
+    Gc = G.copy()
+    Gc[:, :, bad] += 0.3  # outliers
+    w = np.where(bad, 0.0, 1.0)
+    frf = FrequencyResponse(Gc, wd, 1.0)
+    res_w = identify(frf, 4, weights=w)
+    res_u = identify(frf, 4)
+    np.testing.assert_array_equal(res_w.model.A, res_u.model.A)
+
+    def wcost(r):
+        return float(np.sum(w * np.abs(r.evaluate(wd) - Gc)[0, 0] ** 2))
+
+    assert wcost(res_w) <= wcost(res_u) * (1 + 1e-9)
+    err_w = np.abs(res_w.evaluate(wd) - G)[:, :, ~bad].max()
+    err_u = np.abs(res_u.evaluate(wd) - G)[:, :, ~bad].max()
+    assert err_w < err_u
+
+
+# ------------------------------------------------------------------------------------- helpers
+def test_frequency_response_helper():
+    frf, (A, B, C, D, _) = data(seed=6, M=32)
+    res = identify(frf, 6)
+    fr = res.frequency_response()
+    assert isinstance(fr, FrequencyResponse) and fr.T == frf.T and fr.outputs == frf.outputs
+    np.testing.assert_allclose(fr.omega_d, frf.omega_d)
+    z = np.exp(1j * frf.omega_d)
+    np.testing.assert_allclose(fr.H, np.stack([res.model(zk) for zk in z], axis=-1), rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(fr.H, frf.H, atol=1e-8 * np.abs(frf.H).max())
+    assert res.hankel_sv.ndim == 1 and res.hankel_sv[5] > 1e-8 * res.hankel_sv[0] > res.hankel_sv[6]
+
+
+# --------------------------------------------------------------------------------------- errors
+def test_needs_T():
+    frf = FrequencyResponse.from_continuous(np.ones(5), [0.0, 1.0, 2.0, 3.0, 4.0])
+    with pytest.raises(FrequencyGridError, match="sampling period T"):
+        identify(frf, 1)
+
+
+def test_method_1_on_non_equispaced():
+    frf = FrequencyResponse(np.ones(6), [0.0, 0.2, 0.5, 1.0, 2.0, np.pi], 1.0)
+    with pytest.raises(FrequencyGridError, match="mckelvey2"):
+        identify(frf, 1, method="mckelvey1")
+
+
+@pytest.mark.parametrize("order", [0, 40])
+def test_bad_order(order):
+    frf, _ = data(seed=0, M=16)
+    with pytest.raises(OrderError):
+        identify(frf, order)
