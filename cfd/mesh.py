@@ -274,8 +274,8 @@ def _boundaries(foil, ni, nj, n_surface, n_wake, farfield, le_spacing, te_spacin
     up = arc_le + arc_up * _vinokur(half, le_spacing / arc_up, te_spacing / arc_up)
     arc = np.concatenate([low, up[1:]])
     xw, yw = foil.at_arc(arc)
-    xw[0] = xw[-1] = 1.0  # the sharp trailing edge, exactly
-    yw[-1] = yw[0]
+    xw[0] = xw[-1] = 1.0  # the sharp trailing edge (1, y_c(1) = 0), exactly
+    yw[0] = yw[-1] = 0.0
 
     # Wake cut: bisector of the trailing-edge wedge, pointing downstream.
     t_low = np.array([xw[0] - xw[1], yw[0] - yw[1]])
@@ -443,6 +443,8 @@ def _orthogonal_blend(x, y, dist, n_layers):
     w = np.where(j < n_layers, 0.5 * (1.0 + np.cos(np.pi * np.clip(j - 1, 0, None) / (n_layers - 1))), 0.0)[None, :]
     xo = x[:, :1] + dist * nx[:, None]
     yo = y[:, :1] + dist * ny[:, None]
+    w = np.broadcast_to(w, x.shape).copy()
+    w[[0, -1], :] = 0.0  # the outflow boundaries stay straight
     return (1.0 - w) * x + w * xo, (1.0 - w) * y + w * yo
 
 
@@ -522,7 +524,11 @@ def c_grid(
     x, y, f = _transfinite(x_in, y_in, x_o, y_o, h, nj)
     if smooth:
         dist = f * np.hypot(x_o - x_in, y_o - y_in)[:, None]
+        x0, y0 = x, y
         x, y, n_it = _elliptic(x, y, f, max_iter, tol, phi_decay=1.0)
+        # Boundary rows of the linear system are identities; restore them bit for bit anyway.
+        for a, a0 in ((x, x0), (y, y0)):
+            a[:, 0], a[:, -1], a[0, :], a[-1, :] = a0[:, 0], a0[:, -1], a0[0, :], a0[-1, :]
         x, y = _redistribute(x, y, f)
         seg = np.hypot(np.diff(x, axis=1), np.diff(y, axis=1))
         dist = np.concatenate([np.zeros((ni, 1)), np.cumsum(seg, axis=1)], axis=1)

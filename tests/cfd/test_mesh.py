@@ -1,0 +1,138 @@
+import numpy as np
+import pytest
+
+from cfd import MeshError, c_grid, grid_quality, naca
+
+
+@pytest.fixture(scope="module", params=["0010", "2410"])
+def paper(request):
+    foil = naca(request.param)
+    return foil, c_grid(foil)  # 181 x 60 nodes, 100 wall cells, R = 25 chords
+
+
+def test_paper_grid_shapes(paper):
+    _, g = paper
+    assert g.shape == (181, 60)
+    assert g.cell_shape == (180, 59) and g.n_cells == 10620
+    assert g.n_wake == 40 and g.n_surface == 100
+    assert g.wall == slice(40, 140)
+
+
+def test_wall_nodes_lie_on_the_aerofoil_from_lower_te_to_upper_te(paper):
+    foil, g = paper
+    xw, yw = g.x[40:141, 0], g.y[40:141, 0]
+    dx, dy = foil.surface(np.linspace(0.0, 1.0, 200001))
+    k = np.clip(np.hypot(xw[:, None] - dx[None], yw[:, None] - dy[None]).argmin(axis=1), 1, dx.size - 2)
+
+    def seg_dist(a):  # distance from each wall node to the dense segment (a, a + 1)
+        ex, ey = dx[a + 1] - dx[a], dy[a + 1] - dy[a]
+        t = np.clip(((xw - dx[a]) * ex + (yw - dy[a]) * ey) / (ex**2 + ey**2), 0, 1)
+        return np.hypot(xw - dx[a] - t * ex, yw - dy[a] - t * ey)
+
+    assert np.minimum(seg_dist(k - 1), seg_dist(k)).max() < 1e-8
+    assert (xw[0], yw[0]) == (1.0, 0.0) == (xw[-1], yw[-1])
+    # Lower surface first (i increasing towards the leading edge), then the upper surface.
+    assert np.all(np.diff(xw[:50]) < 0) and np.all(np.diff(xw[51:]) > 0)
+    assert np.mean(yw[1:50]) < np.mean(yw[51:-1])
+
+
+def test_wake_cut_nodes_coincide_pairwise_and_follow_the_te_bisector(paper):
+    foil, g = paper
+    ni = g.shape[0]
+    i = np.arange(41)
+    assert np.array_equal(g.x[i, 0], g.x[ni - 1 - i, 0])
+    assert np.array_equal(g.y[i, 0], g.y[ni - 1 - i, 0])
+    # A straight line from the trailing edge, along the bisector of the TE wedge.
+    xs, ys = g.x[:41, 0], g.y[:41, 0]
+    t_low = np.array([1.0 - g.x[41, 0], -g.y[41, 0]])
+    t_up = np.array([1.0 - g.x[139, 0], -g.y[139, 0]])
+    b = t_low / np.linalg.norm(t_low) + t_up / np.linalg.norm(t_up)
+    cross = (xs - 1.0) * b[1] - ys * b[0]
+    assert np.abs(cross).max() < 1e-9 * np.abs(xs - 1).max()
+    assert np.all(np.diff(xs) < 0)  # i runs from the outflow towards the trailing edge
+
+
+def test_far_field_radius_and_outflow_plane(paper):
+    _, g = paper
+    xo, yo = g.x[:, -1], g.y[:, -1]
+    r = np.hypot(xo - 0.5, yo)
+    assert r.min() == pytest.approx(25.0, rel=1e-12)
+    front = xo < 0.5
+    assert np.allclose(r[front], 25.0, rtol=1e-12)
+    assert np.allclose(g.x[0], 25.5) and np.allclose(g.x[-1], 25.5)  # outflow plane x = 0.5 + R
+    assert np.abs(yo).max() == pytest.approx(25.0)
+
+
+def test_areas_positive_and_metrics_close(paper):
+    _, g = paper
+    assert np.all(g.area > 0)
+    closure = g.si[:, 1:, :] - g.si[:, :-1, :] + g.sj[:, :, 1:] - g.sj[:, :, :-1]
+    assert np.abs(closure).max() < 1e-12
+    # The cells tile the annulus between the far field and the aerofoil.
+    # Boundary loop: j = 0 (cut and wall), i = ni-1 outward, far field backwards, i = 0 inward.
+    bx = np.concatenate([g.x[:, 0], g.x[-1, 1:], g.x[-2::-1, -1], g.x[0, -2:0:-1]])
+    by = np.concatenate([g.y[:, 0], g.y[-1, 1:], g.y[-2::-1, -1], g.y[0, -2:0:-1]])
+    enclosed = 0.5 * np.sum(bx * np.roll(by, -1) - np.roll(bx, -1) * by)
+    assert g.area.sum() == pytest.approx(enclosed, rel=1e-12)
+
+
+def test_near_orthogonal_at_wall_with_the_requested_first_height(paper):
+    _, g = paper
+    q = grid_quality(g)
+    # The first j-edge is along the node normal (tangent from central differences). A cell corner
+    # angle then differs from 90 deg by about half the surface turning over one cell: at most about
+    # 8 deg on the 100-cell nose (15-20 deg of turning per cell), well under 1 deg over most of the chord.
+    assert q.max_wall_nonorthogonality < 10.0
+    assert q.max_cut_nonorthogonality < 7.0
+    assert q.min_wall_height == pytest.approx(0.004, rel=0.01)
+    assert q.max_wall_height < 0.0045
+
+
+def test_quality_figures_are_sane(paper):
+    _, g = paper
+    q = grid_quality(g)
+    assert q.shape == (181, 60) and q.n_cells == 10620
+    assert q.min_area > 1e-6
+    assert 15.0 < q.min_angle and q.max_angle < 165.0 and q.max_skewness < 0.85
+    assert q.max_stretch_i < 2.5 and q.max_stretch_j < 1.5
+    assert q.max_aspect_ratio < 200.0
+    assert "max_skewness" in str(q) and set(q.as_dict()) >= {"min_area", "max_aspect_ratio"}
+
+
+def test_other_sizes_far_fields_and_the_transfinite_grid():
+    foil = naca("0012")
+    g = c_grid(foil, ni=121, nj=40, n_surface=64, farfield=10.0)
+    assert g.shape == (121, 40) and g.n_wake == 28
+    assert np.hypot(g.x[:, -1] - 0.5, g.y[:, -1]).min() == pytest.approx(10.0)
+    t = c_grid(foil, ni=121, nj=40, n_surface=64, farfield=10.0, smooth=False)
+    assert np.all(t.area > 0)
+    assert np.array_equal(t.x[:, 0], g.x[:, 0]) and np.array_equal(t.x[:, -1], g.x[:, -1])
+    assert grid_quality(t).max_wall_nonorthogonality > grid_quality(g).max_wall_nonorthogonality
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        (dict(n_surface=99), "must be even"),
+        (dict(n_surface=4), "at least 8"),
+        (dict(ni=101, n_surface=100), "wake branches"),
+        (dict(ni=182), "it must be even"),
+        (dict(nj=5), "nj >= 8"),
+        (dict(farfield=1.0), "too close"),
+        (dict(ni=181.0), "must be an integer"),
+        (dict(wall_spacing=0.0), "wall_spacing"),
+        (dict(te_spacing=0.5), "te_spacing"),
+        (dict(le_spacing=-1.0), "le_spacing"),
+    ],
+)
+def test_bad_sizes_raise_mesh_error_saying_what_to_do(kwargs, match):
+    with pytest.raises(MeshError, match=match):
+        c_grid(naca("0012"), **kwargs)
+
+
+def test_inverted_grid_is_refused():
+    g = c_grid(naca("0012"), ni=121, nj=40, n_surface=64, smooth=False)
+    from cfd import grid_from_nodes
+
+    with pytest.raises(MeshError, match="inverted"):
+        grid_from_nodes(g.x[::-1], g.y[::-1], g.n_wake)
