@@ -318,14 +318,15 @@ def _regressions(F, G, weights, m):
 
 
 def _reduce(Phi):
-    """Column-equilibrated SVD of Phi: returns (U, S, S~, M) with theta = M @ y, y = S~ V^T (cols-scaled theta)."""
+    """Column-equilibrated SVD of Phi = (Qr Ur) S V^T: returns ((Qr, Ur), S, S~, M), theta = M @ y."""
     s = np.linalg.norm(Phi, axis=0)
     s[s == 0] = 1.0
-    U, S, Vt = np.linalg.svd(Phi / s, full_matrices=False)
+    Qr, R = np.linalg.qr(Phi / s)  # tall-skinny: QR first, then the SVD of the small triangle
+    Ur, S, Vt = np.linalg.svd(R)
     eps = _RCOND * (S[0] if S.size else 1.0)
     St = np.sqrt(S**2 + eps**2)
     M = (Vt.T / St) / s[:, None]
-    return U, S, St, M
+    return (Qr, Ur), S, St, M
 
 
 class _CompiledRefit:
@@ -489,7 +490,7 @@ def fit_bd(A, C, z, G, *, weights=None, dc_gain=None, feedthrough=None, solver: 
             if key_id not in reds:
                 reds[key_id] = _reduce(Phis[j])
             U, S, St, M = reds[key_id]
-            hs.append(S * (U.T @ gs[j]) / St)
+            hs.append(S * (U[1].T @ (U[0].T @ gs[j])) / St)
             Ms.append(M)
             if c:
                 Eh = E @ M  # (c, N)
