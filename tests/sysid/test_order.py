@@ -1,0 +1,85 @@
+"""Tests of sysid.order: the order sweep from one SVD and its order suggestions."""
+
+import warnings
+
+import numpy as np
+import pytest
+from sysid_synth import freqresp, random_system
+
+from sysid import FrequencyResponse, OrderError, OrderSweep, identify, mckelvey_grid, order_sweep
+
+
+def frf_of(n, seed, M=128, sigma=0.0, p=1, m=1, grid=None):
+    A, B, C, D, _ = random_system(n, p, m, seed, rho=0.9)
+    wd = mckelvey_grid(M, 1.0)[0] if grid is None else grid
+    G = freqresp(A, B, C, D, np.exp(1j * wd))
+    if sigma:
+        rng = np.random.default_rng(seed)
+        G = G + sigma * np.abs(G).max() * (rng.standard_normal(G.shape) + 1j * rng.standard_normal(G.shape))
+    return FrequencyResponse(G, wd, 1.0)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_noise_free_true_order_found(seed):
+    sw = order_sweep(frf_of(5, seed), 20)
+    assert isinstance(sw, OrderSweep)
+    np.testing.assert_array_equal(sw.orders, np.arange(1, 21))
+    assert sw.order_gap == 5 and sw.order_holdout == 5 and sw.suggested == 5
+    assert sw.rms_error[4] < 1e-8 and sw.max_error[4] < 1e-8
+    assert np.all(sw.rms_error[:4] > 1e-6)  # too few states cannot fit
+    assert sw.holdout_error[4] < 1e-8
+    assert sw.method == "mckelvey1" and sw.q == min(128, 2 * 20 + 2)
+
+
+def test_mimo_and_algorithm2():
+    wd = np.sort(np.random.default_rng(3).uniform(0.0, np.pi, 90))
+    sw = order_sweep(frf_of(6, 7, p=2, m=2, grid=wd), 12)
+    assert sw.method == "mckelvey2"
+    assert sw.order_gap == 6 and sw.order_holdout == 6
+
+
+def test_odd_M_hold_out_falls_back_to_algorithm2():
+    # M = 63: the even-indexed samples miss omega_d = pi, so the hold-out uses Algorithm 2
+    sw = order_sweep(frf_of(4, 2, M=63), 10)
+    assert sw.order_holdout == 4 and sw.order_gap == 4
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_noisy_hold_out_error_is_minimal_near_true_order(seed):
+    sw = order_sweep(frf_of(5, seed, sigma=0.002), 20)
+    ho = sw.holdout_error
+    assert ho[4] <= 1.5 * np.nanmin(ho)  # true order within 50% of the best hold-out error
+    assert ho[0] > 10 * np.nanmin(ho)  # and far better than order 1
+    assert 1 <= sw.suggested <= 20
+
+
+def test_sweep_errors_agree_with_identify():
+    # The sweep's closed-form B/D fit is the same least-squares problem as the unconstrained refit in
+    # identify() (different code paths: numpy lstsq here, sysid.refit there).
+    frf = frf_of(5, 9, sigma=0.01)
+    sw = order_sweep(frf, 8)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        for n in (2, 5, 8):
+            res = identify(frf, n, q=sw.q, r=sw.r, fix_feedthrough=False)
+            assert res.rms_error == pytest.approx(sw.rms_error[n - 1], rel=1e-6)
+            assert res.spectral_radius == pytest.approx(sw.spectral_radius[n - 1], rel=1e-9)
+
+
+def test_table_and_no_holdout():
+    sw = order_sweep(frf_of(3, 1, M=32), 6, holdout=False)
+    assert sw.holdout_error is None and sw.order_holdout is None and sw.suggested == sw.order_gap == 3
+    lines = sw.table().splitlines()
+    assert len(lines) == 7 and lines[0].startswith("order")
+
+
+@pytest.mark.parametrize("max_order, match", [(0, "positive integer"), (2.5, "positive integer"),
+                                              (40, "largest order is 31")])
+def test_bad_max_order(max_order, match):
+    with pytest.raises(OrderError, match=match):
+        order_sweep(frf_of(3, 1, M=32), max_order)
+
+
+def test_default_max_order():
+    sw = order_sweep(frf_of(3, 1, M=16))
+    assert sw.orders[-1] == 15  # min(40, M - 1)
