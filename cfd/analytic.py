@@ -1,0 +1,260 @@
+"""Classical unsteady thin-aerofoil gust references: Sears, compressible Sears (Amiet), Kussner, Wagner.
+
+These are the independent references against which the linearised CFD (``cfd.lfd``, ``cfd.ltd``) is
+validated at low Mach number. Everything is vectorised over its first argument.
+
+Units and conventions (those of the project, ``shared/DESIGN.md``)
+-------------------------------------------------------------------
+- ``omega`` is the angular frequency in units of ``U / c`` (c the chord); the classical reduced
+  frequency on the semi-chord ``b = c / 2`` is ``k = omega b / U = omega / 2``.
+- Time dependence ``exp(+i omega t)``; a vertical gust convected downstream,
+  ``w(x, t) = w0 exp(i omega (t - x / U))``.
+- Transfer functions are normalised lift: ``Cl = 2 pi (w_ref / U) S`` where ``w_ref`` is the gust
+  velocity at the reference point, i.e. ``Cl / (2 pi)`` per radian of gust angle measured there.
+  ``reference="midchord"`` (x = c/2, the classical form) or ``reference="leading_edge"`` (x = 0, the
+  project's default gust input point ``x_ref = 0``); the two differ by the factor ``exp(-i k)``
+  (the gust reaches mid-chord ``c / (2 U)`` after the leading edge).
+- Indicial functions take the convective time ``s = t U / c`` in chords by default
+  (``unit="semichord"`` for the classical ``s_b = U t / b = 2 s``). The Kussner function is the
+  lift build-up after a sharp-edged gust's front passes the leading edge; it is the step response of
+  the leading-edge-referenced Sears function.
+"""
+
+import numpy as np
+from scipy import special
+
+__all__ = [
+    "AnalyticError",
+    "sears",
+    "sears_hankel",
+    "theodorsen",
+    "sears_compressible",
+    "kussner",
+    "wagner",
+    "step_response",
+]
+
+
+class AnalyticError(ValueError):
+    """Bad argument to an analytic reference function (unknown option, negative frequency...)."""
+
+
+_REFERENCES = ("midchord", "leading_edge")
+
+
+def _omega(omega):
+    w = np.asarray(omega, dtype=float)
+    if np.any(~np.isfinite(w)) or np.any(w < 0.0):
+        raise AnalyticError(
+            "omega must be finite and >= 0 (U/c units; the response at -omega is the complex conjugate)"
+        )
+    return w
+
+
+def _shift(S, k, reference):
+    if reference not in _REFERENCES:
+        raise AnalyticError(f"reference must be one of {_REFERENCES}, got {reference!r}")
+    return S if reference == "midchord" else S * np.exp(-1j * k)
+
+
+def sears(omega, reference="midchord"):
+    """Sears function, modified-Bessel form ``S = 1 / (i k (K0(i k) + K1(i k)))``, ``k = omega / 2``.
+
+    Parameters
+    ----------
+    omega : array_like, shape (...)
+        Angular frequency in ``U / c`` units, ``>= 0``. ``omega = 0`` gives exactly 1.
+    reference : {"midchord", "leading_edge"}
+        Point where the gust velocity is measured.
+
+    Returns
+    -------
+    S : ndarray, complex, shape (...)
+        ``Cl / (2 pi w_ref / U)``.
+    """
+    w = _omega(omega)
+    k = 0.5 * w
+    kk = np.where(k > 0.0, k, 1.0)
+    z = 1j * kk
+    S = 1.0 / (z * (special.kv(0, z) + special.kv(1, z)))
+    S = np.where(k > 0.0, S, 1.0 + 0j)
+    return _shift(S, k, reference)
+
+
+def sears_hankel(omega, reference="midchord"):
+    """Sears function, Hankel form ``S = 2 / (pi k (H0^(2)(k) - i H1^(2)(k)))``, ``k = omega / 2``.
+
+    Same parameters and result as :func:`sears` (an independent evaluation for cross-checks).
+    """
+    w = _omega(omega)
+    k = 0.5 * w
+    kk = np.where(k > 0.0, k, 1.0)
+    S = 2.0 / (np.pi * kk * (special.hankel2(0, kk) - 1j * special.hankel2(1, kk)))
+    S = np.where(k > 0.0, S, 1.0 + 0j)
+    return _shift(S, k, reference)
+
+
+def theodorsen(omega):
+    """Theodorsen's function ``C = H1^(2)(k) / (H1^(2)(k) + i H0^(2)(k))``, ``k = omega / 2``.
+
+    Parameters
+    ----------
+    omega : array_like, shape (...)
+        ``U / c`` units, ``>= 0``; ``C(0) = 1``.
+
+    Returns
+    -------
+    ndarray, complex, shape (...)
+    """
+    w = _omega(omega)
+    k = 0.5 * w
+    kk = np.where(k > 0.0, k, 1.0)
+    h1, h0 = special.hankel2(1, kk), special.hankel2(0, kk)
+    return np.where(k > 0.0, h1 / (h1 + 1j * h0), 1.0 + 0j)
+
+
+def sears_compressible(omega, mach, reference="midchord"):
+    """Amiet's low-frequency compressible Sears function, normalised by the slope ``2 pi / beta``.
+
+    With ``beta = sqrt(1 - M^2)``, ``x = k / beta^2`` and
+    ``f(M) = (1 - beta) ln M + beta ln(1 + beta) - ln 2``::
+
+        S_c = S(x) [J0(M^2 x) - i J1(M^2 x)] exp(+i x f(M))       (exp(+i omega t) convention)
+
+    so that ``Cl = (2 pi / beta) (w_ref / U) S_c``. The published form
+    ``S(x) [J0 + i J1] exp(-i x f)`` is written for the ``exp(-i omega t)`` convention. Here the
+    two correction factors are conjugated: the Bessel factor is then the chordwise integral of the
+    flat-plate loading ``sqrt((1 - xi) / (1 + xi))`` against the phase ``exp(+i M^2 x xi)`` that
+    the Prandtl-Glauert-type transformation of the convected wave equation puts on the pressure in
+    the ``exp(+i omega t)`` convention (``Phi = Psi exp(+i k M^2 xi / beta^2)``), which gives
+    ``pi (J0 - i J1)``. Both factors are then phase *lags* that grow with Mach number, as expected
+    of the slower compressible lift build-up, and both tend to 1 as ``M -> 0`` (``f -> 0``), where
+    ``S_c -> S(k)``. Valid for ``M^2 x`` small (low frequency); ``x f`` need not be small.
+
+    Parameters
+    ----------
+    omega : array_like, shape (...)
+        ``U / c`` units, ``>= 0``.
+    mach : float
+        Free-stream Mach number, ``0 <= mach < 1`` (0 gives the incompressible function).
+    reference : {"midchord", "leading_edge"}
+        Where the gust is measured; ``leading_edge`` multiplies by ``exp(-i k)`` with the physical
+        ``k = omega / 2`` (the convection delay over the half chord is unchanged by compressibility).
+
+    Returns
+    -------
+    ndarray, complex, shape (...)
+    """
+    m = float(mach)
+    if not (np.isfinite(m) and 0.0 <= m < 1.0):
+        raise AnalyticError(f"mach = {mach!r} must be in [0, 1) for the subsonic compressible Sears function")
+    w = _omega(omega)
+    k = 0.5 * w
+    beta = np.sqrt(1.0 - m * m)
+    x = k / beta**2
+    f = (1.0 - beta) * np.log(m) + beta * np.log1p(beta) - np.log(2.0) if m > 0.0 else 0.0
+    a = m * m * x
+    S = sears(2.0 * x) * (special.j0(a) - 1j * special.j1(a)) * np.exp(1j * x * f)
+    return _shift(S, k, reference)
+
+
+def _time(s, unit):
+    s = np.asarray(s, dtype=float)
+    if unit == "chord":
+        sb = 2.0 * s
+    elif unit == "semichord":
+        sb = s
+    else:
+        raise AnalyticError(f"unit must be 'chord' (s = U t / c, the project's time) or 'semichord'; got {unit!r}")
+    if np.any(np.isnan(sb)):
+        raise AnalyticError("time contains NaN")
+    return sb
+
+
+def kussner(s, approximation="jones", unit="chord"):
+    """Kussner function (lift build-up after a sharp-edged gust front passes the leading edge).
+
+    ``Cl(s) = 2 pi (w / U) psi(s)``; ``psi = 0`` for ``s < 0``.
+
+    Parameters
+    ----------
+    s : array_like, shape (...)
+        Time since the front reached the leading edge: convective ``s = U t / c`` (``unit="chord"``,
+        the project's time) or ``s_b = U t / b = 2 s`` (``unit="semichord"``, the classical one).
+    approximation : {"jones", "sears-sparks"}
+        R.T. Jones ``1 - 0.236 e^{-0.058 s_b} - 0.513 e^{-0.364 s_b} - 0.171 e^{-2.42 s_b}`` or
+        Sears-Sparks ``1 - 0.5 e^{-0.13 s_b} - 0.5 e^{-s_b}``.
+    unit : {"chord", "semichord"}
+
+    Returns
+    -------
+    ndarray, shape (...)
+    """
+    sb = _time(s, unit)
+    if approximation == "jones":
+        psi = 1.0 - 0.236 * np.exp(-0.058 * sb) - 0.513 * np.exp(-0.364 * sb) - 0.171 * np.exp(-2.42 * sb)
+    elif approximation == "sears-sparks":
+        psi = 1.0 - 0.5 * np.exp(-0.13 * sb) - 0.5 * np.exp(-sb)
+    else:
+        raise AnalyticError(f"approximation must be 'jones' or 'sears-sparks'; got {approximation!r}")
+    return np.where(sb >= 0.0, psi, 0.0)
+
+
+def wagner(s, unit="chord"):
+    """Wagner function (R.T. Jones): ``phi = 1 - 0.165 e^{-0.0455 s_b} - 0.335 e^{-0.3 s_b}``.
+
+    Lift build-up after a step change of incidence, ``Cl = 2 pi alpha phi`` (``phi(0+) = 1/2``);
+    the step response of Theodorsen's function. ``phi = 0`` for ``s < 0``.
+
+    Parameters
+    ----------
+    s : array_like, shape (...)
+        Convective time (``unit="chord"``) or semi-chords travelled (``unit="semichord"``).
+    unit : {"chord", "semichord"}
+
+    Returns
+    -------
+    ndarray, shape (...)
+    """
+    sb = _time(s, unit)
+    phi = 1.0 - 0.165 * np.exp(-0.0455 * sb) - 0.335 * np.exp(-0.3 * sb)
+    return np.where(sb >= 0.0, phi, 0.0)
+
+
+def step_response(transfer, s, omega_max=4000.0, n=400_001, high_value=0.0):
+    """Step response of a causal, real-impulse-response transfer function by Fourier inversion.
+
+    For ``G(omega) = G_inf + G_r(omega)`` with ``G_r`` the transform of a causal real function,
+    ``y(s) = G_inf + (2 / pi) int_0^inf Re(G_r(omega)) sin(omega s) / omega d omega`` for ``s > 0``.
+    The integral is truncated at ``omega_max`` and done by the trapezoidal rule on a grid uniform in
+    ``sqrt(omega)`` (dense near 0, where ``sin(omega s) / omega`` is largest). Used to check the
+    indicial functions against the frequency-domain ones; accuracy about 1e-3 for the Sears function.
+
+    Parameters
+    ----------
+    transfer : callable
+        ``transfer(omega) -> complex array``, ``omega`` in ``U / c`` units.
+    s : array_like, shape (n_s,)
+        Convective times, ``> 0``.
+    omega_max : float
+        Truncation frequency.
+    n : int
+        Number of quadrature points.
+    high_value : float
+        ``G_inf``, the (real) limit of ``G`` at infinite frequency.
+
+    Returns
+    -------
+    ndarray, shape (n_s,)
+    """
+    s = np.atleast_1d(np.asarray(s, dtype=float))
+    r = np.linspace(0.0, np.sqrt(omega_max), n)[1:]
+    w = r * r
+    g = (np.real(transfer(w)) - high_value) * 2.0 * r / w  # d omega = 2 r dr
+    out = np.empty(s.shape)
+    dr = r[1] - r[0]
+    for idx, si in enumerate(s):  # a handful of times; each is one vectorised quadrature
+        f = g * np.sin(w * si)
+        # limit at r -> 0: Re G_r(0) * 2 r sin(r^2 s) / r^2 -> 0
+        out[idx] = dr * (np.sum(f) - 0.5 * f[-1])
+    return high_value + (2.0 / np.pi) * out
