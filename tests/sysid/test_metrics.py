@@ -1,0 +1,37 @@
+"""Tests of sysid.metrics against hand-computed values."""
+
+import numpy as np
+import pytest
+
+from sysid import FrequencyDataError, dc_error, frf_errors, max_relative_error, rms_relative_error, spectral_radius
+
+
+def test_known_values_two_outputs():
+    H = np.zeros((2, 1, 4), dtype=complex)
+    H[0, 0] = [2.0, 1.0, 1.0j, 0.0]  # peak 2, mean square (4 + 1 + 1 + 0)/4 = 1.5
+    H[1, 0] = [10.0, 10.0, 10.0, 10.0]  # peak 10, mean square 100
+    Hm = H.copy()
+    Hm[0, 0, 3] = 0.5  # error 0.5 at a point where the data are 0 (no division by zero)
+    Hm[1, 0, 0] = 11.0  # error 1
+    np.testing.assert_allclose(max_relative_error(Hm, H, per_output=True), [0.5 / 2, 1 / 10])
+    assert max_relative_error(Hm, H) == pytest.approx(0.25)
+    np.testing.assert_allclose(rms_relative_error(Hm, H, per_output=True),
+                               [np.sqrt(0.25 / 4) / np.sqrt(1.5), np.sqrt(1 / 4) / 10])
+    assert rms_relative_error(Hm, H) == pytest.approx(np.sqrt(0.25 + 1) / np.sqrt(6 + 400))
+    e = frf_errors(Hm, H)
+    assert e.max_rel == pytest.approx(0.25) and e.rms_rel == pytest.approx(np.sqrt(1.25 / 406))
+
+
+def test_siso_1d_and_shape_mismatch():
+    assert max_relative_error(np.array([1.0, 2.0]), np.array([1.0, 1.0])) == pytest.approx(1.0)
+    with pytest.raises(FrequencyDataError, match="shape"):
+        rms_relative_error(np.ones((1, 1, 3)), np.ones((1, 1, 4)))
+
+
+def test_dc_error_and_spectral_radius():
+    assert dc_error([[1.1, 2.0]], [[1.0, 2.0]]) == pytest.approx(0.05)
+    assert dc_error([[1.1]], [[1.0]], relative=False) == pytest.approx(0.1)
+    assert dc_error([[0.1]], [[0.0]]) == pytest.approx(0.1)  # zero DC: absolute
+    A = np.array([[0.0, -0.9], [0.9, 0.0]])  # eigenvalues +-0.9j
+    assert spectral_radius(A) == pytest.approx(0.9)
+    assert spectral_radius(np.zeros((0, 0))) == 0.0
