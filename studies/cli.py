@@ -1,0 +1,40 @@
+"""Command line ``lfdrom`` (console script). Minimal for now: ``lfdrom demo``; later issues add ``run``."""
+
+from __future__ import annotations
+
+import argparse
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="lfdrom",
+        description="Gust reduced-order models of aerofoils: LFD CFD and frequency-domain subspace identification.",
+    )
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    from . import demo
+
+    p_demo = sub.add_parser("demo", help="identification demo on a synthetic gust-like system",
+                            description=demo.__doc__.splitlines()[0])
+    demo.build_parser(p_demo)
+    return parser
+
+
+def main(argv=None) -> int:
+    """Entry point of the ``lfdrom`` console script; returns the exit status."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.command is None:
+        parser.print_help()
+        return 2
+    if args.command == "demo":
+        from .demo import run_demo
+
+        run_demo(args.out, M=args.M, noise=args.noise, orders=tuple(args.orders), seed=args.seed,
+                 verbose=not args.quiet)
+        return 0
+    parser.error(f"unknown command {args.command!r}")  # pragma: no cover
+    return 2
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
