@@ -325,3 +325,9 @@ def test_polishing_restores_the_constraints_exactly(grid, monkeypatch):
     assert np.abs(C @ np.linalg.solve(-np.eye(6) - A, r.B) + r.D).max() < 1e-10
     assert np.abs(r.B - exact.B).max() < 1e-4 * np.abs(exact.B).max()
     refit.clear_refit_cache()
+
+
+def test_pole_on_a_sample_point_is_a_typed_error(grid):
+    A = np.diag([1.0, 0.5])  # z = 1 is grid[0]
+    with pytest.raises(FrequencyDataError, match="unit circle"):
+        fit_bd(A, np.ones((1, 2)), grid, np.ones((1, 1, grid.size)))
