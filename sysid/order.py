@@ -26,9 +26,10 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+import scipy.linalg
 
 from .errors import OrderError
-from .subspace import HankelSVD, evaluate_ss, hankel_svd, lstsq_bd
+from .subspace import HankelSVD, _lstsq_bd_phi, _modal_form, _resolvent_C, hankel_svd
 
 __all__ = ["OrderSweep", "order_sweep"]
 
@@ -83,30 +84,43 @@ class OrderSweep:
 
 
 def _sweep_errors(svd: HankelSVD, orders: np.ndarray, z_fit: np.ndarray, G_fit: np.ndarray,
-                  z_val: np.ndarray, G_val: np.ndarray):
-    """For each order: A, C from the SVD, B, D by closed-form LS on (z_fit, G_fit), errors on (z_val, G_val)."""
+                  z_val: np.ndarray | None, G_val: np.ndarray):
+    """For each order: A, C from the SVD, B, D by closed-form LS on (z_fit, G_fit), errors on (z_val, G_val).
+
+    ``z_val=None`` validates on the fitting data. ``A`` for every order comes from ONE QR of
+    ``Gamma1 = J1 U[:, :N]``: the leading ``n`` columns of a QR factorisation are the QR factorisation of
+    the leading ``n`` columns, so ``A_n = R_n^-1 (Q^T J2 U)[:n, :n]``. Each order then needs one
+    eigen-decomposition (reused for the fit, the validation and the spectral radius).
+    """
     p = svd.p
+    N = int(orders.max())
     nrm_val = max(np.linalg.norm(G_val), np.finfo(float).tiny)
     peak = np.maximum(np.abs(G_val).max(axis=(1, 2)), np.finfo(float).tiny)
     rms = np.full(orders.size, np.nan)
     mx = np.full(orders.size, np.nan)
     rho = np.full(orders.size, np.nan)
-    U1 = svd.U[:-p]
-    U2 = svd.U[p:]
+    Nmax = min(N, svd.max_order)
+    Q, R = np.linalg.qr(svd.U[:-p, :Nmax])
+    QtU2 = Q.T @ svd.U[p:, :Nmax]
     with np.errstate(all="ignore"):
         for i, n in enumerate(orders):
             if n > svd.max_order:
                 continue
-            A = np.linalg.lstsq(U1[:, :n], U2[:, :n], rcond=None)[0]
+            A = scipy.linalg.solve_triangular(R[:n, :n], QtU2[:n, :n])
             C = svd.U[:p, :n]
             try:
-                B, D = lstsq_bd(A, C, z_fit, G_fit)
-                dH = evaluate_ss(A, B, C, D, z_val) - G_val
+                modal = _modal_form(A, C)
+                phi = _resolvent_C(A, C, z_fit, modal)
+                B, D = _lstsq_bd_phi(phi, G_fit)
+                if z_val is not None:
+                    phi = _resolvent_C(A, C, z_val, modal)
+                dH = (phi @ B + D[None]).transpose(1, 2, 0) - G_val
+                lam = modal[0] if modal else np.linalg.eigvals(A)
             except np.linalg.LinAlgError:
                 continue
             rms[i] = np.linalg.norm(dH) / nrm_val
             mx[i] = np.max(np.abs(dH).max(axis=(1, 2)) / peak)
-            rho[i] = np.max(np.abs(np.linalg.eigvals(A)))
+            rho[i] = np.max(np.abs(lam))
     rms[~np.isfinite(rms)] = np.nan
     mx[~np.isfinite(mx)] = np.nan
     return mx, rms, rho
@@ -165,7 +179,7 @@ def order_sweep(
             f"the largest order is {svd.max_order}; lower max_order or use more frequencies"
         )
     orders = np.arange(1, max_order + 1)
-    mx, rms, rho = _sweep_errors(svd, orders, z, G, z, G)
+    mx, rms, rho = _sweep_errors(svd, orders, z, G, None, G)
 
     s = svd.sv
     floor = np.finfo(float).tiny

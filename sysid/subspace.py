@@ -422,19 +422,57 @@ def _order_hint(order: Any) -> int | None:
 # --------------------------------------------------------------------------------------------------
 # fast unconstrained B/D least squares (numpy), used by the order sweep and for quick checks
 # --------------------------------------------------------------------------------------------------
-def _resolvent_C(A: np.ndarray, C: np.ndarray, z: np.ndarray) -> np.ndarray:
-    """``C (z_k I - A)^-1`` for all k: shape (K, p, n). Eigen-decomposition when well conditioned."""
-    n = A.shape[0]
+#: Largest 1-norm condition number of the eigenvector matrix for which the modal (eigenvalue) form is used
+#: to evaluate C (zI - A)^-1; beyond it a batched linear solve is used (accuracy ~ cond * eps).
+_MODAL_COND_MAX = 1e6
+
+
+def _modal_form(A: np.ndarray, C: np.ndarray):
+    """``(lam, C V, V^-1)`` of a diagonalisable, well-conditioned ``A``; ``None`` otherwise."""
+    if A.shape[0] == 0:
+        return None
     lam, V = np.linalg.eig(A)
-    cond = np.linalg.cond(V)
-    if np.isfinite(cond) and cond < 1e8:
-        CV = C @ V  # (p, n)
+    try:
         Vinv = np.linalg.inv(V)
-        phi = (CV[None, :, :] / (z[:, None, None] - lam[None, None, :])) @ Vinv
-        return phi
+    except np.linalg.LinAlgError:
+        return None
+    cond = np.linalg.norm(V, 1) * np.linalg.norm(Vinv, 1)
+    if not np.isfinite(cond) or cond > _MODAL_COND_MAX:
+        return None
+    return lam, C @ V, Vinv
+
+
+def _resolvent_C(A: np.ndarray, C: np.ndarray, z: np.ndarray, modal=None) -> np.ndarray:
+    """``C (z_k I - A)^-1`` for all k: shape (K, p, n).
+
+    Uses the modal form ``(C V) diag(1 / (z - lam)) V^-1`` (``O(K p n^2)``) when the eigenvector matrix is
+    well conditioned, else one batched linear solve (``O(K n^3)``). ``modal`` may be passed precomputed
+    (:func:`_modal_form`); pass ``False`` to force the solve.
+    """
+    n = A.shape[0]
+    if modal is None:
+        modal = _modal_form(A, C)
+    if modal:
+        lam, CV, Vinv = modal
+        return (CV[None, :, :] / (z[:, None, None] - lam[None, None, :])) @ Vinv
     Z = z[:, None, None] * np.eye(n)[None] - A[None]
     # C (zI - A)^-1 = ((zI - A)^-T C^T)^T
     return np.swapaxes(np.linalg.solve(np.swapaxes(Z, 1, 2), np.broadcast_to(C.T, (z.size, n, C.shape[0]))), 1, 2)
+
+
+def _lstsq_bd_phi(phi: np.ndarray, G: np.ndarray, weights: np.ndarray | None = None):
+    """B, D from the regressor ``phi = C (z_k I - A)^-1`` (K, p, n) and data G (p, m, K)."""
+    p, m, K = G.shape
+    n = phi.shape[2]
+    X = np.concatenate([phi, np.broadcast_to(np.eye(p), (K, p, p))], axis=2).reshape(K * p, n + p)
+    Y = G.transpose(2, 0, 1).reshape(K * p, m)
+    if weights is not None:
+        sw = np.sqrt(np.repeat(np.asarray(weights, dtype=float), p))[:, None]
+        X, Y = X * sw, Y * sw
+    Xr = np.concatenate([X.real, X.imag], axis=0)
+    Yr = np.concatenate([Y.real, Y.imag], axis=0)
+    theta = np.linalg.lstsq(Xr, Yr, rcond=None)[0]
+    return theta[:n], theta[n:]
 
 
 def lstsq_bd(A: np.ndarray, C: np.ndarray, z: np.ndarray, G: np.ndarray,
@@ -455,18 +493,8 @@ def lstsq_bd(A: np.ndarray, C: np.ndarray, z: np.ndarray, G: np.ndarray,
     -------
     B : ndarray (n, m), D : ndarray (p, m)
     """
-    p, m, K = G.shape
-    n = A.shape[0]
-    phi = _resolvent_C(A, C, z)  # (K, p, n)
-    X = np.concatenate([phi, np.broadcast_to(np.eye(p), (K, p, p))], axis=2).reshape(K * p, n + p)
-    Y = G.transpose(2, 0, 1).reshape(K * p, m)
-    if weights is not None:
-        sw = np.sqrt(np.repeat(np.asarray(weights, dtype=float), p))[:, None]
-        X, Y = X * sw, Y * sw
-    Xr = np.concatenate([X.real, X.imag], axis=0)
-    Yr = np.concatenate([Y.real, Y.imag], axis=0)
-    theta = np.linalg.lstsq(Xr, Yr, rcond=None)[0]
-    return theta[:n], theta[n:]
+    return _lstsq_bd_phi(_resolvent_C(np.asarray(A, float), np.asarray(C, float), np.asarray(z, complex)),
+                         np.asarray(G, complex), weights)
 
 
 def evaluate_ss(A: np.ndarray, B: np.ndarray, C: np.ndarray, D: np.ndarray, z: np.ndarray) -> np.ndarray:
