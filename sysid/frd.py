@@ -158,12 +158,13 @@ def _as_H(H: Any) -> np.ndarray:
 
 
 def _as_freq(x: Any, name: str, K: int) -> np.ndarray:
+    """Coerce a frequency vector to a float (K,) array; NaN is refused, inf is left to the caller."""
+    if np.ndim(x) > 1:
+        raise FrequencyGridError(f"{name} must be 1-D, got shape {np.shape(x)}")
     try:
-        arr = np.array(x, dtype=float).reshape(-1) if np.ndim(x) <= 1 else None
+        arr = np.array(x, dtype=float).reshape(-1)
     except (TypeError, ValueError):
         raise FrequencyGridError(f"{name} must be a 1-D array of real frequencies, got {x!r}") from None
-    if arr is None:
-        raise FrequencyGridError(f"{name} must be 1-D, got shape {np.shape(x)}")
     if arr.shape[0] != K:
         raise FrequencyDataError(
             f"{name} has {arr.shape[0]} frequencies but H has K={K} (H.shape[2]); give one frequency per sample"
@@ -262,7 +263,7 @@ class FrequencyResponse:
             if (wd < -tol).any() or (wd > np.pi + tol).any():
                 bad = wd[(wd < -tol) | (wd > np.pi + tol)][0]
                 raise FrequencyGridError(
-                    f"omega_d must lie in [0, pi] (rad/sample), found {bad!r}; discrete frequencies above pi are "
+                    f"omega_d must lie in [0, pi] (rad/sample), found {float(bad)!r}; discrete frequencies above pi are "
                     "aliases: map continuous frequencies with FrequencyResponse.from_continuous(H, omega, T)"
                 )
             wd = np.clip(wd, 0.0, np.pi)
@@ -273,7 +274,7 @@ class FrequencyResponse:
             w = _as_freq(omega, "omega", K)
             if (w < 0).any():
                 raise FrequencyGridError(
-                    f"omega must be nonnegative (U_inf/c units), found {w[w < 0][0]!r}; the response at -omega "
+                    f"omega must be nonnegative (U_inf/c units), found {float(w[w < 0][0])!r}; the response at -omega "
                     "is the complex conjugate and is implied"
                 )
             if wd is not None and Tf is not None:

@@ -27,7 +27,7 @@ import numpy as np
 from .errors import ConstraintError, FrequencyGridError
 from .frd import FrequencyResponse
 from .metrics import FitErrors, dc_error, frf_errors, spectral_radius
-from .subspace import SubspaceResult, evaluate_ss, from_basis, hankel_svd
+from .subspace import SubspaceResult, _order_hint, evaluate_ss, from_basis, hankel_svd
 
 __all__ = ["identify", "IdentificationResult", "StabilisationReport"]
 
@@ -204,7 +204,8 @@ def identify(
     margin : float
         Stability margin (discrete spectral radius ``< 1 - margin``).
     q, r : int, optional
-        Hankel sizes (see :func:`sysid.subspace.default_q`).
+        Hankel sizes; default ``q = min(M, 2 order + 2)``, ``r = 2M - q`` for Algorithm 1 and
+        ``q = min(q_max, 2 order + 2)`` for Algorithm 2 (see :func:`sysid.subspace.default_q`).
     stabilise_method : {"lmi", "reflect"}
         Passed to :func:`sysid.stability.stabilise`.
     fix_feedthrough : bool
@@ -243,7 +244,7 @@ def identify(
     G = np.asarray(frf.H)
     z = frf.z
 
-    svd = hankel_svd(frf, method=method, q=q, r=r, order=order if isinstance(order, (int, np.integer)) and not isinstance(order, bool) and order >= 1 else None)
+    svd = hankel_svd(frf, method=method, q=q, r=r, order=_order_hint(order))
     sub = from_basis(svd, order)
     import warnings
 

@@ -205,9 +205,9 @@ def _svd1(G: np.ndarray, q: int | None, r: int | None, order: int | None) -> Han
     M = K - 1
     if M < 1:
         raise FrequencyGridError("Algorithm 1 needs at least 2 frequencies (M >= 1)")
-    q0, r0 = default_q("mckelvey1", p, m, K, order)
+    q0, _ = default_q("mckelvey1", p, m, K, order)
     q = q0 if q is None else int(q)
-    r = (2 * M - q if q is not None else r0) if r is None else int(r)
+    r = 2 * M - q if r is None else int(r)  # default: every impulse-response sample once
     if q < 2 or r < 1 or q + r > 2 * M:
         raise OrderError(
             f"Hankel sizes q={q}, r={r} are invalid for M={M}: need q >= 2, r >= 1 and q + r <= 2M = {2 * M} "
