@@ -9,7 +9,9 @@ constraints and no convex solver: this is a screening tool; refit the chosen ord
 Two suggestions are returned (see :class:`OrderSweep`):
 
 - **gap rule** (``order_gap``): the order ``n`` with the largest drop ``log s_n - log s_{n+1}`` of the
-  singular values, ``n = 1..N_max``. Sharp for (nearly) noise-free data.
+  singular values, ``n = 1..N_max``. Sharp for (nearly) noise-free data of finite order; for responses of
+  infinite order whose singular values decay smoothly (e.g. the Sears function of an aerofoil) it often
+  picks a very low order, so prefer the hold-out rule there.
 - **hold-out rule** (``order_holdout``): identify on the even-indexed frequencies only (a second SVD, of
   the half data set: on McKelvey's grid with even ``M`` that is again an equispaced grid with ``M/2``) and
   measure the RMS relative error on the odd-indexed ones. The suggestion is the *smallest* order whose
