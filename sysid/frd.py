@@ -201,6 +201,10 @@ def _frozen(a: np.ndarray | None) -> np.ndarray | None:
 # --------------------------------------------------------------------------------------------------
 # FrequencyResponse
 # --------------------------------------------------------------------------------------------------
+def _rebuild(H, omega_d, T, inputs, outputs, metadata, omega):
+    return FrequencyResponse(H, omega_d, T, inputs=inputs, outputs=outputs, metadata=metadata, omega=omega)
+
+
 class FrequencyResponse:
     """Immutable MIMO frequency-response samples on a discrete and/or continuous frequency grid.
 
@@ -307,6 +311,10 @@ class FrequencyResponse:
 
     def __delattr__(self, name: str) -> None:
         raise AttributeError(f"FrequencyResponse is immutable; cannot delete {name!r}")
+
+    def __reduce__(self):
+        # pickling / copying (e.g. for process pools) rebuilds through the validating constructor
+        return (_rebuild, (self.H, self.omega_d, self.T, self.inputs, self.outputs, dict(self.metadata), self.omega))
 
     def __repr__(self) -> str:
         p, m, K = self.H.shape

@@ -118,6 +118,14 @@ class IdentificationResult:
     r: int | None = None
     data: FrequencyResponse | None = field(default=None, repr=False)
 
+    def __reduce__(self):
+        # control.StateSpace (0.10) cannot be pickled; ship its matrices and rebuild it (process pools)
+        m = self.model
+        spec = (np.asarray(m.A), np.asarray(m.B), np.asarray(m.C), np.asarray(m.D), m.dt,
+                list(m.input_labels), list(m.output_labels))
+        fields = {f: getattr(self, f) for f in self.__dataclass_fields__ if f != "model"}
+        return (_rebuild_result, (spec, fields))
+
     def evaluate(self, omega_d: Any) -> np.ndarray:
         """Model response ``G(exp(1j omega_d))``, shape (p, m, K), for discrete frequencies (rad/sample)."""
         z = np.exp(1j * np.asarray(omega_d, dtype=float).reshape(-1))
@@ -137,6 +145,13 @@ class IdentificationResult:
         from .transforms import d2c_bilinear
 
         return d2c_bilinear(self.model)
+
+
+def _rebuild_result(spec, fields):
+    import control
+
+    A, B, C, D, dt, inputs, outputs = spec
+    return IdentificationResult(model=control.ss(A, B, C, D, dt, inputs=inputs, outputs=outputs), **fields)
 
 
 def _resolve_dc(dc_gain: Any, frf: FrequencyResponse, dc_data: np.ndarray | None) -> np.ndarray | None:

@@ -213,6 +213,16 @@ def test_save_load_continuous_only(tmp_path):
     assert back == frf and back.omega_d is None
 
 
+def test_pickle_and_copy():
+    import copy
+    import pickle
+
+    wd, _ = mckelvey_grid(8, 0.3)
+    frf = FrequencyResponse(np.arange(9) * (1 + 1j), wd, 0.3, outputs=["Cl"], metadata={"a": [1, 2]})
+    for back in (pickle.loads(pickle.dumps(frf)), copy.copy(frf), copy.deepcopy(frf)):
+        assert back == frf and not back.H.flags.writeable
+
+
 def test_save_rejects_non_json_metadata(tmp_path):
     frf = FrequencyResponse(np.ones(5), _WD5, 1.0, metadata={"a": object()})
     with pytest.raises(FrequencyDataError, match="JSON"):

@@ -202,6 +202,18 @@ def test_frequency_response_helper():
     assert res.hankel_sv.ndim == 1 and res.hankel_sv[5] > 1e-8 * res.hankel_sv[0] > res.hankel_sv[6]
 
 
+def test_result_pickles():
+    import pickle
+
+    frf, _ = data(seed=6, M=32)
+    res = identify(frf, 6, stable=True)
+    back = pickle.loads(pickle.dumps(res))
+    np.testing.assert_array_equal(back.model.A, res.model.A)
+    assert back.model.dt == res.model.dt and back.model.output_labels == res.model.output_labels
+    assert back.max_error == res.max_error and back.stabilisation == res.stabilisation
+    assert back.data == frf
+
+
 # --------------------------------------------------------------------------------------- errors
 def test_needs_T():
     frf = FrequencyResponse.from_continuous(np.ones(5), [0.0, 1.0, 2.0, 3.0, 4.0])
