@@ -1,0 +1,137 @@
+"""Flow condition, nondimensionalisation and perfect-gas relations.
+
+Nondimensionalisation (fixed; the linearised solvers rely on it)
+----------------------------------------------------------------
+Free-stream density ``rho_inf = 1``, free-stream speed of sound ``a_inf = 1``, so ``p_inf = 1/gamma``;
+lengths in chords; free-stream speed ``|u_inf| = mach``; time in chords / a_inf. At incidence
+``alpha`` the free stream is ``u = M cos(alpha)``, ``v = M sin(alpha)``.
+
+Conserved variables ``q = (rho, rho u, rho v, rho E)`` with ``p = (gamma - 1)(rho E - rho |u|^2 / 2)``.
+Every helper here takes the variable axis *last* (shape ``(..., 4)``) and is complex-safe (no
+``abs``, no comparisons), so that complex-step differentiation goes through it.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import FlowConditionError
+
+__all__ = ["FlowCondition", "conserved", "primitive", "pressure"]
+
+
+@dataclass(frozen=True)
+class FlowCondition:
+    """A subsonic free stream.
+
+    Parameters
+    ----------
+    mach : float
+        Free-stream Mach number, ``0 < mach < 1``.
+    alpha_deg : float
+        Incidence in degrees (finite).
+    gamma : float
+        Ratio of specific heats, ``> 1``.
+
+    Raises
+    ------
+    FlowConditionError
+        If a value is NaN, infinite or out of range.
+    """
+
+    mach: float
+    alpha_deg: float = 0.0
+    gamma: float = 1.4
+
+    def __post_init__(self):
+        for name in ("mach", "alpha_deg", "gamma"):
+            value = getattr(self, name)
+            try:
+                value = float(value)
+            except (TypeError, ValueError):
+                raise FlowConditionError(f"{name} must be a real number; got {value!r}") from None
+            if not np.isfinite(value):
+                raise FlowConditionError(f"{name} must be finite; got {value!r}")
+            object.__setattr__(self, name, value)
+        if not 0.0 < self.mach < 1.0:
+            raise FlowConditionError(
+                f"mach = {self.mach} is out of range: the solver handles subsonic free streams, "
+                "0 < mach < 1"
+            )
+        if not 1.0 < self.gamma < 3.0:
+            raise FlowConditionError(f"gamma = {self.gamma} is out of range; use 1 < gamma < 3 (air: 1.4)")
+        if abs(self.alpha_deg) >= 90.0:
+            raise FlowConditionError(f"alpha_deg = {self.alpha_deg} is not an incidence; use |alpha| < 90 deg")
+
+    @property
+    def alpha(self):
+        """Incidence in radians."""
+        return np.deg2rad(self.alpha_deg)
+
+    @property
+    def velocity(self):
+        """Free-stream velocity ``(u, v)``, shape (2,), units of a_inf."""
+        return self.mach * np.array([np.cos(self.alpha), np.sin(self.alpha)])
+
+    @property
+    def rho(self):
+        """Free-stream density (1)."""
+        return 1.0
+
+    @property
+    def p(self):
+        """Free-stream pressure ``1 / gamma``."""
+        return 1.0 / self.gamma
+
+    @property
+    def q(self):
+        """Free-stream conserved state, shape (4,)."""
+        u, v = self.velocity
+        return conserved(1.0, u, v, self.p, self.gamma)
+
+    @property
+    def dynamic_pressure(self):
+        """``0.5 rho_inf U^2 = 0.5 mach^2``."""
+        return 0.5 * self.mach**2
+
+
+def conserved(rho, u, v, p, gamma=1.4):
+    """Conserved variables from primitive ones.
+
+    Parameters
+    ----------
+    rho, u, v, p : array_like, broadcastable, shape (...)
+    gamma : float
+
+    Returns
+    -------
+    ndarray, shape (..., 4)
+        ``(rho, rho u, rho v, rho E)``.
+    """
+    rho, u, v, p = np.broadcast_arrays(rho, u, v, p)
+    rho_e = p / (gamma - 1.0) + 0.5 * rho * (u * u + v * v)
+    return np.stack([rho, rho * u, rho * v, rho_e], axis=-1)
+
+
+def primitive(q, gamma=1.4):
+    """Primitive variables from conserved ones.
+
+    Parameters
+    ----------
+    q : ndarray, shape (..., 4)
+    gamma : float
+
+    Returns
+    -------
+    rho, u, v, p : ndarray, shape (...)
+    """
+    rho = q[..., 0]
+    u = q[..., 1] / rho
+    v = q[..., 2] / rho
+    p = (gamma - 1.0) * (q[..., 3] - 0.5 * rho * (u * u + v * v))
+    return rho, u, v, p
+
+
+def pressure(q, gamma=1.4):
+    """Static pressure of conserved states ``q`` (shape (..., 4)) -> shape (...)."""
+    return primitive(q, gamma)[3]
