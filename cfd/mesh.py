@@ -168,12 +168,14 @@ def grid_from_nodes(x, y, n_wake):
 #      trailing-edge bisector, geometric cells starting from the trailing-edge spacing. Far field:
 #      a semicircle of radius R about mid-chord, straight lines y = +-R and the outflow plane
 #      x = 0.5 + R.
-#   2. Initial grid: transfinite (linear) interpolation between the inner (wall + cut) and outer
-#      boundary along each i-line, with geometric spacing from a given first-cell height.
-#   3. Elliptic smoothing: the Thompson equations with Thomas-Middlecoff control functions
-#      (keep the boundary spacings) plus Sorenson-type wall terms that make the first j-line
-#      orthogonal to the wall and wake cut with the requested height. Each Picard step freezes
-#      the coefficients and solves the linear 9-point system for x and y with one sparse LU.
+#   2. Near-wall block (about 0.3 chord): explicit hyperbolic-type marching along normals that are
+#      smoothed over a width growing with the distance from the wall; orthogonal at the wall,
+#      fold-free at the concave corners either side of the trailing edge.
+#   3. Outer block: transfinite initial grid from the last marched layer to the far field, then
+#      elliptic smoothing (Thompson equations, Thomas-Middlecoff-type control functions; each Picard
+#      step freezes the coefficients and solves the 9-point system with one sparse LU), nodes moved
+#      back along the i-lines to the geometric j-spacing, and a blend across the interface.
+#   The j-spacing is geometric along every i-line, from the first-cell height to the far field.
 
 
 def _solve_monotone(f, target, lo, hi, n_iter=100):
@@ -319,6 +321,7 @@ def _transfinite(x_in, y_in, x_o, y_o, h, nj):
     f = dist / length[:, None]
     x = x_in[:, None] + f * (x_o - x_in)[:, None]
     y = y_in[:, None] + f * (y_o - y_in)[:, None]
+    x[:, -1], y[:, -1] = x_o, y_o  # exactly, not x_in + (x_o - x_in)
     return x, y, f
 
 
@@ -331,27 +334,22 @@ def _d_j(a):
     return 0.5 * (a[1:-1, 2:] - a[1:-1, :-2])
 
 
-def _d_ii(a):
-    return a[2:, 1:-1] - 2.0 * a[1:-1, 1:-1] + a[:-2, 1:-1]
-
-
 def _d_jj(a):
     return a[1:-1, 2:] - 2.0 * a[1:-1, 1:-1] + a[1:-1, :-2]
 
 
-def _d_ij(a):
-    return 0.25 * (a[2:, 2:] - a[2:, :-2] - a[:-2, 2:] + a[:-2, :-2])
-
-
-def _elliptic(x, y, f, n_iter, tol, phi_decay, cross=True, freeze=False):
+def _elliptic(x, y, f, n_iter, tol):
     """Picard iterations of the Thompson equations with spacing-control functions.
 
     Solves ``alpha (r_ii + phi r_i) - 2 beta r_ij + gamma (r_jj + psi r_j) = 0`` on interior nodes
-    (``r = (x, y)``, unit index spacing) with the boundary nodes fixed. ``psi`` keeps the geometric
-    j-spacing of the initial i-lines; ``phi`` is the Thomas-Middlecoff i-spacing control of the
-    inner boundary, decaying outward as ``exp(-phi_decay * j)``, blended with that of the outer
-    boundary. Each iteration freezes the coefficients and solves the 9-point system for ``x`` and
-    ``y`` with one sparse LU factorisation.
+    (``r = (x, y)``, unit index spacing) with the boundary nodes fixed.
+
+    * ``phi`` is the Thomas-Middlecoff i-spacing control of the inner boundary (wall and cut),
+      blended towards that of the outer boundary with the arc fraction ``f`` of the initial grid.
+    * ``psi = -ln(ratio)`` keeps the geometric j-distribution of each initial i-line.
+
+    Each iteration freezes the coefficients and solves the 9-point system for ``x`` and ``y``
+    with one sparse LU factorisation.
 
     Returns the smoothed ``x, y`` (shape (ni, nj)) and the number of iterations.
     """
@@ -366,14 +364,16 @@ def _elliptic(x, y, f, n_iter, tol, phi_decay, cross=True, freeze=False):
         xdd, ydd = xb[2:] - 2 * xb[1:-1] + xb[:-2], yb[2:] - 2 * yb[1:-1] + yb[:-2]
         return -(xd * xdd + yd * ydd) / (xd**2 + yd**2)
 
-    w_in = (1.0 - f[1:-1, 1:-1]) ** phi_decay
+    w_in = 1.0 - f[1:-1, 1:-1]
     phi = np.clip(
         w_in * boundary_phi(x[:, 0], y[:, 0])[:, None] + (1.0 - w_in) * boundary_phi(x[:, -1], y[:, -1])[:, None],
         -1.0,
         1.0,
     )
-    xj, yj = _d_j(x), _d_j(y)
-    psi = np.clip(-(xj * _d_jj(x) + yj * _d_jj(y)) / (xj**2 + yj**2), -1.0, 1.0)
+
+    # ln(s_{j+1/2} / s_{j-1/2}) along the initial i-lines (interior nodes): the wanted growth.
+    log_s = np.log(np.hypot(np.diff(x[1:-1], axis=1), np.diff(y[1:-1], axis=1)))
+    psi = np.clip(log_s[:, :-1] - log_s[:, 1:], -1.0, 1.0)
 
     offsets = [(0, 0), (1, 0), (-1, 0), (0, 1), (0, -1), (1, 1), (-1, -1), (1, -1), (-1, 1)]
     cols = np.concatenate([idx[1 + di : ni - 1 + di, 1 + dj : nj - 1 + dj].ravel() for di, dj in offsets] + [bnd])
@@ -384,11 +384,10 @@ def _elliptic(x, y, f, n_iter, tol, phi_decay, cross=True, freeze=False):
     scale = np.min(np.hypot(x[:, 1] - x[:, 0], y[:, 1] - y[:, 0]))
     it = 0
     for it in range(1, n_iter + 1):  # Picard iterations; each one is a single sparse solve
-        if it == 1 or not freeze:
-            xi_, yi_, xj_, yj_ = _d_i(x), _d_i(y), _d_j(x), _d_j(y)
-            al = xj_**2 + yj_**2
-            be = (xi_ * xj_ + yi_ * yj_) if cross else np.zeros_like(al)
-            ga = xi_**2 + yi_**2
+        xi_, yi_, xj_, yj_ = _d_i(x), _d_i(y), _d_j(x), _d_j(y)
+        al = xj_**2 + yj_**2
+        be = xi_ * xj_ + yi_ * yj_
+        ga = xi_**2 + yi_**2
         vals = [
             -2.0 * (al + ga),
             al * (1.0 + 0.5 * phi),
@@ -427,25 +426,89 @@ def _redistribute(x, y, frac):
     return xr, yr
 
 
-def _orthogonal_blend(x, y, dist, n_layers):
-    """Make the grid orthogonal to the wall and cut near ``j = 0``.
+def _march(x0, y0, dist, spread=0.5):
+    """March layers of nodes from the line ``(x0, y0)`` along smoothed normals.
 
-    Blends each node towards the straight normal extrusion ``r(i, 0) + dist(i, j) n(i)`` with the
-    weight ``w(j) = (1 - j / n_layers)^3`` for ``j < n_layers`` (zero beyond). ``w`` has zero
-    slope only in the limit, but ``w(0) = 1`` and the first-layer weight is close to 1, so the
-    first j-edge is normal to the wall to within a fraction of a degree and has the height
-    ``dist(i, 1)``.
+    An explicit hyperbolic-type marching: layer ``j + 1`` is layer ``j`` moved by
+    ``dist[:, j + 1] - dist[:, j]`` along its normals. From the second layer on, the unit normals
+    (tangent turned +90 deg) are averaged along the layer with a Gaussian of width
+    ``spread * dist[i, j]`` in arc length: the width grows with the distance from the wall, so the
+    lines leaving a concave corner (each side of the sharp trailing edge, seen from the fluid)
+    converge by at most a fraction of their spacing and never cross, while the first layer is
+    exactly normal to the wall and cut. The end lines ``i = 0`` and ``i = ni-1`` march straight
+    down and up.
+
+    Parameters
+    ----------
+    x0, y0 : ndarray, shape (ni,)
+        The wall and wake cut.
+    dist : ndarray, shape (ni, k + 1)
+        Distance of each layer from the start line along the i-lines (``dist[:, 0] = 0``).
+    spread : float
+        Smoothing width over distance from the wall.
+
+    Returns
+    -------
+    x, y : ndarray, shape (ni, k + 1)
     """
-    tx, ty = np.gradient(x[:, 0]), np.gradient(y[:, 0])
-    tn = np.hypot(tx, ty)
-    nx, ny = -ty / tn, tx / tn  # tangent turned +90 deg: outward for the right-handed (i, j) frame
-    j = np.arange(x.shape[1])
-    w = np.where(j < n_layers, 0.5 * (1.0 + np.cos(np.pi * np.clip(j - 1, 0, None) / (n_layers - 1))), 0.0)[None, :]
-    xo = x[:, :1] + dist * nx[:, None]
-    yo = y[:, :1] + dist * ny[:, None]
-    w = np.broadcast_to(w, x.shape).copy()
-    w[[0, -1], :] = 0.0  # the outflow boundaries stay straight
-    return (1.0 - w) * x + w * xo, (1.0 - w) * y + w * yo
+    ni, k1 = dist.shape
+    x = np.empty((ni, k1))
+    y = np.empty((ni, k1))
+    x[:, 0], y[:, 0] = x0, y0
+    for j in range(k1 - 1):  # loop over layers; each layer is one vectorised step
+        tx, ty = np.gradient(x[:, j]), np.gradient(y[:, j])
+        nrm = np.hypot(tx, ty)
+        nx, ny = -ty / nrm, tx / nrm
+        if j > 0:
+            arc = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(x[:, j]), np.diff(y[:, j])))])
+            sigma = spread * dist[:, j]
+            kern = np.exp(-0.5 * ((arc[:, None] - arc[None, :]) / sigma[:, None]) ** 2)
+            nx, ny = kern @ nx, kern @ ny
+            nrm = np.hypot(nx, ny)
+            nx, ny = nx / nrm, ny / nrm
+        nx[0], ny[0], nx[-1], ny[-1] = 0.0, -1.0, 0.0, 1.0
+        step = dist[:, j + 1] - dist[:, j]
+        x[:, j + 1], y[:, j + 1] = x[:, j] + step * nx, y[:, j] + step * ny
+    return x, y
+
+
+def _smooth(x_in, y_in, x_o, y_o, h, nj, max_iter, tol, n_layers, march_distance=0.3):
+    """Near-wall marched layers, an elliptic outer block, and a blend across their interface.
+
+    1. March the layers ``j = 0 .. k`` from the wall and cut along smoothed normals (``_march``),
+       with the geometric j-spacing of first height ``h``; ``k`` is the first layer at least
+       ``march_distance`` chords from the wall (at most ``nj // 2``).
+    2. Between layer ``k`` and the far field: transfinite initial grid continuing the geometric
+       spacing, elliptic smoothing (``_elliptic``), then nodes moved along each i-line back to the
+       geometric distribution (the smoother shifts them slightly).
+    3. The ``n_layers`` j-lines above layer ``k`` are blended towards straight extrusions along
+       the last marching direction, so the i-lines cross the interface without a kink.
+    """
+    ni = x_in.size
+    length = np.hypot(x_o - x_in, y_o - y_in)
+    dist, _ = _geometric(nj - 1, h, length)
+    k = int(np.clip(np.argmax(dist.min(axis=0) >= march_distance), 2, nj // 2))
+    xm, ym = _march(x_in, y_in, dist[:, : k + 1], spread=0.5)
+    # Outer block from layer k: first spacing continues the marched geometric growth.
+    first = dist[:, k + 1] - dist[:, k]
+    x0, y0, f0 = _transfinite(xm[:, k], ym[:, k], x_o, y_o, first, nj - k)
+    xe, ye, _ = _elliptic(x0, y0, f0, max_iter, tol)
+    for a, a0 in ((xe, x0), (ye, y0)):
+        a[:, 0], a[:, -1], a[0, :], a[-1, :] = a0[:, 0], a0[:, -1], a0[0, :], a0[-1, :]
+    seg = np.hypot(np.diff(xe, axis=1), np.diff(ye, axis=1))
+    lo = seg.sum(axis=1)
+    do, _ = _geometric(nj - 1 - k, first, lo)
+    xe, ye = _redistribute(xe, ye, do / lo[:, None])
+    # Blend the outer block towards the extrusion of layer k along the last marching direction.
+    dx, dy = xm[:, k] - xm[:, k - 1], ym[:, k] - ym[:, k - 1]
+    dn = np.hypot(dx, dy)
+    jj = np.arange(nj - k)
+    w = np.where(jj < n_layers, 0.5 * (1.0 + np.cos(np.pi * jj / n_layers)), 0.0)[None, :]
+    w = np.broadcast_to(w, xe.shape).copy()
+    w[[0, -1], :] = 0.0
+    xe = (1 - w) * xe + w * (xm[:, k : k + 1] + do * (dx / dn)[:, None])
+    ye = (1 - w) * ye + w * (ym[:, k : k + 1] + do * (dy / dn)[:, None])
+    return np.concatenate([xm[:, :k], xe], axis=1), np.concatenate([ym[:, :k], ye], axis=1)
 
 
 def c_grid(
@@ -461,6 +524,7 @@ def c_grid(
     max_iter=100,
     tol=1e-3,
     n_layers=16,
+    march_distance=0.3,
 ):
     """A structured C-grid around an aerofoil (the paper's 181 x 60 grid by default).
 
@@ -486,11 +550,17 @@ def c_grid(
     te_spacing : float
         Surface spacing at the trailing edge and first wake cell (chords).
     smooth : bool
-        Run the elliptic smoother (True) or return the transfinite initial grid (False).
+        Build the marched and elliptic grid (True) or return the transfinite initial grid, with
+        straight i-lines from the wall to the far field (False; not orthogonal at the wall).
     max_iter : int
-        Maximum Picard iterations of the elliptic smoother.
+        Maximum Picard iterations of the elliptic smoother of the outer block.
     tol : float
-        Stop when no node moves by more than ``tol * wall_spacing`` in one iteration.
+        Stop the smoother when no node moves by more than ``tol`` times the smallest first-cell
+        height of the block in one iteration.
+    n_layers : int
+        j-lines above the marched block blended towards its last marching direction.
+    march_distance : float
+        Thickness (chords) of the marched near-wall block, at most ``nj // 2`` layers.
 
     Returns
     -------
@@ -523,16 +593,7 @@ def c_grid(
     )
     x, y, f = _transfinite(x_in, y_in, x_o, y_o, h, nj)
     if smooth:
-        dist = f * np.hypot(x_o - x_in, y_o - y_in)[:, None]
-        x0, y0 = x, y
-        x, y, n_it = _elliptic(x, y, f, max_iter, tol, phi_decay=1.0)
-        # Boundary rows of the linear system are identities; restore them bit for bit anyway.
-        for a, a0 in ((x, x0), (y, y0)):
-            a[:, 0], a[:, -1], a[0, :], a[-1, :] = a0[:, 0], a0[:, -1], a0[0, :], a0[-1, :]
-        x, y = _redistribute(x, y, f)
-        seg = np.hypot(np.diff(x, axis=1), np.diff(y, axis=1))
-        dist = np.concatenate([np.zeros((ni, 1)), np.cumsum(seg, axis=1)], axis=1)
-        x, y = _orthogonal_blend(x, y, dist, n_layers=n_layers)
+        x, y = _smooth(x_in, y_in, x_o, y_o, h, nj, max_iter, tol, n_layers, march_distance)
         # Cut nodes are boundary nodes: keep the two branches bit-identical.
         x[ni - 1 - n_wake :, 0] = x[n_wake::-1, 0]
         y[ni - 1 - n_wake :, 0] = y[n_wake::-1, 0]
