@@ -6,3 +6,8 @@ Public entry points are listed in shared/DESIGN.md; this package knows nothing o
 from .errors import ConvergenceError, FlowConditionError, GeometryError, MeshError
 from .geometry import Aerofoil, naca
 from .mesh import Grid, GridQuality, c_grid, grid_from_nodes, grid_quality
+from .flow import FlowCondition, conserved, primitive
+from .euler import Scheme, residual
+from .jacobian import jacobian
+from .loads import force_coefficients, wall_cp
+from .steady import SteadySolution, solve_steady

@@ -1,0 +1,86 @@
+import numpy as np
+import pytest
+
+import cfd
+from cfd import ConvergenceError, FlowConditionError
+
+
+@pytest.fixture(scope="module")
+def grid0012():
+    # Coarse C-grid (96 x 24 cells, 64 on the aerofoil, far field 25 chords).
+    return cfd.c_grid(cfd.naca("0012"), ni=97, nj=25, n_surface=64)
+
+
+def test_symmetric_subsonic_flow_has_no_lift_and_converges_ten_decades(grid0012):
+    sol = cfd.solve_steady(grid0012, 0.5, 0.0, tol=1e-10)
+    assert sol.converged and sol.history[-1] <= 1e-10 * sol.history[0]
+    assert abs(sol.cl) < 1e-10 and abs(sol.cm) < 1e-10  # symmetry, to round-off
+    assert abs(sol.cd) < 2e-3  # subsonic inviscid: discretisation error only
+    assert sol.cp.shape == sol.x_wall.shape == (grid0012.n_surface,)
+    # Stagnation at the leading edge: isentropic Cp_0 = ((1 + 0.2 M^2)^3.5 - 1) / (0.7 M^2).
+    cp0 = ((1 + 0.2 * 0.25) ** 3.5 - 1) / (0.7 * 0.25)
+    assert sol.cp.max() == pytest.approx(cp0, rel=0.1)  # 64 wall cells resolve the nose coarsely
+    f = sol.fields()
+    assert set(f) == {"rho", "u", "v", "p", "mach"} and f["mach"].shape == grid0012.cell_shape
+
+
+def test_transonic_naca0012_against_agard(grid0012):
+    # AGARD AR-211, M0.8 alpha 1.25: Cl 0.33-0.36, Cd 0.021-0.024, Cm about -0.04 (coarse grids read higher).
+    sol = cfd.solve_steady(grid0012, 0.8, 1.25)
+    assert 0.31 < sol.cl < 0.38
+    assert 0.019 < sol.cd < 0.027
+    assert -0.06 < sol.cm < -0.02
+    assert sol.fields()["mach"].max() > 1.2  # supersonic pocket closed by a shock
+
+
+def test_low_mach_lift_slope_is_prandtl_glauert_with_thickness(grid0012):
+    # Symmetric aerofoil: Cl(0) = 0, so Cl(1 deg) / 1 deg is the slope; 2 pi / beta (1 + 0.77 t/c).
+    sol = cfd.solve_steady(grid0012, 0.25, 1.0)
+    slope = sol.cl / np.deg2rad(1.0)
+    reference = 2 * np.pi / np.sqrt(1 - 0.25**2) * (1 + 0.77 * 0.12)
+    assert slope == pytest.approx(reference, rel=0.03)
+
+
+@pytest.mark.parametrize(
+    "mach, alpha, match",
+    [
+        (0.0, 0.0, "out of range"),
+        (1.0, 0.0, "out of range"),
+        (-0.5, 0.0, "out of range"),
+        (float("nan"), 0.0, "finite"),
+        (0.5, float("inf"), "finite"),
+        (0.5, float("nan"), "finite"),
+        ("fast", 0.0, "real number"),
+    ],
+)
+def test_bad_flow_conditions_raise(grid0012, mach, alpha, match):
+    with pytest.raises(FlowConditionError, match=match):
+        cfd.solve_steady(grid0012, mach, alpha)
+
+
+def test_nan_initial_state_is_refused(grid0012):
+    q0 = np.full(grid0012.cell_shape + (4,), np.nan)
+    with pytest.raises(FlowConditionError, match="q0 contains NaN"):
+        cfd.solve_steady(grid0012, 0.5, 0.0, q0=q0)
+
+
+def test_stall_raises_convergence_error_with_history(grid0012):
+    with pytest.raises(ConvergenceError, match="no convergence in 1 Newton steps") as err:
+        cfd.solve_steady(grid0012, 0.8, 1.25, n_rk=5, max_newton=1)
+    h = err.value.history
+    assert h.ndim == 1 and h.size == 7 and np.all(np.isfinite(h))
+
+
+def test_divergence_raises_instead_of_returning_nan(grid0012):
+    with pytest.raises(ConvergenceError, match="diverged") as err:
+        cfd.solve_steady(grid0012, 0.8, 1.25, cfl_rk=50.0)
+    assert err.value.history.size >= 1
+
+
+@pytest.mark.slow
+def test_drag_of_subsonic_flow_falls_with_refinement():
+    cds = []
+    for ni, nj, ns in ((65, 17, 40), (97, 25, 64), (181, 60, 100)):
+        g = cfd.c_grid(cfd.naca("0012"), ni=ni, nj=nj, n_surface=ns)
+        cds.append(abs(cfd.solve_steady(g, 0.5, 0.0).cd))
+    assert cds[-1] < cds[0]
