@@ -11,7 +11,7 @@ import numpy as np
 
 from .export import primitives
 
-__all__ = ["plot_grid", "plot_cp", "plot_mach"]
+__all__ = ["plot_grid", "grid_figure", "plot_cp", "plot_mach"]
 
 
 def _axes(ax, figsize=(6, 5)):
@@ -56,6 +56,41 @@ def plot_grid(grid, ax=None, zoom=None, lw=0.3, title=None):
     if title:
         ax.set_title(title)
     return ax
+
+
+def grid_figure(grid, title=None):
+    """A three-panel overview of a grid: whole domain, aerofoil, leading and trailing edges.
+
+    Parameters
+    ----------
+    grid : Grid
+    title : str, optional
+        Figure title.
+
+    Returns
+    -------
+    matplotlib Figure
+    """
+    import matplotlib.pyplot as plt
+
+    fig = plt.figure(figsize=(15, 5.2))
+    gs = fig.add_gridspec(2, 3, width_ratios=[1.0, 1.4, 0.8])
+    ax_full = fig.add_subplot(gs[:, 0])
+    ax_foil = fig.add_subplot(gs[:, 1])
+    ax_le = fig.add_subplot(gs[0, 2])
+    ax_te = fig.add_subplot(gs[1, 2])
+    plot_grid(grid, ax=ax_full, lw=0.25, title="whole grid")
+    plot_grid(grid, ax=ax_foil, zoom=(-0.25, 1.35, -0.45, 0.45), lw=0.35, title="aerofoil")
+    plot_grid(grid, ax=ax_le, zoom=(-0.06, 0.1, -0.05, 0.05), lw=0.4, title="leading edge")
+    plot_grid(grid, ax=ax_te, zoom=(0.9, 1.1, -0.05, 0.05), lw=0.4, title="trailing edge")
+    for ax in (ax_le, ax_te):
+        ax.set_xlabel("")
+        ax.set_ylabel("")
+        ax.locator_params(axis="x", nbins=5)
+    if title:
+        fig.suptitle(title)
+    fig.tight_layout()
+    return fig
 
 
 def _upper_lower(sol):

@@ -59,3 +59,13 @@ def test_plots_never_show(sol, monkeypatch):
     monkeypatch.setattr(plt, "show", lambda *a, **k: pytest.fail("plt.show() called"))
     for f in (plot_grid, plot_cp, plot_mach):
         plt.close(f(sol.grid if f is plot_grid else sol).figure)
+
+
+def test_grid_figure_has_four_panels(sol, tmp_path):
+    from cfd.plots import grid_figure
+
+    fig = grid_figure(sol.grid, title="test")
+    assert len(fig.axes) == 4
+    fig.savefig(tmp_path / "overview.png")
+    plt.close(fig)
+    assert (tmp_path / "overview.png").stat().st_size > 10_000
