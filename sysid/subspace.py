@@ -168,8 +168,10 @@ def default_q(method: str, p: int, m: int, K: int, order: int | None = None) -> 
       then uses every one of the ``2M - 1`` aliased impulse-response samples ``h_1 .. h_{2M-1}``, and a
       ``q`` fixed by the order (not growing with ``M``) keeps the estimate consistent as ``M`` grows
       (McKelvey et al. 1996: fixed ``q``, ``r -> inf``). The symmetric choice ``q = r = M`` is not: the
-      noise then spreads over as many rows as the signal and, measured on random 4th-order systems with
-      white noise, the error stalls instead of falling like ``M^-1/2``.
+      noise then spreads over as many rows as the signal. Measured with white noise (mean over seeds of
+      the relative error against the true system, M = 32 -> 256): random 6th-order 2x2 systems, error
+      falls by 2.75x with this default (``M^-1/2`` predicts 2.83x) but only 1.9x with ``q = r = M``;
+      random 4th-order SISO systems, 2.2x against none at all with ``q = r = M``.
     - without an order (e.g. :func:`hankel_singular_values` for a first look): ``q = r = M``, which shows
       all ``M`` singular values.
 
