@@ -372,6 +372,43 @@ class FrequencyResponse:
         """
         return cls(H, None, T, inputs=inputs, outputs=outputs, metadata=metadata, omega=omega)
 
+    @classmethod
+    def from_model(cls, model, omega_d: Any, T: float | None = None, metadata: Mapping[str, Any] | None = None
+                   ) -> "FrequencyResponse":
+        """Sample a :class:`control.StateSpace` model on discrete frequencies.
+
+        Parameters
+        ----------
+        model : control.StateSpace
+            Discrete (``dt = T``): evaluated at ``z = exp(1j omega_d)``. Continuous (``dt = 0``): evaluated
+            at ``s = 1j omega`` with ``omega = (2/T) tan(omega_d / 2)`` (``omega = inf`` gives ``D``), so
+            the samples equal those of its Tustin discretisation.
+        omega_d : array_like, shape (K,)
+            Discrete frequencies in ``[0, pi]``.
+        T : float, optional
+            Sampling period; defaults to ``model.dt`` for a discrete model, required for a continuous one.
+        """
+        A, B, C, D = (np.asarray(x, dtype=float) for x in (model.A, model.B, model.C, model.D))
+        wd = _as_freq(omega_d, "omega_d", np.size(omega_d))
+        discrete = bool(model.dt) and model.dt is not True
+        if T is None:
+            if not discrete:
+                raise FrequencyGridError("a continuous model needs T to map omega_d to omega; pass T")
+            T = model.dt
+        T = _check_T(T)
+        if discrete:
+            pts = np.exp(1j * wd)
+            finite = np.ones(wd.size, dtype=bool)
+        else:
+            w = discrete_to_continuous(np.clip(wd, 0.0, np.pi), T)
+            finite = np.isfinite(w)
+            pts = 1j * np.where(finite, w, 0.0)
+        n = A.shape[0]
+        Z = pts[:, None, None] * np.eye(n)[None] - A[None]
+        H = (C[None] @ np.linalg.solve(Z, np.broadcast_to(B, (wd.size,) + B.shape)) + D[None]).transpose(1, 2, 0)
+        H[:, :, ~finite] = D[:, :, None]
+        return cls(H, wd, T, inputs=list(model.input_labels), outputs=list(model.output_labels), metadata=metadata)
+
     def with_T(self, T: float) -> "FrequencyResponse":
         """Return a copy with sampling period ``T``, mapping the continuous frequencies to ``omega_d``."""
         if self.omega is None:

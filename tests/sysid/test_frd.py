@@ -256,3 +256,24 @@ def test_control_round_trip_drops_and_restores_infinity():
 def test_to_control_needs_continuous_frequencies():
     with pytest.raises(FrequencyGridError, match="T"):
         FrequencyResponse(np.ones(5), _WD5, None).to_control()
+
+
+def test_from_model_discrete_and_continuous():
+    import control
+
+    # discrete G(z) = 1/(z - 0.5): dc 2, Nyquist -2/3
+    wd, _ = mckelvey_grid(8, 0.5)
+    frd = FrequencyResponse.from_model(control.ss([[0.5]], [[1.0]], [[1.0]], [[0.0]], 0.5), wd)
+    assert frd.T == 0.5
+    np.testing.assert_allclose(frd.H[0, 0], first_order(np.exp(1j * wd)), rtol=1e-14)
+    # continuous G(s) = 1/(s + 1) + 0.25: omega = inf sample is D = 0.25
+    sysc = control.ss([[-1.0]], [[1.0]], [[1.0]], [[0.25]], inputs=["gust"], outputs=["Cl"])
+    frc = FrequencyResponse.from_model(sysc, wd, T=0.5)
+    w = frc.omega
+    np.testing.assert_allclose(frc.H[0, 0, :-1], 1.0 / (1j * w[:-1] + 1.0) + 0.25, rtol=1e-14)
+    assert frc.H[0, 0, -1] == 0.25 and frc.outputs == ("Cl",)
+    # equal to the samples of the Tustin discretisation (paper Eq. 28)
+    frt = FrequencyResponse.from_model(sysid.c2d_bilinear(sysc, 0.5), wd)
+    np.testing.assert_allclose(frt.H, frc.H, rtol=1e-12, atol=1e-14)
+    with pytest.raises(FrequencyGridError, match="needs T"):
+        FrequencyResponse.from_model(sysc, wd)
