@@ -259,9 +259,12 @@ def _check_sizes(ni, nj, n_surface, farfield):
             f"at least 2 (one cell per branch): use ni = n_surface + 1 + 2 * n_wake, e.g. ni={n_surface + 81} "
             f"for 40 wake cells per branch"
         )
-    if nj < 8:
-        raise MeshError(f"nj = {nj} nodes across the domain is too few; use nj >= 8 (the paper uses 60)")
-    if not np.isfinite(farfield) or farfield < 3.0:
+    if nj < 16:
+        raise MeshError(
+            f"nj = {nj} nodes across the domain is too few to reach the far field with a smooth spacing; "
+            "use nj >= 16 (the paper uses 60)"
+        )
+    if not isinstance(farfield, (int, float, np.integer, np.floating)) or not np.isfinite(farfield) or farfield < 3.0:
         raise MeshError(f"farfield = {farfield} chords is too close; use at least 3 (default 25)")
     return n_wake2 // 2
 
@@ -503,7 +506,8 @@ def _smooth(x_in, y_in, x_o, y_o, h, nj, max_iter, tol, n_layers, march_distance
     dx, dy = xm[:, k] - xm[:, k - 1], ym[:, k] - ym[:, k - 1]
     dn = np.hypot(dx, dy)
     jj = np.arange(nj - k)
-    w = np.where(jj < n_layers, 0.5 * (1.0 + np.cos(np.pi * jj / n_layers)), 0.0)[None, :]
+    nl = max(1, min(n_layers, nj - k - 1))  # the far-field row keeps weight 0
+    w = np.where(jj < nl, 0.5 * (1.0 + np.cos(np.pi * jj / nl)), 0.0)[None, :]
     w = np.broadcast_to(w, xe.shape).copy()
     w[[0, -1], :] = 0.0
     xe = (1 - w) * xe + w * (xm[:, k : k + 1] + do * (dx / dn)[:, None])
@@ -574,6 +578,8 @@ def c_grid(
         If the sizes do not fit the stencil or each other, the far field is too close, the spacings
         are not positive and small enough, or the grid folds (inverted cells).
     """
+    if not all(hasattr(foil, a) for a in ("at_arc", "perimeter", "s_leading_edge_arc", "t")):
+        raise MeshError(f"foil must be an aerofoil from cfd.naca (e.g. cfd.naca('0012')); got {type(foil).__name__}")
     n_wake = _check_sizes(ni, nj, n_surface, farfield)
     if le_spacing is None:
         le_spacing = float(np.clip(0.25 * 1.1019 * foil.t**2, 0.001, 0.005))

@@ -110,6 +110,18 @@ def test_other_sizes_far_fields_and_the_transfinite_grid():
     assert grid_quality(t).max_wall_nonorthogonality > grid_quality(g).max_wall_nonorthogonality
 
 
+@pytest.mark.parametrize("ni, nj, n_surface, farfield", [(61, 20, 40, 10.0), (121, 40, 64, 50.0), (201, 16, 120, 5.0)])
+def test_small_and_large_grids_keep_the_far_field_and_cut(ni, nj, n_surface, farfield):
+    g = c_grid(naca("2410"), ni=ni, nj=nj, n_surface=n_surface, farfield=farfield)
+    assert g.shape == (ni, nj) and np.all(g.area > 0)
+    r = np.hypot(g.x[:, -1] - 0.5, g.y[:, -1])
+    assert r.min() == pytest.approx(farfield, rel=1e-12) and np.abs(g.y[:, -1]).max() == pytest.approx(farfield)
+    assert np.allclose(g.x[0], 0.5 + farfield) and np.allclose(g.x[-1], 0.5 + farfield)
+    nw = g.n_wake
+    assert np.array_equal(g.x[: nw + 1, 0], g.x[: ni - 2 - nw : -1, 0])
+    assert grid_quality(g).max_wall_nonorthogonality < 15.0
+
+
 @pytest.mark.parametrize(
     "kwargs, match",
     [
@@ -117,17 +129,23 @@ def test_other_sizes_far_fields_and_the_transfinite_grid():
         (dict(n_surface=4), "at least 8"),
         (dict(ni=101, n_surface=100), "wake branches"),
         (dict(ni=182), "it must be even"),
-        (dict(nj=5), "nj >= 8"),
+        (dict(nj=15), "nj >= 16"),
         (dict(farfield=1.0), "too close"),
         (dict(ni=181.0), "must be an integer"),
         (dict(wall_spacing=0.0), "wall_spacing"),
         (dict(te_spacing=0.5), "te_spacing"),
         (dict(le_spacing=-1.0), "le_spacing"),
+        (dict(farfield="far"), "too close"),
     ],
 )
 def test_bad_sizes_raise_mesh_error_saying_what_to_do(kwargs, match):
     with pytest.raises(MeshError, match=match):
         c_grid(naca("0012"), **kwargs)
+
+
+def test_foil_must_be_an_aerofoil():
+    with pytest.raises(MeshError, match="cfd.naca"):
+        c_grid("0012")
 
 
 def test_inverted_grid_is_refused():
