@@ -19,6 +19,7 @@ constraints were enforced, and what the stabilisation cost.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 from typing import Any, Mapping
 
@@ -261,8 +262,6 @@ def identify(
 
     svd = hankel_svd(frf, method=method, q=q, r=r, order=_order_hint(order))
     sub = from_basis(svd, order)
-    import warnings
-
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         dc_data = frf.dc_gain
