@@ -6,10 +6,11 @@ Thickness distribution (NACA Report 460, with the closed-trailing-edge last coef
 
     y_t(x) = 5 t (0.2969 sqrt(x) - 0.1260 x - 0.3516 x^2 + 0.2843 x^3 - 0.1036 x^4)
 
-The original coefficient of ``x^4`` is ``-0.1015``, which leaves a trailing edge of thickness
-``2 * 0.0021 t`` (0.25 % chord for 12 % thickness). ``-0.1036`` makes the five coefficients sum to
-zero, so ``y_t(1) = 0`` exactly and the trailing edge is sharp, as an inviscid C-grid wants. The
-change moves the surface by at most ``0.0021 t`` near the trailing edge.
+The original coefficient of ``x^4`` is ``-0.1015``, which leaves a blunt trailing edge of thickness
+``2 * 5 t * 0.0021 = 0.021 t`` (0.25 % chord for 12 % thickness). ``-0.1036`` makes the five
+coefficients sum to zero, so ``y_t(1) = 0`` (to round-off) and the trailing edge is sharp, as an
+inviscid C-grid with a wake cut wants. The change moves the surface by ``0.0105 t x^4``: at most
+0.13 % chord for NACA0012, at the trailing edge.
 
 The thickness is applied normal to the camber line::
 

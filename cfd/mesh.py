@@ -282,9 +282,10 @@ def _boundaries(foil, ni, nj, n_surface, n_wake, farfield, le_spacing, te_spacin
     xw[0] = xw[-1] = 1.0  # the sharp trailing edge (1, y_c(1) = 0), exactly
     yw[0] = yw[-1] = 0.0
 
-    # Wake cut: bisector of the trailing-edge wedge, pointing downstream.
-    t_low = np.array([xw[0] - xw[1], yw[0] - yw[1]])
-    t_up = np.array([xw[-1] - xw[-2], yw[-1] - yw[-2]])
+    # Wake cut: bisector of the trailing-edge wedge (surface tangents at the TE), pointing downstream.
+    xt, yt = foil.surface(np.array([0.0, 1e-6, 1.0 - 1e-6, 1.0]))
+    t_low = np.array([xt[0] - xt[1], yt[0] - yt[1]])
+    t_up = np.array([xt[3] - xt[2], yt[3] - yt[2]])
     bis = t_low / np.hypot(*t_low) + t_up / np.hypot(*t_up)
     bis /= np.hypot(*bis)
     x_out = 0.5 + farfield
@@ -597,8 +598,9 @@ def c_grid(
     x_in, y_in, x_o, y_o, h = _boundaries(
         foil, ni, nj, n_surface, n_wake, float(farfield), le_spacing, te_spacing, wall_spacing, 0.5
     )
-    x, y, f = _transfinite(x_in, y_in, x_o, y_o, h, nj)
-    if smooth:
+    if not smooth:
+        x, y, _ = _transfinite(x_in, y_in, x_o, y_o, h, nj)
+    else:
         x, y = _smooth(x_in, y_in, x_o, y_o, h, nj, max_iter, tol, n_layers, march_distance)
         # Cut nodes are boundary nodes: keep the two branches bit-identical.
         x[ni - 1 - n_wake :, 0] = x[n_wake::-1, 0]
