@@ -337,13 +337,13 @@ def from_basis(svd: HankelSVD, order: int, *, warn: bool = True) -> SubspaceResu
     order : int
         Model order ``n``, ``1 <= n <= svd.max_order``.
     warn : bool
-        Warn (``RuntimeWarning``) when ``sv[n-1]`` is at round-off level relative to ``sv[0]``: the data
+        Warn (``RuntimeWarning``) when ``sv[n-1] <= 10 eps sv[0] max(U.shape)`` (round-off level): the data
         then support a lower order and the extra states are fitted to round-off.
     """
     n = _check_order(order, svd)
     s = svd.sv
-    if warn and s[0] > 0 and s[n - 1] <= 1e3 * np.finfo(float).eps * s[0] * max(svd.U.shape):
-        rank = int(np.sum(s > 1e3 * np.finfo(float).eps * s[0] * max(svd.U.shape)))
+    if warn and s[0] > 0 and s[n - 1] <= 10 * np.finfo(float).eps * s[0] * max(svd.U.shape):
+        rank = int(np.sum(s > 10 * np.finfo(float).eps * s[0] * max(svd.U.shape)))
         warnings.warn(
             f"singular value {n} is at round-off level ({s[n - 1]:.3g} vs {s[0]:.3g}): the data support order "
             f"{rank}; the extra states are fitted to round-off",
