@@ -133,6 +133,33 @@ class IdentificationResult:
         m = self.model
         return evaluate_ss(np.asarray(m.A), np.asarray(m.B), np.asarray(m.C), np.asarray(m.D), z)
 
+    def evaluate_continuous(self, omega: Any) -> np.ndarray:
+        """Model response at continuous frequencies ``omega`` (U_inf / c units, ``inf`` allowed), shape (p, m, K).
+
+        Uses the bilinear map ``omega_d = 2 arctan(omega T / 2)``, so it equals the continuous model
+        :meth:`continuous` at ``s = 1j omega``.
+        """
+        from .frd import continuous_to_discrete
+
+        return self.evaluate(continuous_to_discrete(np.asarray(omega, dtype=float).reshape(-1), self.T))
+
+    def summary(self) -> str:
+        """One-paragraph plain-text summary (order, method, errors, constraints, stability)."""
+        enf = ", ".join(k for k, v in self.enforced.items() if v) or "none"
+        lines = [
+            f"order {self.order} ({self.method}, q={self.q}, r={self.r}), T={self.T:.6g}",
+            f"FRF error: max {self.max_error:.3e}, RMS {self.rms_error:.3e}"
+            + (f", DC {self.dc_error:.3e}" if self.dc_error is not None else ""),
+            f"enforced: {enf}; spectral radius {self.spectral_radius:.6f}",
+        ]
+        st = self.stabilisation
+        if st is not None and st.method != "none":
+            lines.append(
+                f"stabilised by {st.method}: radius {st.spectral_radius_before:.6f} -> {st.spectral_radius_after:.6f}, "
+                f"|dA|/|A| = {st.relative_change:.3e}, RMS error {st.rms_error_before:.3e} -> {st.rms_error_after:.3e}"
+            )
+        return "\n".join(lines)
+
     def frequency_response(self, omega_d: Any = None) -> FrequencyResponse:
         """Model response as a :class:`FrequencyResponse` on the data grid (or on ``omega_d``)."""
         wd = self.data.omega_d if omega_d is None else np.asarray(omega_d, dtype=float)

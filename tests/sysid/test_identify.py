@@ -202,6 +202,20 @@ def test_frequency_response_helper():
     assert res.hankel_sv.ndim == 1 and res.hankel_sv[5] > 1e-8 * res.hankel_sv[0] > res.hankel_sv[6]
 
 
+def test_evaluate_continuous_and_summary():
+    A, B, C, D, _ = random_system(4, 1, 1, 13)
+    T = 0.7
+    sysc = sysid.d2c_bilinear(control.ss(A, B, C, D, T))
+    frf = FrequencyResponse.from_model(sysc, mckelvey_grid(32, T)[0], T=T)
+    res = identify(frf, 4, dc_gain="match")
+    w = np.array([0.0, 0.3, 2.0, 40.0, np.inf])
+    ref = np.stack([np.asarray(sysc.C) @ np.linalg.solve(1j * x * np.eye(4) - np.asarray(sysc.A), sysc.B) + sysc.D
+                    for x in w[:-1]] + [np.asarray(sysc.D)], axis=-1)
+    np.testing.assert_allclose(res.evaluate_continuous(w), ref, atol=1e-9 * np.abs(ref).max())
+    text = res.summary()
+    assert "order 4" in text and "dc_gain" in text and "feedthrough" in text
+
+
 def test_result_pickles():
     import pickle
 
