@@ -242,7 +242,7 @@ def test_residual_free_stream_preserved_under_gust(gust):
     import sys
     from pathlib import Path
 
-    sys.path.insert(0, str(Path(__file__).parent))
+    sys.path.append(str(Path(__file__).parent))
     from flowgrids import parabolic_c_grid
 
     grid = parabolic_c_grid(thickness=0.0)  # flat plate on 0 <= x <= 1

@@ -1,0 +1,305 @@
+"""Linearisation of the gust equations about a steady state: ``V dq/dt + J q + b(t) = 0``, ``y = C q + D u``.
+
+All operators are derivatives of the one residual, ``cfd.euler.residual(grid, q, flow, face_velocity,
+source)``; nothing here re-implements the flow equations:
+
+- ``J = dR/dq`` from ``cfd.jacobian.jacobian`` (exact, coloured complex step);
+- ``Bi = dR/dw_y`` on the i-faces and ``Bj = dR/dw_y`` on the j-faces (the vertical components of the
+  face grid velocities), sparse, by coloured complex step through the same residual (each face
+  influences at most the four cells of its row or column nearest to it, so four colours per face
+  family suffice);
+- ``dR/dsource = -I`` (the residual subtracts the cell-integrated sources).
+
+For a gust with face averages ``g`` of ``v_g / U`` (``cfd.gust``) the face velocity is
+``w_y = -mach g`` and the SVM adds the source ``cfd.gust.svm_source``; the forcing is therefore
+``b = -mach (Bi g_i + Bj g_j) - source(g)`` (the source term only for ``method="svm"``).
+
+Units: the state and ``J`` are in solver units (``a_inf = 1``; time ``t_solver = s / mach``), so in the
+project's convective time ``mach V dq/ds + J q + b = 0`` and a harmonic input ``exp(i omega s)`` needs
+``(i omega mach V + J) q = -b``. Outputs are perturbation coefficients per unit input ``u = v_g(x_ref)/U``
+(per radian of gust angle); ``D = 0`` (the loads depend on the state only).
+
+Outputs
+-------
+``Cl``, ``Cm`` (quarter chord, nose up positive) and ``Cd``, in the axes of the steady free stream,
+as given by ``cfd.loads.force_coefficients`` (wall pressure ``cfd.boundary.wall_pressure`` from the
+first two cells, integrated over the wall faces). The loads are linear in the wall pressures, so
+``C = d(loads)/d(p_w) d(p_w)/dq``: the second factor by complex step through ``cfd.flow.pressure``
+and ``cfd.boundary.wall_pressure`` (8 evaluations), the first from the face geometry; the tests check
+``C`` against finite differences of ``force_coefficients``.
+"""
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+
+from .boundary import wall_pressure
+from .euler import residual
+from .flow import FlowCondition, pressure
+from .gust import cell_x_gradient, svm_source
+from .jacobian import H_STEP, coloured_complex_step, jacobian
+from .loads import force_coefficients
+
+__all__ = ["LinearSystem", "linearise", "linearise_state", "wall_loads", "OUTPUTS", "METHODS", "LinearError"]
+
+OUTPUTS = ("Cl", "Cm", "Cd")
+METHODS = ("svm", "fvm")
+
+
+class LinearError(ValueError):
+    """Bad argument to the linear solvers (unknown output or gust method, wrong shapes...)."""
+
+
+def _check_method(method):
+    if method not in METHODS:
+        raise LinearError(f"gust method must be one of {METHODS} (split or field velocity method); got {method!r}")
+    return method
+
+
+def check_outputs(outputs):
+    """Validate output names; returns the tuple of row indices into ``LinearSystem.C``."""
+    if isinstance(outputs, str):
+        outputs = (outputs,)
+    outputs = tuple(outputs)
+    bad = [o for o in outputs if o not in OUTPUTS]
+    if bad or not outputs:
+        raise LinearError(f"unknown output(s) {bad or outputs!r}; choose from {OUTPUTS}")
+    return outputs, [OUTPUTS.index(o) for o in outputs]
+
+
+def _load_coefficients(grid, flow):
+    """d(Cl, Cm, Cd)/d(p_wall) per wall face, shape (3, n_surface), and the face centres."""
+    w = grid.wall
+    sx, sy = grid.sj[0, w, 0], grid.sj[1, w, 0]
+    xf = 0.5 * (grid.x[:-1, 0] + grid.x[1:, 0])[w]
+    yf = 0.5 * (grid.y[:-1, 0] + grid.y[1:, 0])[w]
+    a = flow.alpha
+    qd = flow.dynamic_pressure
+    # Force on the body from the wall faces: dF = -(p_w - p_inf) S (S points into the fluid).
+    dcl = (sx * np.sin(a) - sy * np.cos(a)) / qd
+    dcd = -(sx * np.cos(a) + sy * np.sin(a)) / qd
+    # Pitching moment about (0.25, 0), nose up positive: Cm = -(sum (x - 0.25) dFy - y dFx) / q.
+    dcm = ((xf - 0.25) * sy - yf * sx) / qd
+    return np.stack([dcl, dcm, dcd])
+
+
+def wall_loads(grid, q, flow):
+    """Force and moment coefficients from the wall pressure (complex-safe).
+
+    Parameters
+    ----------
+    grid : Grid
+    q : ndarray, shape (..., ni-1, nj-1, 4)
+    flow : FlowCondition
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        ``(Cl, Cm, Cd)``: lift and drag in the free-stream axes of ``flow``, moment about the quarter
+        chord, nose up positive; pressure forces only.
+    """
+    cl, cd, cm = force_coefficients(grid, q, flow)
+    return np.stack([cl, cm, cd], axis=-1)
+
+
+def _output_matrix(grid, q, flow):
+    """``C = d(Cl, Cm, Cd)/dq``, shape (3, 4N), by complex step through pressure and wall_pressure."""
+    NI, NJ = grid.cell_shape
+    w = np.arange(NI)[grid.wall]
+    coef = _load_coefficients(grid, flow)
+    C = np.zeros((3, NI * NJ * 4))
+    h = H_STEP
+    for jrow in (0, 1):  # 8 evaluations of the (per-cell) pressure: the derivative is diagonal per row
+        for k in range(4):
+            qc = q[w, :2, :].astype(complex)
+            qc[:, jrow, k] += 1j * h
+            p = pressure(qc, flow.gamma)
+            dpw = wall_pressure(p[:, 0], p[:, 1]).imag / h
+            C[:, 4 * (w * NJ + jrow) + k] = coef * dpw
+    return C
+
+
+def _face_pattern(grid, family):
+    """Pattern (4N x n_faces) of dR/dw_y and a 4-colouring of its columns."""
+    ni, nj = grid.shape
+    NI, NJ = grid.cell_shape
+    if family == "i":
+        fi, fj = np.meshgrid(np.arange(ni), np.arange(nj - 1), indexing="ij")
+        along, cross, n_along = fi, fj, NI
+    else:
+        fi, fj = np.meshgrid(np.arange(ni - 1), np.arange(nj), indexing="ij")
+        along, cross, n_along = fj, fi, NJ
+    face = np.arange(fi.size).reshape(fi.shape)
+    rows, cols = [], []
+    for d in (-2, -1, 0, 1):  # cells along - 2 .. along + 1 of the face's row/column
+        c = along + d
+        ok = (c >= 0) & (c < n_along)
+        ic, jc = (c, cross) if family == "i" else (cross, c)
+        cell = (ic * NJ + jc)[ok]
+        for k in range(4):
+            rows.append(4 * cell + k)
+            cols.append(face[ok])
+    r, c = np.concatenate(rows), np.concatenate(cols)
+    P = sp.csr_matrix((np.ones(r.size, bool), (r, c)), shape=(4 * NI * NJ, fi.size))
+    P.sum_duplicates()
+    P.sort_indices()
+    colours = (along % 4).ravel()
+    return P, colours
+
+
+def _face_matrix(grid, q, flow, scheme, family):
+    ni, nj = grid.shape
+    P, colours = _face_pattern(grid, family)
+    shape_i, shape_j = (2, ni, nj - 1), (2, ni - 1, nj)
+
+    def func(X):
+        b = X.shape[0]
+        wi = np.zeros((b,) + shape_i, complex)
+        wj = np.zeros((b,) + shape_j, complex)
+        if family == "i":
+            wi[:, 1] = X.reshape((b,) + shape_i[1:])
+        else:
+            wj[:, 1] = X.reshape((b,) + shape_j[1:])
+        qb = np.broadcast_to(q.astype(complex), (b,) + q.shape)
+        return residual(grid, qb, flow, face_velocity=(wi, wj), scheme=scheme).reshape(b, -1)
+
+    return coloured_complex_step(func, np.zeros(P.shape[1]), P, colours, chunk=4)
+
+
+@dataclass(frozen=True, eq=False)
+class LinearSystem:
+    """The gust equations linearised about a steady state (solver units, see module docstring).
+
+    Attributes
+    ----------
+    grid : Grid
+    flow : FlowCondition
+    q : ndarray, shape (ni-1, nj-1, 4)
+        Steady state (solver units).
+    scheme : Scheme or None
+        Passed to the residual.
+    V : ndarray, shape (4N,)
+        Diagonal of the mass matrix: cell areas (chords^2) in the flat order
+        ``4 * (ic * (nj-1) + jc) + k``.
+    J : scipy.sparse.csr_matrix, shape (4N, 4N)
+        ``dR/dq``.
+    Bi : scipy.sparse.csr_matrix, shape (4N, ni (nj-1))
+        ``dR/dw_y`` on the i-faces (flat C order of ``(i, jc)``).
+    Bj : scipy.sparse.csr_matrix, shape (4N, (ni-1) nj)
+        ``dR/dw_y`` on the j-faces.
+    C : ndarray, shape (3, 4N)
+        ``d(Cl, Cm, Cd)/dq`` (rows in the order of ``OUTPUTS``).
+    loads : ndarray, shape (3,)
+        Steady ``(Cl, Cm, Cd)`` from ``wall_loads``.
+    """
+
+    grid: object
+    flow: FlowCondition
+    q: np.ndarray
+    scheme: object
+    V: np.ndarray
+    J: sp.csr_matrix
+    Bi: sp.csr_matrix
+    Bj: sp.csr_matrix
+    C: np.ndarray
+    loads: np.ndarray
+    D: np.ndarray = field(default_factory=lambda: np.zeros((3, 1)))
+
+    @property
+    def mach(self):
+        """Free-stream Mach number: the factor from convective to solver velocity and frequency."""
+        return self.flow.mach
+
+    @property
+    def n(self):
+        """Number of state variables, ``4 N``."""
+        return self.J.shape[0]
+
+    def to_solver_time(self, s):
+        """Convective time ``s`` (chords / U) to solver time (chords / a_inf): ``s / mach``."""
+        return np.asarray(s) / self.mach
+
+    def to_solver_frequency(self, omega):
+        """Convective angular frequency (U / c) to solver units (a_inf / c): ``mach * omega``."""
+        return np.asarray(omega) * self.mach
+
+    def forcing(self, gi, gj, method="svm"):
+        """Gust forcing ``b`` of ``V dq/dt + J q + b = 0`` from face averages of ``v_g / U``.
+
+        Parameters
+        ----------
+        gi : ndarray, shape (..., ni, nj-1), real or complex
+        gj : ndarray, shape (..., ni-1, nj)
+        method : {"svm", "fvm"}
+
+        Returns
+        -------
+        ndarray, shape (..., 4N)
+        """
+        _check_method(method)
+        gi = np.asarray(gi)
+        gj = np.asarray(gj)
+        batch = gi.shape[:-2]
+        Gi = gi.reshape((-1, self.Bi.shape[1]))
+        Gj = gj.reshape((-1, self.Bj.shape[1]))
+        b = -self.mach * (self.Bi @ Gi.T + self.Bj @ Gj.T).T
+        if method == "svm":
+            src = svm_source(self.q, self.mach, cell_x_gradient(self.grid, gi, gj), self.flow.gamma)
+            b = b - src.reshape(b.shape)  # dR/dsource = -I
+        return b.reshape(batch + (self.n,))
+
+
+def linearise_state(grid, q, flow, scheme=None):
+    """Build the :class:`LinearSystem` of a steady state.
+
+    Parameters
+    ----------
+    grid : Grid
+    q : ndarray, shape (ni-1, nj-1, 4)
+        Converged steady state (solver units).
+    flow : FlowCondition
+    scheme : Scheme, optional
+
+    Returns
+    -------
+    LinearSystem
+    """
+    q = np.asarray(q, dtype=float)
+    if q.shape != grid.cell_shape + (4,):
+        raise LinearError(f"steady state has shape {q.shape}; this grid needs {grid.cell_shape + (4,)}")
+    V = np.repeat(grid.area.ravel(), 4)
+    J = jacobian(grid, q, flow, scheme=scheme)
+    Bi = _face_matrix(grid, q, flow, scheme, "i")
+    Bj = _face_matrix(grid, q, flow, scheme, "j")
+    C = _output_matrix(grid, q, flow)
+    loads = wall_loads(grid, q, flow)
+    for a in (V, C, loads):
+        a.setflags(write=False)
+    qf = q.copy()
+    qf.setflags(write=False)
+    return LinearSystem(grid=grid, flow=flow, q=qf, scheme=scheme, V=V, J=J.tocsr(), Bi=Bi, Bj=Bj, C=C,
+                        loads=loads)
+
+
+def linearise(sol, scheme=None):
+    """Linearise a steady solution (``cfd.solve_steady``) for the gust solvers.
+
+    Parameters
+    ----------
+    sol : object
+        With ``grid``, the steady state ``q`` (shape (ni-1, nj-1, 4), solver units) and either ``flow``
+        (FlowCondition) or ``mach`` and ``alpha_deg``; ``scheme`` is taken from it when present.
+    scheme : Scheme, optional
+        Overrides ``sol.scheme``.
+
+    Returns
+    -------
+    LinearSystem
+    """
+    flow = getattr(sol, "flow", None)
+    if flow is None:
+        flow = FlowCondition(sol.mach, getattr(sol, "alpha_deg", 0.0))
+    if scheme is None:
+        scheme = getattr(sol, "scheme", None)
+    return linearise_state(sol.grid, sol.q, flow, scheme)
