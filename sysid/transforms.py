@@ -16,6 +16,7 @@ different state basis). Both Tustin and ZOH preserve the DC gain.
 from __future__ import annotations
 
 import math
+import warnings
 from typing import Any
 
 import numpy as np
@@ -27,6 +28,8 @@ __all__ = ["d2c_bilinear", "c2d_bilinear", "c2d_zoh"]
 
 # Reciprocal condition number below which (I + A) or (2/T I - A) is treated as singular.
 _RCOND_SINGULAR = 1e3 * np.finfo(float).eps
+# ... and below which the conversion warns that it loses about log10(1/rcond) digits.
+_RCOND_WARN = 1e-8
 
 
 def _check_model(model: Any, *, discrete: bool, func: str):
@@ -71,14 +74,18 @@ def _matrices(model) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
             np.asarray(model.C, dtype=float), np.asarray(model.D, dtype=float))
 
 
-def _lu_or_raise(Mtx: np.ndarray, message: str):
-    """LU factors of ``Mtx``; ``ValueError(message)`` when it is (numerically) singular."""
+def _lu_or_raise(Mtx: np.ndarray, message: str, warn_message: str | None = None):
+    """LU factors of ``Mtx``; ``ValueError(message)`` when it is (numerically) singular, a RuntimeWarning
+    (``warn_message``) when it is merely ill-conditioned."""
     n = Mtx.shape[0]
     if n == 0:
         return None
     rc = 1.0 / np.linalg.cond(Mtx) if np.all(np.isfinite(Mtx)) else 0.0
     if not np.isfinite(rc) or rc < _RCOND_SINGULAR:
         raise ValueError(message + f" (reciprocal condition number {rc:.2e})")
+    if warn_message and rc < _RCOND_WARN:
+        warnings.warn(warn_message + f" (reciprocal condition number {rc:.2e}: about {-np.log10(rc):.0f} digits "
+                      "lost)", RuntimeWarning, stacklevel=3)
     return scipy.linalg.lu_factor(Mtx)
 
 
@@ -121,6 +128,8 @@ def d2c_bilinear(model):
     ------
     ValueError
         Continuous model given, or ``I + Ahat`` singular (a pole at ``z = -1``, which maps to ``s = inf``).
+        A merely ill-conditioned ``I + Ahat`` (reciprocal condition number below 1e-8) gives a
+        ``RuntimeWarning``.
     FrequencyGridError
         ``dt = True`` (sampling period unspecified).
     """
@@ -134,6 +143,8 @@ def d2c_bilinear(model):
         "d2c_bilinear(): I + A is singular, the discrete model has a pole at z = -1 (omega = infinity) that the "
         "bilinear map cannot take to a finite continuous pole; move or remove that pole (e.g. refit with a "
         "different order)",
+        "d2c_bilinear(): I + A is ill-conditioned: a pole near z = -1 maps to a very fast continuous pole and the "
+        "continuous matrices (D = Dhat - C (I + A)^-1 B in particular) are inaccurate",
     )
     A = (2.0 / T) * _solve(lu, Ad - I)
     B = (2.0 / math.sqrt(T)) * _solve(lu, Bd)

@@ -157,6 +157,12 @@ def test_d2c_pole_at_minus_one():
         d2c_bilinear(sysd)
 
 
+def test_d2c_pole_near_minus_one_warns():
+    sysd = control.ss([[-1.0 + 1e-10, 0.0], [0.0, 0.5]], [[1.0], [1.0]], [[1.0, 1.0]], [[0.0]], 0.5)
+    with pytest.warns(RuntimeWarning, match="z = -1"):
+        d2c_bilinear(sysd)
+
+
 def test_c2d_bilinear_pole_at_two_over_T():
     T = 0.5
     sysc = control.ss([[2.0 / T]], [[1.0]], [[1.0]], [[0.0]])
