@@ -19,6 +19,7 @@ Identification needs both (see :func:`sysid.identify`).
 
 from __future__ import annotations
 
+import copy
 import json
 import math
 import types
@@ -295,7 +296,7 @@ class FrequencyResponse:
         if wd is None and Tf is not None:
             wd = continuous_to_discrete(w, Tf)
 
-        md = {} if metadata is None else dict(metadata)
+        md = {} if metadata is None else copy.deepcopy(dict(metadata))
         sa = object.__setattr__
         sa(self, "H", _frozen(Harr))
         sa(self, "omega_d", _frozen(wd))
