@@ -1,0 +1,106 @@
+"""cfd.ltd: BDF2 time marching against the LFD solution of the same equations."""
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("cfd.steady")
+sys.path.append(str(Path(__file__).parent))
+
+from flowgrids import parabolic_c_grid  # noqa: E402
+
+from cfd import solve_steady  # noqa: E402
+from cfd.gust import OneMinusCosine, SharpEdged, SineGust  # noqa: E402
+from cfd.lfd import lfd_response, lfd_state  # noqa: E402
+from cfd.linear import LinearError, linearise  # noqa: E402
+from cfd.ltd import ltd_response, phase_error_estimate  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def lin():
+    grid = parabolic_c_grid(thickness=0.1, n_surface=32, n_wake=8, nj=13)
+    sol = solve_steady(grid, 0.3, 0.0, tol=1e-12)
+    assert sol.converged
+    return linearise(sol)
+
+
+def harmonic(t, y, omega):
+    """Complex amplitude Y of y ~ Re(Y exp(i omega t)) + c by least squares."""
+    M = np.stack([np.cos(omega * t), np.sin(omega * t), np.ones_like(t)], 1)
+    c = np.linalg.lstsq(M, y, rcond=None)[0]
+    return c[0] - 1j * c[1]
+
+
+def test_periodic_start_converges_to_lfd_at_second_order(lin):
+    """Started on the LFD periodic solution, the LTD stays on it up to the BDF2 error O(dt^2)."""
+    w = 1.0
+    gust = SineGust(angle_deg=1.0, omega=w)
+    H = lfd_response(lin, [w], outputs="Cl").H[0, 0, 0]
+    qh = (1j * gust.amplitude) * lfd_state(lin, w)  # u(s) = A sin(-omega s) = Re(i A exp(i omega s))
+    errs = []
+    for dt in (0.2, 0.1, 0.05):
+        q = lambda s: (qh * np.exp(1j * w * s)).real  # noqa: E731
+        h = ltd_response(lin, gust, dt, 2 * np.pi / w, initial=(q(-dt), q(0.0)), max_phase_error=1.0)
+        errs.append(abs(harmonic(h.t, h.cl, w) / harmonic(h.t, h.u, w) / H - 1))
+    errs = np.array(errs)
+    order = np.log2(errs[:-1] / errs[1:])
+    assert np.all(order > 1.8), (errs, order)
+    assert errs[-1] < 1e-3
+
+
+def test_sine_gust_from_rest_becomes_periodic_and_matches_lfd(lin):
+    """From rest: once the start-up transient has left (s > 20), magnitude and phase within 1 %."""
+    w = 1.0
+    gust = SineGust(angle_deg=1.0, omega=w)
+    h = ltd_response(lin, gust, 0.05, 20 + 2 * np.pi / w)
+    H = lfd_response(lin, [w], outputs=("Cl", "Cm")).H[:, 0, 0]
+    m = h.t >= 20
+    U = harmonic(h.t[m], h.u[m], w)
+    for y, Hk in ((h.cl, H[0]), (h.cm, H[1])):
+        G = harmonic(h.t[m], y[m], w) / U
+        assert abs(abs(G) / abs(Hk) - 1) < 0.01
+        assert abs(np.angle(G / Hk)) < 0.01
+
+
+def test_sharp_edged_gust_settles_to_the_steady_gain_and_is_linear(lin):
+    H0 = lfd_response(lin, [0.0], outputs="Cl").H[0, 0, 0].real
+    g1 = SharpEdged(angle_deg=1.0, x0=-1.0)
+    h1 = ltd_response(lin, g1, 0.1, 50.0, max_phase_error=1.0)
+    assert np.all(h1.u[h1.t < 1.0] == 0) and np.allclose(h1.u[h1.t >= 1.0], g1.amplitude)
+    assert h1.cl[-1] / g1.amplitude == pytest.approx(H0, rel=0.02)
+    h2 = ltd_response(lin, SharpEdged(angle_deg=2.0, x0=-1.0), 0.1, 5.0, max_phase_error=1.0)
+    ratio = SharpEdged(angle_deg=2.0).amplitude / g1.amplitude
+    np.testing.assert_allclose(h2.cl, ratio * h1.cl[: h2.cl.size], rtol=1e-9, atol=1e-14)
+
+
+def test_one_minus_cosine_history(lin):
+    g = OneMinusCosine(length=2.0, angle_deg=1.0, x0=-3.0)
+    h = ltd_response(lin, g, 0.05, 12.0)
+    assert h.t[-1] == pytest.approx(12.0) and h.t.shape == h.cl.shape == h.cm.shape == h.u.shape
+    assert h.u.max() == pytest.approx(g.amplitude, rel=1e-3)
+    peak = np.abs(h.cl).max()
+    # before the gust nears the aerofoil the response is small (upstream influence only)
+    assert np.abs(h.cl[h.t < 1.5]).max() < 0.05 * peak
+    # the peak lift lies between the quasi-steady value and zero, after the gust peak passes x_ref
+    H0 = lfd_response(lin, [0.0], outputs="Cl").H[0, 0, 0].real
+    assert 0.3 * H0 * g.amplitude < h.cl.max() < H0 * g.amplitude
+    assert h.t[np.argmax(h.cl)] > 4.0
+    with pytest.raises(ValueError):
+        h.cl[0] = 1.0  # frozen
+
+
+def test_bad_input_and_phase_warning(lin):
+    g = OneMinusCosine(length=1.0, angle_deg=1.0, x0=-2.0)
+    with pytest.raises(LinearError, match="dt"):
+        ltd_response(lin, g, 0.0, 1.0)
+    with pytest.raises(LinearError, match="t_end"):
+        ltd_response(lin, g, 0.1, 0.01)
+    with pytest.raises(LinearError, match="method"):
+        ltd_response(lin, g, 0.1, 1.0, method="fbc")
+    with pytest.raises(LinearError, match="gust"):
+        ltd_response(lin, "gust", 0.1, 1.0)
+    assert phase_error_estimate(g, 0.1) == pytest.approx((2 * np.pi * 0.1) ** 2 / 3)
+    with pytest.warns(RuntimeWarning, match="phase"):
+        ltd_response(lin, g, 0.2, 0.4)
