@@ -11,3 +11,8 @@ from .euler import Scheme, residual
 from .jacobian import jacobian
 from .loads import force_coefficients, wall_cp
 from .steady import SteadySolution, solve_steady
+from .analytic import kussner, sears, sears_compressible, wagner
+from .gust import GustError, GustPositionError, OneMinusCosine, SharpEdged, SineGust
+from .linear import LinearError, LinearSystem, linearise
+from .lfd import lfd_response
+from .ltd import LTDHistory, ltd_response
