@@ -6,7 +6,7 @@ Main entry points: :class:`FrequencyResponse`, :func:`mckelvey_grid`, :func:`ide
 :func:`order_sweep`, :func:`d2c_bilinear`, :func:`c2d_bilinear`, :func:`c2d_zoh`.
 """
 
-from .errors import ConstraintError, FrequencyDataError, FrequencyGridError, OrderError, SolverError
+from .errors import ConstraintError, FrequencyDataError, FrequencyGridError, ModelError, OrderError, SolverError
 from .frd import FrequencyResponse, continuous_to_discrete, discrete_to_continuous, mckelvey_grid
 from .subspace import (
     HankelSVD,
@@ -31,6 +31,7 @@ __all__ = [
     "FrequencyGridError",
     "OrderError",
     "SolverError",
+    "ModelError",
     # data
     "FrequencyResponse",
     "mckelvey_grid",

@@ -10,6 +10,7 @@ __all__ = [
     "OrderError",
     "ConstraintError",
     "SolverError",
+    "ModelError",
 ]
 
 
@@ -31,3 +32,8 @@ class ConstraintError(ValueError):
 
 class SolverError(RuntimeError):
     """A convex solver failed (infeasible, unbounded or numerical failure)."""
+
+
+class ModelError(ValueError):
+    """A state-space model is of the wrong kind for the operation (discrete vs continuous) or is
+    singular where the operation needs an inverse (e.g. a pole at z = -1 for the bilinear map)."""

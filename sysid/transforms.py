@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 import scipy.linalg
 
-from .errors import FrequencyGridError
+from .errors import FrequencyGridError, ModelError
 
 __all__ = ["d2c_bilinear", "c2d_bilinear", "c2d_zoh"]
 
@@ -42,7 +42,7 @@ def _check_model(model: Any, *, discrete: bool, func: str):
             raise TypeError(f"{func}() expects a control.StateSpace, got {type(model).__name__}")
     if discrete:
         if not model.isdtime(strict=True):
-            raise ValueError(
+            raise ModelError(
                 f"{func}() expects a discrete-time model (dt = T > 0); this one is continuous (dt = 0). "
                 "Use c2d_bilinear(model, T) or c2d_zoh(model, T) to discretise it"
             )
@@ -52,7 +52,7 @@ def _check_model(model: Any, *, discrete: bool, func: str):
                 "dt=T, e.g. control.ss(A, B, C, D, T)"
             )
     elif not model.isctime(strict=True):
-        raise ValueError(
+        raise ModelError(
             f"{func}() expects a continuous-time model (dt = 0); this one is discrete (dt = {model.dt}). "
             "Use d2c_bilinear(model) first"
         )
@@ -75,14 +75,14 @@ def _matrices(model) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
 
 
 def _lu_or_raise(Mtx: np.ndarray, message: str, warn_message: str | None = None):
-    """LU factors of ``Mtx``; ``ValueError(message)`` when it is (numerically) singular, a RuntimeWarning
+    """LU factors of ``Mtx``; ``ModelError(message)`` when it is (numerically) singular, a RuntimeWarning
     (``warn_message``) when it is merely ill-conditioned."""
     n = Mtx.shape[0]
     if n == 0:
         return None
     rc = 1.0 / np.linalg.cond(Mtx) if np.all(np.isfinite(Mtx)) else 0.0
     if not np.isfinite(rc) or rc < _RCOND_SINGULAR:
-        raise ValueError(message + f" (reciprocal condition number {rc:.2e})")
+        raise ModelError(message + f" (reciprocal condition number {rc:.2e})")
     if warn_message and rc < _RCOND_WARN:
         warnings.warn(warn_message + f" (reciprocal condition number {rc:.2e}: about {-np.log10(rc):.0f} digits "
                       "lost)", RuntimeWarning, stacklevel=3)
@@ -126,7 +126,7 @@ def d2c_bilinear(model):
 
     Raises
     ------
-    ValueError
+    ModelError
         Continuous model given, or ``I + Ahat`` singular (a pole at ``z = -1``, which maps to ``s = inf``).
         A merely ill-conditioned ``I + Ahat`` (reciprocal condition number below 1e-8) gives a
         ``RuntimeWarning``.
@@ -176,7 +176,7 @@ def c2d_bilinear(model, T: float):
 
     Raises
     ------
-    ValueError
+    ModelError
         Discrete model given, or ``2/T I - A`` singular (a continuous pole at ``s = 2/T``, which maps to
         ``z = inf``); change ``T``.
     FrequencyGridError

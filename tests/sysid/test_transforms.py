@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from sysid_synth import random_system
 
-from sysid import FrequencyGridError, c2d_bilinear, c2d_zoh, d2c_bilinear
+from sysid import FrequencyGridError, ModelError, c2d_bilinear, c2d_zoh, d2c_bilinear
 
 
 def stable_continuous(n, p, m, seed):
@@ -134,13 +134,13 @@ def test_dc_gain_preserved(conv):
 
 # ------------------------------------------------------------------------------------ errors
 def test_d2c_rejects_continuous_model():
-    with pytest.raises(ValueError, match="discrete-time"):
+    with pytest.raises(ModelError, match="discrete-time"):
         d2c_bilinear(control.ss([[-1.0]], [[1.0]], [[1.0]], [[0.0]]))
 
 
 @pytest.mark.parametrize("func", [c2d_bilinear, c2d_zoh])
 def test_c2d_rejects_discrete_model(func):
-    with pytest.raises(ValueError, match="continuous-time"):
+    with pytest.raises(ModelError, match="continuous-time"):
         func(control.ss([[0.5]], [[1.0]], [[1.0]], [[0.0]], 0.1), 0.1)
 
 
@@ -153,7 +153,7 @@ def test_c2d_rejects_bad_T(func, T):
 
 def test_d2c_pole_at_minus_one():
     sysd = control.ss([[-1.0, 0.0], [0.0, 0.5]], [[1.0], [1.0]], [[1.0, 1.0]], [[0.0]], 0.5)
-    with pytest.raises(ValueError, match="z = -1"):
+    with pytest.raises(ModelError, match="z = -1"):
         d2c_bilinear(sysd)
 
 
@@ -166,7 +166,7 @@ def test_d2c_pole_near_minus_one_warns():
 def test_c2d_bilinear_pole_at_two_over_T():
     T = 0.5
     sysc = control.ss([[2.0 / T]], [[1.0]], [[1.0]], [[0.0]])
-    with pytest.raises(ValueError, match="s = 2/T"):
+    with pytest.raises(ModelError, match="s = 2/T"):
         c2d_bilinear(sysc, T)
 
 
