@@ -55,12 +55,15 @@ class Aerofoil:
         Chordwise position of maximum camber, fraction of chord (second digit / 10).
     t : float
         Maximum thickness, fraction of chord (last two digits / 100).
+    n : int
+        Default number of panels of ``coordinates()`` (cosine clustered).
     """
 
     code: str
     m: float
     p: float
     t: float
+    n: int = 200
     _table: tuple = field(default=None, repr=False, compare=False)
 
     def __post_init__(self):
@@ -94,7 +97,8 @@ class Aerofoil:
         return self._yt(np.sqrt(np.clip(x, 0.0, None)), x)
 
     def _yt(self, sqrt_x, x):
-        return 5.0 * self.t * (_A0 * sqrt_x + x * (_A1 + x * (_A2 + x * (_A3 + x * _A4))))
+        # Non-negative on [0, 1]; the clip removes the -3e-17 of round-off at the sharp trailing edge.
+        return np.maximum(5.0 * self.t * (_A0 * sqrt_x + x * (_A1 + x * (_A2 + x * (_A3 + x * _A4)))), 0.0)
 
     def camber(self, x):
         """Camber line ``y_c(x)`` and its slope ``dy_c/dx``.
@@ -142,6 +146,25 @@ class Aerofoil:
         yc, dyc = self.camber(xc)
         theta = np.arctan(dyc)
         return xc - yt_signed * np.sin(theta), yc + yt_signed * np.cos(theta)
+
+    def coordinates(self, n=None):
+        """Cosine-clustered surface points, lower trailing edge -> leading edge -> upper trailing edge.
+
+        Parameters
+        ----------
+        n : int, optional
+            Number of panels (default ``self.n``); ``n + 1`` points, the first and last both at the
+            trailing edge ``(1, 0)``.
+
+        Returns
+        -------
+        x, y : ndarray, shape (n + 1,)
+            Coordinates in chords.
+        """
+        n = self.n if n is None else n
+        if not isinstance(n, (int, np.integer)) or isinstance(n, bool) or n < 4:
+            raise GeometryError(f"n = {n!r} surface panels is invalid; give an integer >= 4, e.g. n=200")
+        return self.surface(np.linspace(0.0, 1.0, int(n) + 1))
 
     # ------------------------------------------------------------------ arc length
     @property
@@ -203,28 +226,28 @@ class Aerofoil:
         return float(np.degrees(alpha))
 
 
-def naca(code, n=None):
+def naca(code, n=200):
     """A NACA 4-digit aerofoil of unit chord with a sharp trailing edge.
 
     Parameters
     ----------
     code : str or int
         Four digits ``MPTT``: maximum camber ``M`` % chord at ``P`` tenths of chord, thickness
-        ``TT`` % chord, e.g. ``"0012"``, ``"2410"``. An int is zero-padded (``12`` -> ``"0012"``).
-    n : int, optional
-        If given, also return ``n + 1`` cosine-clustered surface points (the closed polygon from
-        the lower trailing edge round the leading edge to the upper trailing edge).
+        ``TT`` % chord, e.g. ``"0012"``, ``"2410"`` (a ``"NACA"`` prefix is accepted). An int is
+        zero-padded (``12`` -> ``"0012"``).
+    n : int
+        Default number of cosine-clustered panels of ``Aerofoil.coordinates()``.
 
     Returns
     -------
     Aerofoil
-        The section (``n`` None), or ``(Aerofoil, x, y)`` with ``x, y`` of shape ``(n + 1,)``.
+        Frozen; ``surface(s)``, ``at_arc(arc)`` and ``coordinates(n)`` give points on it.
 
     Raises
     ------
     GeometryError
         If the code is not four digits, has zero thickness, camber without a position (or a
-        position without camber), or ``n`` is not a positive integer.
+        position without camber), or ``n`` is not an integer >= 4.
     """
     example = 'use four digits MPTT such as "0012" (symmetric) or "2410" (2 % camber at 0.4 c, 10 % thick)'
     if isinstance(code, (int, np.integer)) and not isinstance(code, bool):
@@ -251,10 +274,6 @@ def naca(code, n=None):
             f"NACA code {code!r} gives a camber position but zero camber; a symmetric section is "
             f"\"00{c[2:]}\", a cambered one e.g. \"2{c[1]}{c[2:]}\""
         )
-    foil = Aerofoil(code=c, m=m, p=p, t=t)
-    if n is None:
-        return foil
     if not isinstance(n, (int, np.integer)) or isinstance(n, bool) or n < 4:
         raise GeometryError(f"n = {n!r} surface panels is invalid; give an integer >= 4, e.g. n=200")
-    x, y = foil.surface(np.linspace(0.0, 1.0, int(n) + 1))
-    return foil, x, y
+    return Aerofoil(code=c, m=m, p=p, t=t, n=int(n))

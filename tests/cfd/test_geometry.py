@@ -17,9 +17,8 @@ def test_symmetric_max_thickness_t_at_30_percent_chord(code):
 def test_trailing_edge_is_closed_and_leading_edge_at_origin(code):
     foil = naca(code)
     x, y = foil.surface(np.array([0.0, 0.5, 1.0]))
-    assert np.allclose(x, [1.0, 0.0, 1.0], atol=1e-15)
-    assert np.allclose(y, 0.0, atol=1e-15)
-    assert abs(foil.thickness(1.0)) < 1e-15
+    assert np.array_equal(x, [1.0, 0.0, 1.0]) and np.all(np.abs(y) <= 1e-17)
+    assert foil.thickness(1.0) == 0.0
 
 
 def test_closed_te_coefficients_sum_to_zero_and_differ_from_open():
@@ -76,10 +75,13 @@ def test_at_arc_places_points_on_the_surface_at_the_requested_arc_length():
 
 
 def test_naca_returns_frozen_aerofoil_and_points():
-    foil, x, y = naca(12, n=40)
+    foil = naca(12, n=40)
     assert isinstance(foil, Aerofoil) and foil.code == "0012" and foil.name == "NACA0012"
-    assert (foil.m, foil.p, foil.t) == (0.0, 0.0, 0.12)
-    assert x.shape == y.shape == (41,)
+    assert (foil.m, foil.p, foil.t, foil.n) == (0.0, 0.0, 0.12, 40)
+    x, y = foil.coordinates()
+    assert x.shape == y.shape == (41,) and foil.coordinates(10)[0].shape == (11,)
+    assert (x[0], y[0]) == (x[-1], y[-1]) == (1.0, 0.0)
+    assert x[20] == 0.0 and np.all(y[:20] <= 0) and np.all(y[21:] >= 0)
     with pytest.raises(AttributeError):
         foil.t = 0.2
     assert naca("NACA 2410") == naca("2410")
@@ -107,6 +109,8 @@ def test_invalid_codes_raise_geometry_error_with_an_example(code, match):
 def test_invalid_point_count_and_parameters():
     with pytest.raises(GeometryError, match="n=200"):
         naca("0012", n=2)
+    with pytest.raises(GeometryError, match="n=200"):
+        naca("0012").coordinates(3.5)
     with pytest.raises(GeometryError, match=r"\[0, 1\]"):
         naca("0012").surface([1.5])
     with pytest.raises(GeometryError, match="perimeter"):
