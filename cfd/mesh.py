@@ -264,7 +264,9 @@ def _check_sizes(ni, nj, n_surface, farfield):
             f"nj = {nj} nodes across the domain is too few to reach the far field with a smooth spacing; "
             "use nj >= 16 (the paper uses 60)"
         )
-    if not isinstance(farfield, (int, float, np.integer, np.floating)) or not np.isfinite(farfield) or farfield < 3.0:
+    if not isinstance(farfield, (int, float, np.integer, np.floating)) or not np.isfinite(farfield):
+        raise MeshError(f"farfield = {farfield!r} must be a finite number of chords, e.g. 25 (the default)")
+    if farfield < 3.0:
         raise MeshError(f"farfield = {farfield} chords is too close; use at least 3 (default 25)")
     return n_wake2 // 2
 
@@ -335,11 +337,8 @@ def _d_i(a):
 
 
 def _d_j(a):
+    """Central first difference along axis 1 on interior nodes: shape (ni-2, nj-2)."""
     return 0.5 * (a[1:-1, 2:] - a[1:-1, :-2])
-
-
-def _d_jj(a):
-    return a[1:-1, 2:] - 2.0 * a[1:-1, 1:-1] + a[1:-1, :-2]
 
 
 def _elliptic(x, y, f, n_iter, tol):

@@ -135,7 +135,7 @@ def test_small_and_large_grids_keep_the_far_field_and_cut(ni, nj, n_surface, far
         (dict(wall_spacing=0.0), "wall_spacing"),
         (dict(te_spacing=0.5), "te_spacing"),
         (dict(le_spacing=-1.0), "le_spacing"),
-        (dict(farfield="far"), "too close"),
+        (dict(farfield="far"), "finite number of chords"),
     ],
 )
 def test_bad_sizes_raise_mesh_error_saying_what_to_do(kwargs, match):
