@@ -1,0 +1,872 @@
+"""Study files (TOML) -> a validated, frozen :class:`StudyConfig`.
+
+A study file names the test cases and gusts, the sweep axes of the identification (model order
+``N_r``, sampling period ``T`` of the bilinear map, number of frequencies ``N_omega = M + 1`` by
+subsampling a base grid of ``M_base`` intervals), the identification variants and the simulation
+settings. Everything is checked here, before any computation: unknown keys, bad values and sweep
+points that the identification cannot support (an order too large for ``N_omega``) raise one typed
+error, :class:`StudyConfigError`, that names the file and the dotted key.
+
+Schema (every key optional unless marked; see ``studies/demo.toml`` and ``studies/paper.toml``)::
+
+    name = "demo"                  # default: the file's stem
+    description = "..."            # free text (not part of the hash)
+    output = "../results/demo"     # relative to the study file's folder; default results/<name> there
+    store = "../results/store"     # results store (studies.cache); default <output>/store
+    cases = ["T2", {name = "T5", orders = [25, 55]},
+             {name = "mine", naca = "0012", mach = 0.5, alpha_deg = 1.0, grid = {nj = 48}}]   # required
+    gusts = ["G3", "G6", {name = "g2c", kind = "one_minus_cosine", length = 2.0, angle_deg = 1.0}]
+
+    [grid]          # overrides of the paper grid (181 x 60, 100 on the wall, R = 25) for every case
+    ni = 181; nj = 60; n_surface = 100; farfield = 25.0
+
+    [sweep]
+    orders = [9, 15, 25]           # N_r, positive integers (required here or in every case)
+    T = ["70/(2*pi)"]              # numbers or arithmetic strings (numbers, pi, e, + - * / **, parentheses)
+    M_base = 256                   # intervals of the computed FRF grid (a power of two, >= 4)
+    M = [256, 32]                  # subsampled grids: powers of two dividing M_base, >= 2; default [M_base]
+
+    [methods.plain]                # identification variants, by name; [method] is short for [methods.default]
+    dc_gain = "none"               # "none" | "match" (or false | true)
+    stable = false                 # enforce spectral radius < 1 - margin
+    margin = 1e-3
+    weights = "none"               # "none" | "inverse_magnitude"
+    algorithm = "auto"             # "auto" | "mckelvey1" | "mckelvey2"
+
+    [simulation]                   # gust responses: ROM against LTD
+    discretisation = "tustin"      # re-discretisation of the continuous ROM at dt: "tustin" | "zoh"
+    dt = 0.02                      # LTD time step (convective time)
+    t_end = 40.0                   # final time
+    x0 = -2.0                      # gust front at s = 0 (chords, <= cfd.gust.X0_MAX)
+
+    [cfd]
+    gust_method = "svm"            # "svm" | "fvm"
+    outputs = ["Cl", "Cm"]         # subset of Cl, Cm, Cd
+
+A case entry may override ``orders``, ``T`` and ``M`` (replacing the ``[sweep]`` axis for that case) and
+``grid`` (on top of ``[grid]``). Axes are sorted and de-duplicated. List positions in keys are 0-based
+(``cases[1].mach``).
+
+Floats are normalised to 12 significant digits when read (so ``"70/(2*pi)"`` and ``"70/2/pi"`` are the same
+study, and the values computed with are exactly the values hashed). :meth:`StudyConfig.canonical_json` is the
+hashable form (sorted keys; paths and description left out); the ``*_piece`` functions give the
+sub-configurations that key each cached piece (steady flow, FRF, ROM, LTD and ROM histories), so that
+changing ``N_r`` keeps the FRF.
+"""
+
+from __future__ import annotations
+
+import ast
+import difflib
+import hashlib
+import json
+import math
+import numbers
+import operator
+import re
+import tomllib
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any, Mapping, Optional
+
+from .cases import (
+    GUST_CASES,
+    TEST_CASES,
+    CaseError,
+    FlowCase,
+    GridSpec,
+    GustCase,
+    UnknownCaseError,
+    _check_name,
+    _naca_code,
+    flow_case,
+    gust_case,
+)
+
+__all__ = [
+    "StudyConfigError",
+    "StudyConfig",
+    "CaseSweep",
+    "MethodOptions",
+    "SimulationOptions",
+    "CFDOptions",
+    "SweepPoint",
+    "load_study",
+    "loads_study",
+    "parse_study",
+    "parse_number",
+    "normalise_float",
+    "canonical_json",
+    "config_hash",
+    "max_order",
+    "steady_piece",
+    "frf_piece",
+    "rom_piece",
+    "ltd_piece",
+    "sim_piece",
+    "T_PAPER",
+]
+
+T_PAPER = 70.0 / (2.0 * math.pi)
+"""The paper's sampling period of the bilinear map (convective time)."""
+
+DISCRETISATIONS = ("tustin", "zoh")
+WEIGHTS = ("none", "inverse_magnitude")
+ALGORITHMS = ("auto", "mckelvey1", "mckelvey2")
+GUST_METHODS = ("svm", "fvm")
+OUTPUTS = ("Cl", "Cm", "Cd")
+
+TOP_KEYS = ("name", "description", "output", "store", "cases", "gusts", "grid", "sweep", "method", "methods",
+            "simulation", "cfd")
+GRID_KEYS = ("ni", "nj", "n_surface", "farfield")
+SWEEP_KEYS = ("orders", "T", "M_base", "M")
+CASE_KEYS = ("name", "naca", "mach", "alpha_deg", "grid", "orders", "T", "M")
+GUST_KEYS = ("name", "kind", "length", "angle_deg")
+METHOD_KEYS = ("dc_gain", "stable", "margin", "weights", "algorithm")
+SIMULATION_KEYS = ("discretisation", "dt", "t_end", "x0")
+CFD_KEYS = ("gust_method", "outputs")
+
+# names people reach for, mapped to ours (used for "did you mean" only)
+_ALIASES = {
+    "n_r": "orders", "nr": "orders", "order": "orders", "rom_order": "orders", "n_omega": "M",
+    "m": "M", "t": "T", "period": "T", "mbase": "M_base", "m_base": "M_base", "discretization": "discretisation",
+    "method": "algorithm", "dc": "dc_gain", "stability": "stable", "weight": "weights", "alpha": "alpha_deg",
+    "angle": "angle_deg", "gust": "gusts", "case": "cases", "out": "output", "output_dir": "output",
+    "cache": "store", "tend": "t_end", "t_final": "t_end", "mach_number": "mach", "aerofoil": "naca",
+    "airfoil": "naca",
+}
+
+
+class StudyConfigError(ValueError):
+    """A study file is invalid. Names the file and the dotted key.
+
+    Attributes
+    ----------
+    file : str
+        The study file (or ``"<string>"``).
+    key : str or None
+        Dotted key, e.g. ``"sweep.orders"`` or ``"cases[1].mach"``; None for file-level problems.
+    problem : str
+        What was wrong and what to do.
+    """
+
+    def __init__(self, file: str, key: Optional[str], problem: str):
+        self.file = str(file)
+        self.key = key
+        self.problem = problem
+        where = f"{self.file}: {key}: " if key else f"{self.file}: "
+        super().__init__(where + problem)
+
+
+# ---------------------------------------------------------------------------------------------
+# Numbers
+# ---------------------------------------------------------------------------------------------
+
+def normalise_float(x: float) -> float:
+    """``x`` rounded to 12 significant digits (``-0.0`` -> ``0.0``): the form stored and hashed."""
+    v = float(f"{float(x):.12g}")
+    return 0.0 if v == 0.0 else v
+
+
+_BINOPS = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul, ast.Div: operator.truediv,
+           ast.Pow: operator.pow}
+_UNOPS = {ast.UAdd: operator.pos, ast.USub: operator.neg}
+_NAMES = {"pi": math.pi, "e": math.e, "tau": 2.0 * math.pi}
+
+
+def parse_number(value) -> float:
+    """A real number from a TOML value: a number, or a string of plain arithmetic.
+
+    Strings may contain numbers, the names ``pi``, ``e`` and ``tau``, the operators ``+ - * / **`` and
+    parentheses, e.g. ``"70/(2*pi)"``. Nothing else is evaluated (no calls, attributes or other names).
+
+    Raises
+    ------
+    ValueError
+        Anything else, a division by zero, an overflow or a non-finite result.
+    """
+    if isinstance(value, bool):
+        raise ValueError(f"expected a number, got {value!r}")
+    if isinstance(value, numbers.Real):
+        v = float(value)
+    elif isinstance(value, str):
+        text = value.strip()
+        if not text or len(text) > 100:
+            raise ValueError(f"expected a number or a short arithmetic expression, got {value!r}")
+        try:
+            tree = ast.parse(text, mode="eval")
+        except SyntaxError:
+            raise ValueError(f"{value!r} is not an arithmetic expression (e.g. \"70/(2*pi)\")") from None
+
+        def ev(node) -> float:
+            if isinstance(node, ast.Expression):
+                return ev(node.body)
+            if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) \
+                    and not isinstance(node.value, bool):
+                return float(node.value)
+            if isinstance(node, ast.Name) and node.id in _NAMES:
+                return _NAMES[node.id]
+            if isinstance(node, ast.BinOp) and type(node.op) in _BINOPS:
+                return _BINOPS[type(node.op)](ev(node.left), ev(node.right))
+            if isinstance(node, ast.UnaryOp) and type(node.op) in _UNOPS:
+                return _UNOPS[type(node.op)](ev(node.operand))
+            raise ValueError(f"{value!r}: only numbers, pi, e, tau, + - * / ** and parentheses are allowed")
+
+        try:
+            v = ev(tree)
+        except ZeroDivisionError:
+            raise ValueError(f"{value!r} divides by zero") from None
+        except OverflowError:
+            raise ValueError(f"{value!r} overflows") from None
+        if isinstance(v, complex):
+            raise ValueError(f"{value!r} is not a real number")
+    else:
+        raise ValueError(f"expected a number or an arithmetic string, got {type(value).__name__} {value!r}")
+    if not math.isfinite(v):
+        raise ValueError(f"{value!r} is not finite")
+    return v
+
+
+# ---------------------------------------------------------------------------------------------
+# The subspace order limit (mirrors sysid.subspace: default_q and HankelSVD.max_order)
+# ---------------------------------------------------------------------------------------------
+
+def max_order(M: int, algorithm: str = "auto", p: int = 2, m: int = 1, order: Optional[int] = None) -> int:
+    """Largest model order ``sysid.identify`` accepts on McKelvey's grid with ``M + 1`` frequencies.
+
+    Uses ``sysid.subspace.default_q`` for the Hankel sizes that ``identify`` picks for a target ``order``
+    and the bounds of ``HankelSVD.max_order``: for Algorithm 1 (``"auto"`` on the equispaced grid and
+    ``"mckelvey1"``) ``q = min(M, 2 n + 2)``, ``r = 2 M - q`` and ``n <= min(q - 1, (q - 1) p, r m, #sv)``,
+    which is ``M - 1`` for the large orders; for Algorithm 2 ``q = min(q_max, 2 n + 2)``,
+    ``q_max = floor(2 K m / (m + p)) - 1`` and ``n <= q - 1``.
+
+    Parameters
+    ----------
+    M : int
+        Grid intervals (``N_omega = M + 1``).
+    algorithm : {"auto", "mckelvey1", "mckelvey2"}
+    p, m : int
+        Outputs and inputs.
+    order : int, optional
+        The target order (the Hankel sizes depend on it); default the largest the grid could support.
+
+    Returns
+    -------
+    int
+        0 when no order is possible.
+    """
+    from sysid.subspace import default_q
+
+    K = M + 1
+    method = "mckelvey2" if algorithm == "mckelvey2" else "mckelvey1"
+    n = order if order is not None else M  # large target: the sizes saturate
+    q, r = default_q(method, p, m, K, n)
+    if method == "mckelvey1":
+        if q < 2 or r < 1 or q + r > 2 * M:
+            return 0
+        return max(0, min(q - 1, (q - 1) * p, r * m, min(q * p, r * m)))
+    if q < 2 or q * (m + p) > 2 * K * m:
+        return 0
+    return max(0, min(q - 1, (q - 1) * p, q * p))
+
+
+def _order_ok(order: int, M: int, algorithm: str, p: int, m: int = 1) -> bool:
+    return order <= max_order(M, algorithm, p, m, order=order)
+
+
+# ---------------------------------------------------------------------------------------------
+# Frozen configuration objects
+# ---------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class MethodOptions:
+    """One identification variant (arguments of ``sysid.identify``).
+
+    Attributes
+    ----------
+    name : str
+    dc_gain : {"none", "match"}
+    stable : bool
+    margin : float
+    weights : {"none", "inverse_magnitude"}
+        ``"inverse_magnitude"``: weights ``1 / max(|H|, floor)^2`` of the B/D refit (relative errors).
+    algorithm : {"auto", "mckelvey1", "mckelvey2"}
+    """
+
+    name: str = "default"
+    dc_gain: str = "none"
+    stable: bool = False
+    margin: float = 1e-3
+    weights: str = "none"
+    algorithm: str = "auto"
+
+    def identify_kwargs(self) -> dict:
+        """Keyword arguments of ``sysid.identify`` except ``weights`` (data dependent: the runner's job)."""
+        return dict(dc_gain="match" if self.dc_gain == "match" else None, stable=self.stable,
+                    margin=self.margin, method=self.algorithm)
+
+    def canonical(self) -> dict:
+        """Everything but the name (the name does not change the result)."""
+        return dict(dc_gain=self.dc_gain, stable=self.stable, margin=self.margin, weights=self.weights,
+                    algorithm=self.algorithm)
+
+
+@dataclass(frozen=True)
+class SimulationOptions:
+    """Gust-response settings (ROM against LTD)."""
+
+    discretisation: str = "tustin"
+    dt: float = 0.02
+    t_end: float = 40.0
+    x0: float = -2.0
+
+
+@dataclass(frozen=True)
+class CFDOptions:
+    """Settings of the LFD and LTD solves."""
+
+    gust_method: str = "svm"
+    outputs: tuple = ("Cl", "Cm")
+
+
+@dataclass(frozen=True)
+class CaseSweep:
+    """A test case with its sweep axes (sorted, unique)."""
+
+    case: FlowCase
+    orders: tuple
+    T: tuple
+    M: tuple
+
+
+@dataclass(frozen=True)
+class SweepPoint:
+    """One identification: a case, ``T``, ``M`` (``N_omega = M + 1``), an order and a method variant."""
+
+    case: FlowCase
+    T: float
+    M: int
+    order: int
+    method: MethodOptions
+
+    @property
+    def n_omega(self) -> int:
+        return self.M + 1
+
+
+@dataclass(frozen=True)
+class StudyConfig:
+    """A validated study (see the module docstring for the file format).
+
+    Attributes
+    ----------
+    name : str
+    description : str
+    source : str
+        The study file, or ``"<string>"``.
+    output_dir, store_dir : pathlib.Path
+    cases : tuple of CaseSweep
+    gusts : tuple of GustCase
+    M_base : int
+    methods : tuple of MethodOptions
+    simulation : SimulationOptions
+    cfd : CFDOptions
+    """
+
+    name: str
+    description: str
+    source: str
+    output_dir: Path
+    store_dir: Path
+    cases: tuple
+    gusts: tuple
+    M_base: int
+    methods: tuple
+    simulation: SimulationOptions = field(default_factory=SimulationOptions)
+    cfd: CFDOptions = field(default_factory=CFDOptions)
+
+    def case(self, name: str) -> CaseSweep:
+        """The case sweep named ``name`` (case-insensitive)."""
+        for cs in self.cases:
+            if cs.case.name.casefold() == name.casefold():
+                return cs
+        raise UnknownCaseError("case of this study", name, [cs.case.name for cs in self.cases])
+
+    def points(self) -> tuple:
+        """Every identification of the study, in file order (case, T, M, order, method)."""
+        pts = []
+        for cs in self.cases:
+            for T in cs.T:
+                for M in cs.M:
+                    for n in cs.orders:
+                        for meth in self.methods:
+                            pts.append(SweepPoint(cs.case, T, M, n, meth))
+        return tuple(pts)
+
+    def canonical(self) -> dict:
+        """The hashable content: everything that changes results (no paths, no description)."""
+        return dict(
+            name=self.name,
+            cases=[dict(case=_case_canonical(cs.case), name=cs.case.name, orders=list(cs.orders), T=list(cs.T),
+                        M=list(cs.M)) for cs in self.cases],
+            gusts=[g.to_dict() for g in self.gusts],
+            M_base=self.M_base,
+            methods={m.name: m.canonical() for m in self.methods},
+            simulation=_dc_dict(self.simulation),
+            cfd=dict(gust_method=self.cfd.gust_method, outputs=list(self.cfd.outputs)),
+        )
+
+    def canonical_json(self) -> str:
+        """:func:`canonical_json` of :meth:`canonical`."""
+        return canonical_json(self.canonical())
+
+    def hash(self) -> str:
+        """sha256 (hex) of :meth:`canonical_json`."""
+        return hashlib.sha256(self.canonical_json().encode()).hexdigest()
+
+
+def _dc_dict(obj) -> dict:
+    return {k: getattr(obj, k) for k in obj.__dataclass_fields__}
+
+
+def _case_canonical(case: FlowCase) -> dict:
+    return dict(naca=case.naca, mach=case.mach, alpha_deg=case.alpha_deg, grid=case.grid.kwargs())
+
+
+def _canon(obj):
+    if isinstance(obj, bool) or obj is None or isinstance(obj, str):
+        return obj
+    if isinstance(obj, numbers.Integral):
+        return int(obj)
+    if isinstance(obj, numbers.Real):
+        v = float(obj)
+        if not math.isfinite(v):
+            raise ValueError(f"canonical_json: non-finite number {v!r}")
+        return normalise_float(v)
+    if isinstance(obj, Mapping):
+        out = {}
+        for k, v in obj.items():
+            if not isinstance(k, str):
+                raise TypeError(f"canonical_json: keys must be strings, got {k!r}")
+            out[k] = _canon(v)
+        return out
+    if isinstance(obj, (list, tuple)):
+        return [_canon(v) for v in obj]
+    if isinstance(obj, Path):
+        return str(obj)
+    if hasattr(obj, "__dataclass_fields__"):
+        return _canon(_dc_dict(obj))
+    raise TypeError(f"canonical_json: cannot encode {type(obj).__name__} {obj!r}")
+
+
+def canonical_json(obj) -> str:
+    """Canonical JSON: sorted keys, no spaces, floats normalised to 12 significant digits, ASCII.
+
+    Accepts dicts, lists, tuples, strings, numbers, booleans, None, paths and dataclasses.
+    """
+    return json.dumps(_canon(obj), sort_keys=True, separators=(",", ":"), ensure_ascii=True, allow_nan=False)
+
+
+def config_hash(obj) -> str:
+    """sha256 (hex) of :func:`canonical_json`."""
+    return hashlib.sha256(canonical_json(obj).encode()).hexdigest()
+
+
+# ---------------------------------------------------------------------------------------------
+# Piece sub-configurations (cache keys): each holds only what changes that piece
+# ---------------------------------------------------------------------------------------------
+
+def steady_piece(case: FlowCase) -> dict:
+    """Steady flow: aerofoil, Mach, incidence, grid (not the case's name)."""
+    return _case_canonical(case)
+
+
+def frf_piece(case: FlowCase, T: float, M_base: int, cfd: CFDOptions) -> dict:
+    """LFD frequency response on ``sysid.mckelvey_grid(M_base, T)``; subsampled grids reuse it."""
+    return dict(steady=steady_piece(case), T=T, M=M_base, gust_method=cfd.gust_method, outputs=list(cfd.outputs))
+
+
+def rom_piece(point: SweepPoint, M_base: int, cfd: CFDOptions) -> dict:
+    """Identified ROM of one sweep point."""
+    return dict(frf=frf_piece(point.case, point.T, M_base, cfd), M=point.M, order=point.order,
+                method=point.method.canonical())
+
+
+def ltd_piece(case: FlowCase, gust: GustCase, sim: SimulationOptions, cfd: CFDOptions) -> dict:
+    """LTD reference history of a case and gust."""
+    return dict(steady=steady_piece(case), gust=dict(kind=gust.kind, length=gust.length, angle_deg=gust.angle_deg),
+                dt=sim.dt, t_end=sim.t_end, x0=sim.x0, gust_method=cfd.gust_method, outputs=list(cfd.outputs))
+
+
+def sim_piece(point: SweepPoint, gust: GustCase, M_base: int, sim: SimulationOptions, cfd: CFDOptions) -> dict:
+    """ROM gust history of one sweep point and gust."""
+    return dict(rom=rom_piece(point, M_base, cfd),
+                gust=dict(kind=gust.kind, length=gust.length, angle_deg=gust.angle_deg),
+                discretisation=sim.discretisation, dt=sim.dt, t_end=sim.t_end, x0=sim.x0)
+
+
+# ---------------------------------------------------------------------------------------------
+# Parsing
+# ---------------------------------------------------------------------------------------------
+
+class _Parser:
+    def __init__(self, source: str):
+        self.source = source
+
+    def err(self, key, problem):
+        return StudyConfigError(self.source, key, problem)
+
+    def table(self, value, key) -> dict:
+        if not isinstance(value, dict):
+            raise self.err(key, f"must be a table, got {type(value).__name__} {value!r}")
+        return value
+
+    def check_keys(self, table: Mapping, allowed, prefix: str):
+        for k in table:
+            if k not in allowed:
+                key = f"{prefix}.{k}" if prefix else k
+                raise self.err(key, f"unknown key{_suggest(k, allowed)}; allowed here: {', '.join(allowed)}")
+
+    def number(self, value, key, *, positive=False, nonneg=False) -> float:
+        try:
+            v = parse_number(value)
+        except ValueError as e:
+            raise self.err(key, str(e)) from None
+        if positive and v <= 0.0:
+            raise self.err(key, f"must be positive, got {v!r}")
+        if nonneg and v < 0.0:
+            raise self.err(key, f"must be >= 0, got {v!r}")
+        return normalise_float(v)
+
+    def integer(self, value, key, *, minimum=None) -> int:
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise self.err(key, f"must be an integer, got {value!r}")
+        if minimum is not None and value < minimum:
+            raise self.err(key, f"must be >= {minimum}, got {value}")
+        return int(value)
+
+    def choice(self, value, key, options) -> str:
+        if not isinstance(value, str) or value not in options:
+            raise self.err(key, f"must be one of {', '.join(repr(o) for o in options)}, got {value!r}"
+                           f"{_suggest(value, options) if isinstance(value, str) else ''}")
+        return value
+
+    def boolean(self, value, key) -> bool:
+        if not isinstance(value, bool):
+            raise self.err(key, f"must be true or false, got {value!r}")
+        return value
+
+    def string(self, value, key) -> str:
+        if not isinstance(value, str):
+            raise self.err(key, f"must be a string, got {value!r}")
+        return value
+
+    def axis(self, value, key, parse_one) -> tuple:
+        if not isinstance(value, list):
+            value = [value]
+        if not value:
+            raise self.err(key, "must not be empty")
+        vals = [parse_one(v, f"{key}[{i}]") for i, v in enumerate(value)]
+        return tuple(sorted(set(vals)))
+
+
+def _suggest(word: str, options) -> str:
+    options = list(options)
+    alias = _ALIASES.get(word.lower())
+    if alias in options:
+        return f" (did you mean {alias!r}?)"
+    low = {o.lower(): o for o in options}
+    if word.lower() in low:
+        return f" (did you mean {low[word.lower()]!r}?)"
+    close = difflib.get_close_matches(word, options, n=1, cutoff=0.6)
+    return f" (did you mean {close[0]!r}?)" if close else ""
+
+
+def _grid_error(P: _Parser, prefix: str, e: CaseError) -> StudyConfigError:
+    msg = str(e).removeprefix("grid: ")
+    m = re.match(r"(ni|nj|n_surface|farfield)\b", msg)
+    return P.err(f"{prefix}.{m.group(1)}" if m else prefix, msg)
+
+
+def _is_pow2(n: int) -> bool:
+    return n >= 1 and n & (n - 1) == 0
+
+
+def load_study(path) -> StudyConfig:
+    """Read and validate a study file.
+
+    Parameters
+    ----------
+    path : path-like
+        A TOML study file. Relative ``output`` and ``store`` are taken from its folder.
+
+    Returns
+    -------
+    StudyConfig
+
+    Raises
+    ------
+    StudyConfigError
+        Missing or unreadable file, TOML syntax, unknown keys, bad values, impossible sweep points.
+    """
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise StudyConfigError(str(path), None, "no such study file; give the path of a .toml study "
+                               "(examples: studies/demo.toml, studies/paper.toml)") from None
+    except (OSError, UnicodeDecodeError) as e:
+        raise StudyConfigError(str(path), None, f"cannot read the study file: {e}") from None
+    return loads_study(text, source=str(path), base_dir=path.resolve().parent, default_name=path.stem)
+
+
+def loads_study(text: str, source: str = "<string>", base_dir=None, default_name: str = "study") -> StudyConfig:
+    """Validate a study given as TOML text (see :func:`load_study`)."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        raise StudyConfigError(source, None, f"not valid TOML: {e}") from None
+    return parse_study(data, source=source, base_dir=base_dir, default_name=default_name)
+
+
+def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
+                default_name: str = "study") -> StudyConfig:
+    """Validate a study given as a dictionary (the parsed TOML); see :func:`load_study`."""
+    P = _Parser(source)
+    data = P.table(dict(data), None)
+    P.check_keys(data, TOP_KEYS, "")
+    base = Path(base_dir) if base_dir is not None else Path.cwd()
+
+    name = P.string(data.get("name", default_name), "name")
+    if not name or any(c in name for c in "/\\\0"):
+        raise P.err("name", f"{name!r} must be a non-empty name without path separators")
+    description = P.string(data.get("description", ""), "description")
+
+    # global grid overrides
+    grid_over = P.table(data.get("grid", {}), "grid")
+    P.check_keys(grid_over, GRID_KEYS, "grid")
+    try:
+        base_grid = GridSpec(**grid_over)
+    except CaseError as e:
+        raise _grid_error(P, "grid", e) from None
+
+    # sweep
+    sweep = P.table(data.get("sweep", {}), "sweep")
+    P.check_keys(sweep, SWEEP_KEYS, "sweep")
+    M_base = P.integer(sweep.get("M_base", 256), "sweep.M_base", minimum=4)
+    if not _is_pow2(M_base):
+        raise P.err("sweep.M_base", f"must be a power of two (e.g. 256 = 2^8 as in the paper), got {M_base}")
+
+    def parse_order(v, key):
+        return P.integer(v, key, minimum=1)
+
+    def parse_T(v, key):
+        return P.number(v, key, positive=True)
+
+    def parse_M(v, key):
+        M = P.integer(v, key, minimum=2)
+        if not _is_pow2(M):
+            raise P.err(key, f"must be a power of two (N_omega = M + 1 by subsampling M_base = {M_base}), got {M}")
+        if M > M_base or M_base % M:
+            raise P.err(key, f"M = {M} does not divide M_base = {M_base}; use one of "
+                        f"{', '.join(str(M_base >> i) for i in range(M_base.bit_length() - 1))}")
+        return M
+
+    g_orders = P.axis(sweep["orders"], "sweep.orders", parse_order) if "orders" in sweep else None
+    g_T = P.axis(sweep.get("T", [T_PAPER]), "sweep.T", parse_T)
+    g_M = P.axis(sweep.get("M", [M_base]), "sweep.M", parse_M)
+
+    # cfd and simulation
+    cfd_t = P.table(data.get("cfd", {}), "cfd")
+    P.check_keys(cfd_t, CFD_KEYS, "cfd")
+    gust_method = P.choice(cfd_t.get("gust_method", "svm"), "cfd.gust_method", GUST_METHODS)
+    outs = cfd_t.get("outputs", ["Cl", "Cm"])
+    if not isinstance(outs, list) or not outs:
+        raise P.err("cfd.outputs", f"must be a non-empty list of {', '.join(OUTPUTS)}, got {outs!r}")
+    outs = tuple(P.choice(o, f"cfd.outputs[{i}]", OUTPUTS) for i, o in enumerate(outs))
+    if len(set(outs)) != len(outs):
+        raise P.err("cfd.outputs", f"lists an output twice: {list(outs)}")
+    cfd = CFDOptions(gust_method=gust_method, outputs=outs)
+
+    sim_t = P.table(data.get("simulation", {}), "simulation")
+    P.check_keys(sim_t, SIMULATION_KEYS, "simulation")
+    d = SimulationOptions()
+    disc = P.choice(sim_t.get("discretisation", d.discretisation), "simulation.discretisation", DISCRETISATIONS)
+    dt = P.number(sim_t.get("dt", d.dt), "simulation.dt", positive=True)
+    t_end = P.number(sim_t.get("t_end", d.t_end), "simulation.t_end", positive=True)
+    x0 = P.number(sim_t.get("x0", d.x0), "simulation.x0")
+    from cfd.gust import X0_MAX
+
+    if x0 > X0_MAX:
+        raise P.err("simulation.x0", f"x0 = {x0} puts the gust front inside the aerofoil's region of influence; "
+                    f"use x0 <= {X0_MAX} chords (-2 recommended)")
+    if t_end < dt:
+        raise P.err("simulation.t_end", f"t_end = {t_end} is shorter than one time step dt = {dt}")
+    if t_end <= -x0:
+        raise P.err("simulation.t_end", f"t_end = {t_end} ends before the gust reaches the aerofoil at s = {-x0} "
+                    f"(x0 = {x0}); use a longer t_end")
+    sim = SimulationOptions(discretisation=disc, dt=dt, t_end=t_end, x0=x0)
+
+    # methods
+    if "method" in data and "methods" in data:
+        raise P.err("method", "give either [method] (one variant) or [methods.NAME] tables, not both")
+    if "methods" in data:
+        mt = P.table(data["methods"], "methods")
+        if not mt:
+            raise P.err("methods", "define at least one variant, e.g. [methods.plain]")
+        raw_methods = list(mt.items())
+    else:
+        raw_methods = [("default", data.get("method", {}))]
+    methods = []
+    for mname, mtab in raw_methods:
+        prefix = "method" if "method" in data else f"methods.{mname}"
+        mtab = P.table(mtab, prefix)
+        P.check_keys(mtab, METHOD_KEYS, prefix)
+        try:
+            _check_name("method", mname)
+        except CaseError as e:
+            raise P.err(prefix, str(e)) from None
+        dc = mtab.get("dc_gain", "none")
+        if isinstance(dc, bool):
+            dc = "match" if dc else "none"
+        dc = P.choice(dc, f"{prefix}.dc_gain", ("none", "match"))
+        margin = P.number(mtab.get("margin", 1e-3), f"{prefix}.margin", nonneg=True)
+        if margin >= 1.0:
+            raise P.err(f"{prefix}.margin", f"must be in [0, 1) (discrete spectral radius < 1 - margin), got {margin}")
+        methods.append(MethodOptions(
+            name=mname, dc_gain=dc, stable=P.boolean(mtab.get("stable", False), f"{prefix}.stable"), margin=margin,
+            weights=P.choice(mtab.get("weights", "none"), f"{prefix}.weights", WEIGHTS),
+            algorithm=P.choice(mtab.get("algorithm", "auto"), f"{prefix}.algorithm", ALGORITHMS)))
+
+    # cases
+    if "cases" not in data:
+        raise P.err("cases", "missing: list the test cases, e.g. cases = [\"T2\"] (paper names T1-T6) or "
+                    "inline tables {name = \"mine\", naca = \"0012\", mach = 0.5}")
+    raw_cases = data["cases"]
+    if not isinstance(raw_cases, list) or not raw_cases:
+        raise P.err("cases", f"must be a non-empty list, got {raw_cases!r}")
+    sweeps = []
+    for i, entry in enumerate(raw_cases):
+        key = f"cases[{i}]"
+        sweeps.append(_parse_case(P, entry, key, base_grid, g_orders, g_T, g_M, parse_order, parse_T, parse_M))
+    names = [cs.case.name.casefold() for cs in sweeps]
+    for i, n in enumerate(names):
+        if names.index(n) != i:
+            raise P.err(f"cases[{i}].name", f"case {sweeps[i].case.name!r} appears twice; give each case once")
+
+    # gusts
+    raw_gusts = data.get("gusts", [])
+    if not isinstance(raw_gusts, list):
+        raise P.err("gusts", f"must be a list (e.g. [\"G3\", \"G6\"]), got {raw_gusts!r}")
+    gusts = []
+    for i, entry in enumerate(raw_gusts):
+        key = f"gusts[{i}]"
+        if isinstance(entry, str):
+            try:
+                gusts.append(gust_case(entry))
+            except UnknownCaseError as e:
+                raise P.err(key, str(e)) from None
+            continue
+        entry = P.table(entry, key)
+        P.check_keys(entry, GUST_KEYS, key)
+        if set(entry) == {"name"}:
+            try:
+                gusts.append(gust_case(entry["name"]))
+            except UnknownCaseError as e:
+                raise P.err(f"{key}.name", str(e)) from None
+            continue
+        for req in ("name", "kind", "angle_deg"):
+            if req not in entry:
+                raise P.err(f"{key}.{req}", "missing: a user gust needs name, kind, angle_deg (and length for "
+                            "one_minus_cosine)")
+        if isinstance(entry["name"], str) and entry["name"].casefold() in {g.casefold() for g in GUST_CASES}:
+            raise P.err(f"{key}.name", f"{entry['name']!r} is a paper gust case with fixed parameters; give your "
+                        "gust another name, or use just \"" + entry["name"] + "\"")
+        try:
+            length = entry.get("length")
+            gusts.append(GustCase(entry["name"], entry["kind"],
+                                  None if length is None else P.number(length, f"{key}.length"),
+                                  P.number(entry["angle_deg"], f"{key}.angle_deg")))
+        except CaseError as e:
+            raise P.err(key, str(e)) from None
+    gnames = [g.name.casefold() for g in gusts]
+    for i, n in enumerate(gnames):
+        if gnames.index(n) != i:
+            raise P.err(f"gusts[{i}]", f"gust {gusts[i].name!r} appears twice; give each gust once")
+
+    # impossible sweep points, before any computation
+    p = len(cfd.outputs)
+    for i, cs in enumerate(sweeps):
+        okey = f"cases[{i}].orders" if cs.orders is not g_orders else "sweep.orders"
+        for M in cs.M:
+            for meth in methods:
+                for n in cs.orders:
+                    if not _order_ok(n, M, meth.algorithm, p):
+                        lim = max_order(M, meth.algorithm, p)
+                        raise P.err(okey, (
+                            f"order {n} is impossible for case {cs.case.name} with M = {M} (N_omega = {M + 1}) and "
+                            f"algorithm {meth.algorithm!r} (method {meth.name!r}): the subspace step supports at most "
+                            f"{lim} states there; lower the order or use a larger M"))
+
+    out = data.get("output")
+    output_dir = ((base / P.string(out, "output")) if out is not None else base / "results" / name).resolve()
+    store = data.get("store")
+    store_dir = (base / P.string(store, "store")).resolve() if store is not None else output_dir / "store"
+    return StudyConfig(name=name, description=description, source=source, output_dir=output_dir,
+                       store_dir=store_dir, cases=tuple(sweeps), gusts=tuple(gusts), M_base=M_base,
+                       methods=tuple(methods), simulation=sim, cfd=cfd)
+
+
+def _parse_case(P: _Parser, entry, key, base_grid, g_orders, g_T, g_M, parse_order, parse_T, parse_M) -> CaseSweep:
+    if isinstance(entry, str):
+        if entry.casefold() not in {n.casefold() for n in TEST_CASES}:
+            raise P.err(key, f"unknown test case {entry!r}; the paper's are {', '.join(TEST_CASES)} (case-insensitive); "
+                        "define your own as a table, e.g. {name = \"mine\", naca = \"0012\", mach = 0.5}")
+        entry = {"name": entry}
+    entry = P.table(entry, key)
+    P.check_keys(entry, CASE_KEYS, key)
+    if "name" not in entry:
+        raise P.err(f"{key}.name", "missing: every case needs a name (a paper case T1-T6, or your own label)")
+    name = entry["name"]
+    if not isinstance(name, str):
+        raise P.err(f"{key}.name", f"must be a string, got {name!r}")
+    flow_keys = [k for k in ("naca", "mach", "alpha_deg") if k in entry]
+    grid_t = P.table(entry.get("grid", {}), f"{key}.grid")
+    P.check_keys(grid_t, GRID_KEYS, f"{key}.grid")
+    try:
+        grid = GridSpec(**{**base_grid.kwargs(), **grid_t})
+    except CaseError as e:
+        raise _grid_error(P, f"{key}.grid", e) from None
+    is_paper = name.casefold() in {n.casefold() for n in TEST_CASES}
+    if is_paper:
+        if flow_keys:
+            raise P.err(f"{key}.{flow_keys[0]}", f"{name!r} is a paper case with a fixed aerofoil, Mach number "
+                        "and incidence; give your case another name to define it yourself")
+        case = replace(flow_case(name), grid=grid)
+    else:
+        missing = [k for k in ("naca", "mach") if k not in entry]
+        if missing:
+            raise P.err(f"{key}.{missing[0]}", (
+                f"missing: {name!r} is not a paper case ({', '.join(TEST_CASES)}), so it needs naca and mach "
+                "(and optionally alpha_deg, grid)"))
+        try:
+            naca = _naca_code(f"case {name!r}", entry["naca"])
+        except CaseError as e:
+            raise P.err(f"{key}.naca", str(e)) from None
+        mach = P.number(entry["mach"], f"{key}.mach")
+        if not 0.0 < mach < 1.0:
+            raise P.err(f"{key}.mach", f"mach = {mach} is out of range; use 0 < mach < 1 (subsonic free stream)")
+        alpha = P.number(entry.get("alpha_deg", 0.0), f"{key}.alpha_deg")
+        if abs(alpha) >= 90.0:
+            raise P.err(f"{key}.alpha_deg", f"alpha_deg = {alpha} is not an incidence; use |alpha_deg| < 90")
+        try:
+            case = FlowCase(name, naca, mach, alpha, grid)
+        except CaseError as e:
+            raise P.err(f"{key}.name", str(e)) from None
+    orders = P.axis(entry["orders"], f"{key}.orders", parse_order) if "orders" in entry else g_orders
+    if orders is None:
+        raise P.err("sweep.orders", f"missing: give the model orders N_r in [sweep] (orders = [9, 15, 25]) or "
+                    f"in {key}")
+    T = P.axis(entry["T"], f"{key}.T", parse_T) if "T" in entry else g_T
+    M = P.axis(entry["M"], f"{key}.M", parse_M) if "M" in entry else g_M
+    return CaseSweep(case=case, orders=orders, T=T, M=M)
