@@ -30,9 +30,11 @@ Two methods, both returning a real matrix with spectral radius below ``1 - margi
     ``eig(T22)`` (< rho by construction). In the shift equation ``(Gamma1 Z) T ~= Gamma2 Z`` the first k
     columns involve ``T11`` alone, so the reduced problem is the same SDP with ``Gamma1 Z1`` and
     ``Gamma2 Z1``, and the other columns' residuals do not change. This is a restriction of the full
-    SDP (``subspace=False``), which it matches when one block is unstable, at a fraction of the cost:
-    the full SDP has a 2n x 2n PSD cone, and Clarabel needs about 50 s at n = 55. The full SDP also
-    tends to move every eigenvalue, as its objective is weighted by ``P``.
+    SDP (``subspace=False``) at a fraction of the cost: the full SDP has a 2n x 2n PSD cone, Clarabel
+    needed 52 s at n = 55 on random data and failed (NumericalError) on lightly damped identified data.
+    The full SDP also tends to move every eigenvalue (its objective is weighted by ``P``, which may be
+    nearly singular), so it changed A more than reflection did in our tests; the subspace form changed it
+    less.
 
 ``"reflect"`` -- eigenvalue reflection, the cheap baseline. In the real Schur form ``A = Z T Z^T`` each
     1x1 or 2x2 diagonal block whose eigenvalue has modulus ``r >= rho`` is scaled so that its eigenvalues
@@ -223,7 +225,8 @@ def stabilise(A, *, method: str = "lmi", margin: float = 1e-3, gamma1=None, gamm
     subspace : bool
         ``"lmi"`` only. True (default): solve the SDP on the invariant subspace of the eigenvalues with
         ``|lambda| >= 1 - margin`` only (see the module docstring); False: the full n x n SDP (Clarabel
-        takes about 50 s for n = 55, as the 2n x 2n PSD cone makes its KKT system dense).
+        took 52 s for a random n = 55 problem, as the 2n x 2n PSD cone makes its KKT system dense, and stopped
+        with NumericalError after about 11 s on the lightly damped N_r = 55 benchmark data; use it for small n).
     force : bool
         Run the method even when ``A`` is already stable with the margin.
     solver_opts : dict, optional
