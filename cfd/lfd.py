@@ -10,61 +10,25 @@ incidence (paper Eq. 18). ``omega = inf`` returns the feedthrough ``D = 0`` with
 stays bounded while ``i omega V`` grows, so ``q -> 0``.
 """
 
-import warnings
-
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from sysid import FrequencyResponse
 
 from .gust import face_gust_harmonic
-from .linear import LinearError, _check_method, check_outputs
-from .ordering import nested_dissection, unknown_permutation
+from .linear import LinearError, _check_method, check_outputs, factorise, grid_permutation
 
 __all__ = ["lfd_response", "lfd_state", "solve_direct"]
 
 
-def solve_direct(A, b, perm=None, rtol=1e-9):
-    """Solve ``A x = b`` by sparse LU with a checked residual.
-
-    The fill-reducing symmetric ``perm`` (geometric nested dissection, ``cfd.ordering``) is used
-    without row pivoting, which fills several times less than COLAMD; the result is then checked
-    (``|A x - b| <= rtol |b|`` after one step of iterative refinement) and the system re-solved with
-    COLAMD and partial pivoting if the check fails.
-
-    Parameters
-    ----------
-    A : scipy.sparse matrix, shape (n, n), real or complex
-    b : ndarray, shape (n,)
-    perm : ndarray of int, shape (n,), optional
-    rtol : float
-
-    Returns
-    -------
-    ndarray, shape (n,)
-    """
-    bn = np.linalg.norm(b)
-    if perm is not None:
-        Ap = sp.csr_matrix(A)[perm][:, perm].tocsc()
-        inv = np.empty_like(perm)
-        inv[perm] = np.arange(perm.size)
-        try:
-            lu = spla.splu(Ap, permc_spec="NATURAL", diag_pivot_thresh=0.0, options=dict(SymmetricMode=True))
-            x = lu.solve(b[perm])[inv]
-            r = b - A @ x
-            x = x + lu.solve(r[perm])[inv]
-            if np.all(np.isfinite(x)) and np.linalg.norm(b - A @ x) <= rtol * bn:
-                return x
-        except RuntimeError:
-            pass
-        warnings.warn("unpivoted nested-dissection LU was inaccurate; re-solving with COLAMD and pivoting",
-                      RuntimeWarning, stacklevel=3)
-    return spla.splu(sp.csc_matrix(A), permc_spec="COLAMD").solve(b)
+def solve_direct(A, b, perm=None):
+    """Solve ``A x = b`` once with :func:`cfd.linear.factorise` (checked LU, real form for complex ``A``)."""
+    solve, _ = factorise(A, perm)
+    return solve(b)
 
 
 def _permutation(lin):
-    return unknown_permutation(nested_dissection(lin.grid))
+    return grid_permutation(lin.grid)
 
 
 def _frequencies(omega):

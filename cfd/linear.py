@@ -31,8 +31,11 @@ and ``cfd.boundary.wall_pressure`` (8 evaluations), the first from the face geom
 
 from dataclasses import dataclass, field
 
+import warnings
+
 import numpy as np
 import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
 from .boundary import wall_pressure
 from .euler import residual
@@ -40,8 +43,10 @@ from .flow import FlowCondition, pressure
 from .gust import cell_x_gradient, svm_source
 from .jacobian import H_STEP, coloured_complex_step, jacobian
 from .loads import force_coefficients
+from .ordering import nested_dissection, unknown_permutation
 
-__all__ = ["LinearSystem", "linearise", "linearise_state", "wall_loads", "OUTPUTS", "METHODS", "LinearError"]
+__all__ = ["LinearSystem", "linearise", "linearise_state", "wall_loads", "factorise", "OUTPUTS", "METHODS",
+           "LinearError"]
 
 OUTPUTS = ("Cl", "Cm", "Cd")
 METHODS = ("svm", "fvm")
@@ -248,6 +253,81 @@ class LinearSystem:
             src = svm_source(self.q, self.mach, cell_x_gradient(self.grid, gi, gj), self.flow.gamma)
             b = b - src.reshape(b.shape)  # dR/dsource = -I
         return b.reshape(batch + (self.n,))
+
+
+def _lu_nopivot(A, perm):
+    Ap = sp.csr_matrix(A)[perm][:, perm].tocsc()
+    lu = spla.splu(Ap, permc_spec="NATURAL", diag_pivot_thresh=0.0, options=dict(SymmetricMode=True))
+    inv = np.empty_like(perm)
+    inv[perm] = np.arange(perm.size)
+    return lambda r: lu.solve(r[perm])[inv], lu.L.nnz + lu.U.nnz
+
+
+def factorise(A, perm=None, rtol=1e-9):
+    """Sparse LU of a real or complex matrix for repeated solves, with a checked accuracy.
+
+    The unknowns are ordered by ``perm`` (geometric nested dissection of the grid, ``cfd.ordering``) and
+    factorised by SuperLU without row pivoting, which fills several times less than COLAMD with
+    pivoting. A complex matrix ``A = Ar + i Ai`` is factorised as its real equivalent
+    ``[[Ar, -Ai], [Ai, Ar]]`` with the real and imaginary parts of each unknown interleaved: SciPy's
+    complex SuperLU is about ten times slower than the real one for the same fill, and the real form
+    (four times the fill) is about five times faster overall (measured on an 18 720-unknown grid).
+    The factors are checked on a random right-hand side (``|A x - b| <= rtol |b|``); if the check
+    fails, COLAMD with partial pivoting is used instead (with a RuntimeWarning).
+
+    Parameters
+    ----------
+    A : scipy.sparse matrix, shape (n, n)
+    perm : ndarray of int, shape (n,), optional
+        Symmetric fill-reducing permutation; None: COLAMD with pivoting directly.
+    rtol : float
+
+    Returns
+    -------
+    solve : callable
+        ``solve(b)``, ``b`` of shape (n,), returns ``x`` (complex if ``A`` is).
+    fill : float
+        ``nnz(L + U) / nnz(A)`` of the factorisation used (of the real form for complex ``A``).
+    """
+    A = sp.csr_matrix(A)
+    n = A.shape[0]
+    cplx = np.iscomplexobj(A.data)
+    if cplx:
+        K = sp.bmat([[A.real, -A.imag], [A.imag, A.real]], format="csr")
+        K.eliminate_zeros()
+
+        def wrap(solve_real):
+            def solve(b):
+                b = np.asarray(b)
+                y = solve_real(np.concatenate([b.real, b.imag]).astype(float))
+                return y[:n] + 1j * y[n:]
+            return solve
+    else:
+        K = A
+
+        def wrap(solve_real):
+            return solve_real
+    if perm is not None:
+        p = np.stack([perm, perm + n], axis=1).ravel() if cplx else perm
+        try:
+            solve_real, nnz = _lu_nopivot(K, p)
+            solve = wrap(solve_real)
+            rng = np.random.default_rng(0)
+            b = rng.normal(size=n) + (1j * rng.normal(size=n) if cplx else 0.0)
+            x = solve(b)
+            if np.all(np.isfinite(x)) and np.linalg.norm(A @ x - b) <= rtol * np.linalg.norm(b):
+                return solve, nnz / K.nnz
+        except RuntimeError:
+            pass
+        warnings.warn("unpivoted nested-dissection LU was inaccurate; re-factorising with COLAMD and pivoting",
+                      RuntimeWarning, stacklevel=2)
+    lu = spla.splu(K.tocsc(), permc_spec="COLAMD")
+    return wrap(lu.solve), (lu.L.nnz + lu.U.nnz) / K.nnz
+
+
+def grid_permutation(grid):
+    """Nested-dissection ordering of the 4N unknowns of a grid (for :func:`factorise`)."""
+    return unknown_permutation(nested_dissection(grid))
 
 
 def linearise_state(grid, q, flow, scheme=None):

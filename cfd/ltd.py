@@ -23,8 +23,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .gust import OneMinusCosine, SharpEdged, SineGust, face_gust
-from .linear import LinearError, _check_method
-from .ordering import nested_dissection, unknown_permutation
+from .linear import LinearError, _check_method, factorise, grid_permutation
 
 __all__ = ["LTDHistory", "ltd_response", "phase_error_estimate"]
 
@@ -68,25 +67,6 @@ def phase_error_estimate(gust, dt):
     else:
         wg = 2.0 * math.pi
     return (wg * dt) ** 2 / 3.0
-
-
-def _factorise(A, perm):
-    """LU of the constant BDF2 matrix; nested dissection without pivoting, COLAMD as a fallback."""
-    import scipy.sparse.linalg as spla
-
-    Ap = sp.csr_matrix(A)[perm][:, perm].tocsc()
-    inv = np.empty_like(perm)
-    inv[perm] = np.arange(perm.size)
-    try:
-        lu = spla.splu(Ap, permc_spec="NATURAL", diag_pivot_thresh=0.0, options=dict(SymmetricMode=True))
-        b = np.ones(A.shape[0])
-        x = lu.solve(b[perm])[inv]
-        if np.all(np.isfinite(x)) and np.linalg.norm(A @ x - b) <= 1e-9 * np.linalg.norm(b):
-            return lambda r: lu.solve(r[perm])[inv]
-    except RuntimeError:
-        pass
-    lu = spla.splu(sp.csc_matrix(A), permc_spec="COLAMD")
-    return lu.solve
 
 
 def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, max_phase_error=0.01):
@@ -143,7 +123,7 @@ def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, ma
     h = lin.to_solver_time(dt)
     V = lin.V
     A = lin.J + sp.diags(1.5 * V / h)
-    solve = _factorise(A, unknown_permutation(nested_dissection(lin.grid)))
+    solve, _ = factorise(A, grid_permutation(lin.grid))
     if initial is None:
         q_prev = np.zeros(lin.n)
         q = np.zeros(lin.n)
