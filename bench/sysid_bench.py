@@ -290,6 +290,14 @@ def main(argv=None):
     lines = [f"<!-- {platform.processor() or platform.machine()}, {os.cpu_count()} CPUs, "
              f"OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS')}, numpy {np.__version__} -->", ""]
     lines += comparison_table(args.order, args.repeat, args.over_order)
+    lines += [
+        "",
+        "Equal order: sysid has n states shared by all 4 channels; VF has n poles shared by all channels "
+        "(n/2 complex pairs); AAA is scalar, so each channel gets its own type (n, n) rational function "
+        "(n poles per channel, 4n in all) fitted in z on the conjugate-symmetric full circle. DC error is "
+        "relative to the data's omega = 0 sample; sysid 'dc' imposes it exactly (convex equality), skrf's "
+        "enforce_dc sets its constant term. Times: best of --repeat runs after a warm-up.",
+    ]
     lines += performance_table(args.full_sdp)
     text = "\n".join(lines)
     print(text)
