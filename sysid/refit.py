@@ -39,6 +39,7 @@ Two solvers, same problem:
 
 from __future__ import annotations
 
+import threading
 import time
 import warnings
 from collections import OrderedDict
@@ -66,6 +67,7 @@ _RCOND = 1e-13
 #: Maximum number of compiled cvxpy problems kept (least recently used are dropped).
 _CACHE_SIZE = 64
 _PROBLEM_CACHE: "OrderedDict[tuple, _CompiledRefit]" = OrderedDict()
+_CACHE_LOCK = threading.Lock()
 
 
 # --------------------------------------------------------------------------------------------- results
@@ -344,11 +346,13 @@ class _CompiledRefit:
         self.problem = cp.Problem(obj, cons)
         assert self.problem.is_dpp()
         self.n_solves = 0
+        self.lock = threading.Lock()  # Parameter values are shared state: one solve at a time
 
 
 def clear_refit_cache() -> None:
     """Forget all compiled refit problems (the next constrained refit compiles again)."""
-    _PROBLEM_CACHE.clear()
+    with _CACHE_LOCK:
+        _PROBLEM_CACHE.clear()
 
 
 def _get_compiled(key, N, c, m):
@@ -367,21 +371,25 @@ def _get_compiled(key, N, c, m):
 def _solve_clarabel(key, hs, Qs, fs, m, N, c):
     import cvxpy as cp
 
-    comp, reused = _get_compiled(key, N, c, m)
-    for j in range(m):
-        comp.h[j].value = hs[j]
-        comp.Q[j].value = Qs[j]
-        comp.f[j].value = fs[j]
-    try:
-        comp.problem.solve(
-            solver=cp.CLARABEL, tol_gap_abs=1e-12, tol_gap_rel=1e-12, tol_feas=1e-12, max_iter=200
-        )
-    except cp.error.SolverError as exc:  # pragma: no cover - depends on solver internals
-        raise SolverError(
-            f"Clarabel failed on the B/D refit ({exc}). Try solver='numpy', fewer constraints or a lower order."
-        ) from exc
-    status = comp.problem.status
-    if status not in ("optimal", "optimal_inaccurate") or any(y.value is None for y in comp.y):
+    with _CACHE_LOCK:
+        comp, reused = _get_compiled(key, N, c, m)
+    with comp.lock:
+        for j in range(m):
+            comp.h[j].value = hs[j]
+            comp.Q[j].value = Qs[j]
+            comp.f[j].value = fs[j]
+        try:
+            comp.problem.solve(
+                solver=cp.CLARABEL, tol_gap_abs=1e-12, tol_gap_rel=1e-12, tol_feas=1e-12, max_iter=200
+            )
+        except cp.error.SolverError as exc:  # pragma: no cover - depends on solver internals
+            raise SolverError(
+                f"Clarabel failed on the B/D refit ({exc}). Try solver='numpy', fewer constraints or a lower order."
+            ) from exc
+        status = comp.problem.status
+        ys = [None if y.value is None else np.array(y.value, dtype=float) for y in comp.y]
+        comp.n_solves += 1
+    if status not in ("optimal", "optimal_inaccurate") or any(y is None for y in ys):
         raise SolverError(
             f"Clarabel returned status {status!r} on the B/D refit. The constraints may be inconsistent; "
             "try solver='numpy', drop a constraint or lower the order."
@@ -393,8 +401,7 @@ def _solve_clarabel(key, hs, Qs, fs, m, N, c):
             RuntimeWarning,
             stacklevel=4,
         )
-    comp.n_solves += 1
-    return [np.asarray(y.value, dtype=float) for y in comp.y], status, reused
+    return ys, status, reused
 
 
 def _null_space_solve(Phi, g, E, f):

@@ -331,3 +331,18 @@ def test_pole_on_a_sample_point_is_a_typed_error(grid):
     A = np.diag([1.0, 0.5])  # z = 1 is grid[0]
     with pytest.raises(FrequencyDataError, match="unit circle"):
         fit_bd(A, np.ones((1, 2)), grid, np.ones((1, 1, grid.size)))
+
+
+def test_concurrent_refits_share_the_cached_problem_safely(grid):
+    from concurrent.futures import ThreadPoolExecutor
+
+    systems = [random_system(6, 1, 1, seed=200 + i) for i in range(8)]
+    data = [(A, C, noisy(frequency_response(A, B, C, D, grid), 0.01, seed=i)) for i, (A, B, C, D) in enumerate(systems)]
+
+    def job(item):
+        A, C, G = item
+        return fit_bd(A, C, grid, G, dc_gain=G[:, :, 0].real), fit_bd(A, C, grid, G, dc_gain=G[:, :, 0].real, solver="numpy")
+
+    with ThreadPoolExecutor(4) as ex:
+        for r, o in ex.map(job, data):
+            assert np.allclose(r.B, o.B, atol=1e-8 * np.abs(o.B).max()) and r.constraint_residual < 1e-10
