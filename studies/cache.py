@@ -5,10 +5,11 @@ Keys
 ``key = sha256(canonical JSON of {"piece", "config", "code"})`` where ``config`` is the piece's own
 sub-configuration (``studies.config.steady_piece``, ``frf_piece``, ``rom_piece``, ``ltd_piece``,
 ``sim_piece``: an FRF's key holds the aerofoil, Mach, grid, T and M_base but not N_r, so changing N_r keeps
-the FRF) and ``code`` is :func:`studies.provenance.code_version` of the packages the piece depends on: the
-lfdrom version and a sha256 of those packages' Python sources (``PIECE_DEPENDENCIES``: ``cfd`` for the
-steady flow, FRF and LTD pieces; ``sysid`` and ``cfd`` for ROM pieces). Editing ``cfd/`` thus invalidates
-the CFD pieces, editing ``sysid/`` only the identifications. The git commit is recorded in the provenance,
+the FRF) and ``code`` is :func:`studies.provenance.code_version` of the code the piece depends on: the
+lfdrom version and a sha256 of the Python sources of those packages and modules (``PIECE_DEPENDENCIES``:
+``cfd`` for the steady flow, FRF and LTD pieces; ``cfd``, ``sysid``, ``studies.config`` and
+``studies.runner`` for the ROM and ROM-simulation pieces). Editing ``cfd/`` thus invalidates everything,
+editing ``sysid/`` or the runner only the (cheap) identifications and ROM simulations. The git commit is recorded in the provenance,
 not in the key (see ``studies.provenance``).
 
 Layout and atomicity
@@ -54,6 +55,7 @@ __all__ = [
     "Entry",
     "ResultStore",
     "PIECE_DEPENDENCIES",
+    "DEFAULT_DEPENDENCIES",
     "FORMAT_VERSION",
     "atomic_write_bytes",
     "export_rom_npz",
@@ -69,10 +71,15 @@ PIECE_DEPENDENCIES: Mapping[str, tuple] = {
     "steady": ("cfd",),
     "frf": ("cfd",),
     "ltd": ("cfd",),
-    "rom": ("cfd", "sysid"),
-    "sim": ("cfd", "sysid"),
+    "rom": ("cfd", "sysid", "studies.config", "studies.runner"),
+    "sim": ("cfd", "sysid", "studies.config", "studies.runner"),
 }
-"""Packages whose sources enter the key of each piece; other pieces depend on ``("cfd", "sysid")``."""
+"""Packages and modules whose sources enter the key of each piece; other pieces depend on
+``DEFAULT_DEPENDENCIES``. The CFD pieces (expensive) depend on ``cfd`` only: the runner's wrappers around
+``cfd`` are expected to be thin. The identification pieces (cheap) also depend on ``studies.config`` (method
+options, weights) and ``studies.runner``."""
+
+DEFAULT_DEPENDENCIES = ("cfd", "sysid", "studies.config", "studies.runner")
 
 _PIECE_RE = re.compile(r"^[a-z][a-z0-9_]{0,39}$")
 _ARRAY_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_.\-]{0,99}$")
@@ -219,7 +226,7 @@ class ResultStore:
         """The code part of ``piece``'s keys."""
         if self._code is not None:
             return dict(self._code)
-        return code_version(self.dependencies.get(piece, ("cfd", "sysid")))
+        return code_version(self.dependencies.get(piece, DEFAULT_DEPENDENCIES))
 
     def key(self, piece: str, config) -> str:
         """sha256 (hex) of the canonical JSON of ``{"piece", "config", "code"}``."""

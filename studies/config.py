@@ -300,10 +300,36 @@ class MethodOptions:
     weights: str = "none"
     algorithm: str = "auto"
 
-    def identify_kwargs(self) -> dict:
-        """Keyword arguments of ``sysid.identify`` except ``weights`` (data dependent: the runner's job)."""
-        return dict(dc_gain="match" if self.dc_gain == "match" else None, stable=self.stable,
-                    margin=self.margin, method=self.algorithm)
+    def identify_kwargs(self, H=None) -> dict:
+        """Keyword arguments of ``sysid.identify``.
+
+        Parameters
+        ----------
+        H : array_like, shape (p, m, K), optional
+            The data; needed for ``weights = "inverse_magnitude"`` (see :meth:`weights_for`).
+        """
+        kw = dict(dc_gain="match" if self.dc_gain == "match" else None, stable=self.stable,
+                  margin=self.margin, method=self.algorithm)
+        if self.weights != "none":
+            if H is None:
+                raise ValueError(f"method {self.name!r}: weights = {self.weights!r} needs the data H")
+            kw["weights"] = self.weights_for(H)
+        return kw
+
+    def weights_for(self, H, floor: float = 1e-3):
+        """Refit weights for data ``H`` (shape (p, m, K)), or None for ``weights = "none"``.
+
+        ``"inverse_magnitude"``: ``1 / max(|H|, floor * max_k |H|)^2`` per channel, so that the B/D refit
+        minimises relative errors; ``floor`` keeps zeros of ``H`` (e.g. the ``omega = inf`` sample) finite.
+        """
+        if self.weights == "none":
+            return None
+        import numpy as np
+
+        a = np.abs(np.asarray(H))
+        peak = a.max(axis=-1, keepdims=True)
+        peak = np.where(peak > 0.0, peak, 1.0)
+        return 1.0 / np.maximum(a, floor * peak) ** 2
 
     def canonical(self) -> dict:
         """Everything but the name (the name does not change the result)."""

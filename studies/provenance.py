@@ -53,39 +53,47 @@ def package_versions(packages: Iterable[str] = PACKAGES) -> dict:
     return out
 
 
-def _package_dir(package: str) -> Optional[Path]:
-    spec = importlib.util.find_spec(package)
-    if spec is None or not spec.submodule_search_locations:
+def _sources(name: str) -> Optional[list]:
+    """``(relative name, path)`` of the sources of a package (its ``*.py`` files) or of a single module."""
+    try:
+        spec = importlib.util.find_spec(name)
+    except (ImportError, ValueError):
         return None
-    return Path(list(spec.submodule_search_locations)[0])
+    if spec is None:
+        return None
+    if spec.submodule_search_locations:
+        root = Path(list(spec.submodule_search_locations)[0])
+        return [(p.relative_to(root).as_posix(), p) for p in sorted(root.rglob("*.py")) if "__pycache__" not in p.parts]
+    if spec.origin and spec.origin.endswith(".py"):
+        return [(Path(spec.origin).name, Path(spec.origin))]
+    return None
 
 
 @functools.lru_cache(maxsize=None)
 def source_hash(packages: tuple = ("sysid", "cfd")) -> str:
-    """sha256 (hex) of the ``*.py`` sources of ``packages`` (paths relative to each package, sorted).
+    """sha256 (hex) of the Python sources of ``packages``: packages (all their ``*.py`` files) or single
+    modules (dotted names such as ``"studies.config"``), each with its files' relative paths, sorted.
 
-    Computed once per process and per tuple of packages. A package that cannot be found contributes its name
-    and ``"missing"``.
+    Computed once per process and per tuple. A name that cannot be found contributes itself and
+    ``"missing"`` (so the hash changes once when it appears).
     """
     h = hashlib.sha256()
-    for pkg in sorted(packages):
-        h.update(f"package {pkg}\n".encode())
-        root = _package_dir(pkg)
-        if root is None:
+    for name in sorted(packages):
+        h.update(f"package {name}\n".encode())
+        files = _sources(name)
+        if files is None:
             h.update(b"missing\n")
             continue
-        for path in sorted(root.rglob("*.py")):
-            if "__pycache__" in path.parts:
-                continue
-            rel = path.relative_to(root).as_posix()
-            h.update(f"file {rel} {path.stat().st_size}\n".encode())
-            h.update(path.read_bytes())
+        for rel, path in files:
+            data = path.read_bytes()
+            h.update(f"file {rel} {len(data)}\n".encode())
+            h.update(data)
     return h.hexdigest()
 
 
 def code_version(packages: Iterable[str] = ("sysid", "cfd")) -> dict:
     """The code part of a cache key: ``{"lfdrom": version, "packages": [...], "sources": sha256}``."""
-    pk = tuple(sorted(set(packages)))
+    pk = tuple(sorted(set(packages)))  # packages or dotted module names
     return {"lfdrom": package_versions(("lfdrom",))["lfdrom"], "packages": list(pk), "sources": source_hash(pk)}
 
 

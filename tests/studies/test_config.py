@@ -26,6 +26,7 @@ from studies.config import (
 )
 
 STUDIES = Path(__file__).resolve().parents[2] / "studies"
+BASE = 'cases = ["T2"]\n[sweep]\norders = [9]\n'
 
 GOOD = """
 name = "t"
@@ -74,10 +75,13 @@ def test_good_study_with_user_case():
     assert mine.orders == (9, 15) and mine.T == (5.0, pytest.approx(T_PAPER, rel=1e-11)) and mine.M == (16, 64)
     dc = [m for m in c.methods if m.name == "dc"][0]
     assert dc.identify_kwargs() == dict(dc_gain="match", stable=True, margin=1e-3, method="auto")
+    w = loads_study(BASE + "[method]\nweights = 'inverse_magnitude'\n").methods[0]
+    H = np.array([[[2.0, 1.0, 0.5, 0.0]]])
+    np.testing.assert_allclose(w.identify_kwargs(H)["weights"], [[[0.25, 1.0, 4.0, 1 / 0.002**2]]])
+    with pytest.raises(ValueError, match="needs the data"):
+        w.identify_kwargs()
     assert len(c.points()) == 2 * (2 * 2 * 2 * 2)
 
-
-BASE = 'cases = ["T2"]\n[sweep]\norders = [9]\n'
 
 
 @pytest.mark.parametrize("text,key,match", [

@@ -1,0 +1,293 @@
+"""The study subcommands of ``lfdrom``: ``cases``, ``run``, ``report`` and ``rom`` (registered by studies.cli).
+
+Each validates its inputs with :mod:`studies.cases` and :mod:`studies.config` before anything is computed,
+then hands over to ``studies.runner.run_study`` or ``studies.report.make_report``. Those receive the
+validated :class:`studies.config.StudyConfig` as first argument, plus the keyword arguments among
+``output_dir``, ``store_dir``, ``scheduler``, ``workers``, ``progress`` and ``force`` that their signature
+accepts. While a module is missing the command says so and exits with status 2.
+
+Exit status: 0 success, 1 the runner or report failed, 2 bad input or the runner/report not available.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import importlib.util
+import inspect
+import json
+import sys
+from pathlib import Path
+
+from .cases import TEST_CASES, case_table
+from .config import StudyConfig, StudyConfigError, load_study, parse_study
+
+__all__ = ["add_subcommands", "dispatch", "cmd_cases", "cmd_run", "cmd_report", "cmd_rom", "rom_study", "COMMANDS",
+           "EXIT_OK", "EXIT_FAILED", "EXIT_UNAVAILABLE"]
+
+EXIT_OK, EXIT_FAILED, EXIT_UNAVAILABLE = 0, 1, 2
+COMMANDS = ("cases", "run", "report", "rom")
+
+
+def _err(msg: str) -> None:
+    print(f"lfdrom: error: {msg}", file=sys.stderr)
+
+
+# ---------------------------------------------------------------------------------------------
+# Parsers
+# ---------------------------------------------------------------------------------------------
+
+def add_subcommands(sub) -> None:
+    """Register ``cases``, ``run``, ``report`` and ``rom`` on an ``argparse`` subparsers object."""
+    p = sub.add_parser("cases", help="list the paper's test cases T1-T6 and gust cases G1-G6",
+                       description="The paper's test cases (Table 1) and gust cases (Table 2); G6 is the unit "
+                                   "step v_g / U = 1 (gust angle 45 deg, tan = 1).")
+    p.add_argument("--format", choices=("text", "markdown", "json"), default="text",
+                   help="table format (default text)")
+
+    def study_args(p, verb):
+        p.add_argument("study", type=Path, metavar="STUDY.toml", help="study file (see studies/demo.toml)")
+        p.add_argument("--out", type=Path, default=None,
+                       help="output folder (default: the study's 'output', relative to the study file)")
+        p.add_argument("--store", type=Path, default=None, help="results store (default: the study's 'store')")
+        p.add_argument("--quiet", action="store_true", help=f"no progress output while {verb}")
+
+    p = sub.add_parser("run", help="run a study: CFD, identification sweep, gust responses (resumable)",
+                       description="Validate STUDY.toml, then compute every piece not already in the results "
+                                   "store: steady flow, LFD frequency responses, ROMs for each sweep point, LTD "
+                                   "and ROM gust responses, metrics.")
+    study_args(p, "running")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="Dask scheduler address (tcp://host:port); default local processes")
+    p.add_argument("--workers", type=int, default=None, help="local worker processes (default: the runner's)")
+    p.add_argument("--force", action="store_true", help="recompute even what the store holds")
+    p.add_argument("--dry-run", action="store_true", help="validate and list the sweep points, compute nothing")
+
+    p = sub.add_parser("report", help="tables and figures of a study from its stored results",
+                       description="Write the tables (CSV, Markdown, LaTeX) and figures of STUDY.toml from the "
+                                   "results store only (run the study first).")
+    study_args(p, "writing")
+
+    p = sub.add_parser("rom", help="identify and save one ROM (npz and MATLAB .mat)",
+                       description="One ROM of a paper case (T1-T6) or of your own aerofoil (--naca, --mach): "
+                                   "LFD response on McKelvey's grid, identification at --order, saved as .npz "
+                                   "and .mat (A, B, C, D, T).")
+    p.add_argument("case", metavar="CASE", help="paper case T1-T6, or a label for --naca/--mach")
+    p.add_argument("--order", type=int, required=True, help="model order N_r")
+    p.add_argument("--naca", default=None, help="NACA 4-digit code of a user case (e.g. 0012)")
+    p.add_argument("--mach", default=None, help="Mach number of a user case")
+    p.add_argument("--alpha", default=0.0, help="incidence of a user case, degrees (default 0)")
+    p.add_argument("--T", default="70/(2*pi)", help="sampling period of the bilinear map (default 70/(2*pi))")
+    p.add_argument("--M", type=int, default=256, help="grid intervals, N_omega = M + 1 (default 256)")
+    p.add_argument("--dc-gain", action="store_true", help="match the DC gain exactly")
+    p.add_argument("--stable", action="store_true", help="enforce stability (spectral radius < 1 - 1e-3)")
+    p.add_argument("--out", type=Path, default=Path("rom-output"), help="output folder (default rom-output)")
+    p.add_argument("--store", type=Path, default=None, help="results store (default OUT/store)")
+    p.add_argument("--quiet", action="store_true")
+
+
+# ---------------------------------------------------------------------------------------------
+# Commands
+# ---------------------------------------------------------------------------------------------
+
+def _text_table(rows, columns) -> str:
+    cells = [[str(c) for c in columns]] + [[_fmt(r[c]) for c in columns] for r in rows]
+    widths = [max(len(row[i]) for row in cells) for i in range(len(columns))]
+    lines = ["  ".join(v.ljust(w) for v, w in zip(row, widths)).rstrip() for row in cells]
+    lines.insert(1, "  ".join("-" * w for w in widths))
+    return "\n".join(lines)
+
+
+def _md_table(rows, columns) -> str:
+    lines = ["| " + " | ".join(columns) + " |", "|" + "|".join(" --- " for _ in columns) + "|"]
+    lines += ["| " + " | ".join(_fmt(r[c]) for c in columns) + " |" for r in rows]
+    return "\n".join(lines)
+
+
+def _fmt(v) -> str:
+    if isinstance(v, float):
+        return f"{v:.6g}"
+    return str(v)
+
+
+def cmd_cases(args) -> int:
+    """Print T1-T6 and G1-G6."""
+    flows, gusts = case_table()
+    if args.format == "json":
+        print(json.dumps({"test_cases": flows, "gust_cases": gusts}, indent=1))
+        return EXIT_OK
+    fcols = ("name", "aerofoil", "mach", "alpha_deg", "grid")
+    gcols = ("name", "kind", "length", "angle_deg", "amplitude")
+    table = _md_table if args.format == "markdown" else _text_table
+    print("Test cases (paper Table 1)\n")
+    print(table(flows, fcols))
+    print("\nGust cases (paper Table 2; length in chords, amplitude = v_max / U = tan(angle))\n")
+    print(table(gusts, gcols))
+    print("\nG6 is the paper's step with v_gmax = 1: the unit step of the input v_g / U (responses per radian).")
+    return EXIT_OK
+
+
+def _load(path: Path):
+    try:
+        return load_study(path)
+    except StudyConfigError as e:
+        _err(str(e))
+        return None
+
+
+def _apply_paths(config: StudyConfig, args) -> StudyConfig:
+    from dataclasses import replace
+
+    changes = {}
+    if getattr(args, "out", None) is not None:
+        changes["output_dir"] = args.out.resolve()
+        if args.store is None and config.store_dir == config.output_dir / "store":
+            changes["store_dir"] = changes["output_dir"] / "store"
+    if getattr(args, "store", None) is not None:
+        changes["store_dir"] = args.store.resolve()
+    return replace(config, **changes) if changes else config
+
+
+def _entry_point(module: str, function: str):
+    """``module.function``, or None when the module (or the function) does not exist yet."""
+    try:
+        if importlib.util.find_spec(module) is None:
+            return None
+    except ModuleNotFoundError:
+        return None
+    mod = importlib.import_module(module)  # an ImportError inside a present module is a real failure
+    return getattr(mod, function, None)
+
+
+def _call(fn, config, options: dict):
+    """Call ``fn(config, **options)`` with the options its signature accepts (None values dropped)."""
+    try:
+        params = inspect.signature(fn).parameters
+    except (TypeError, ValueError):  # pragma: no cover - builtins
+        params = {}
+    takes_kwargs = any(p.kind is inspect.Parameter.VAR_KEYWORD for p in params.values())
+    kw = {k: v for k, v in options.items() if v is not None and (takes_kwargs or k in params)}
+    dropped = sorted(k for k, v in options.items() if v not in (None, False) and k not in kw)
+    if dropped:
+        print(f"lfdrom: note: {fn.__module__}.{fn.__name__} does not take {', '.join(dropped)}; ignored",
+              file=sys.stderr)
+    return fn(config, **kw)
+
+
+def _hand_over(module, function, config, options, what) -> int:
+    try:
+        fn = _entry_point(module, function)
+    except ImportError as e:
+        _err(f"{module} cannot be imported: {e}")
+        return EXIT_FAILED
+    if fn is None:
+        _err(f"{what} is not available yet ({module}.{function} does not exist in this version); the inputs "
+             f"({config.source}) are valid: {len(config.points())} sweep point(s)")
+        return EXIT_UNAVAILABLE
+    try:
+        _call(fn, config, options)
+    except StudyConfigError as e:
+        _err(str(e))
+        return EXIT_UNAVAILABLE
+    except Exception as e:  # noqa: BLE001 - the command line reports any failure with its type
+        _err(f"{what} failed: {type(e).__name__}: {e}")
+        return EXIT_FAILED
+    return EXIT_OK
+
+
+def _plan(config: StudyConfig) -> str:
+    lines = [f"study {config.name!r} ({config.source}): {len(config.cases)} case(s), {len(config.gusts)} gust(s), "
+             f"{len(config.methods)} method variant(s), {len(config.points())} identifications",
+             f"  output {config.output_dir}", f"  store  {config.store_dir}", f"  hash   {config.hash()[:16]}"]
+    for cs in config.cases:
+        c = cs.case
+        lines.append(f"  {c.name}: {c.aerofoil} M{c.mach:g} alpha {c.alpha_deg:g} deg, grid {c.grid.ni} x {c.grid.nj};"
+                     f" N_r {list(cs.orders)}, T {[round(t, 6) for t in cs.T]}, M {list(cs.M)}")
+    lines.append(f"  gusts: {', '.join(g.name for g in config.gusts) or '-'}; methods: "
+                 f"{', '.join(m.name for m in config.methods)}")
+    return "\n".join(lines)
+
+
+def cmd_run(args) -> int:
+    """Validate the study and call ``studies.runner.run_study``."""
+    config = _load(args.study)
+    if config is None:
+        return EXIT_UNAVAILABLE
+    config = _apply_paths(config, args)
+    if args.workers is not None and args.workers < 1:
+        _err(f"--workers {args.workers}: give at least 1")
+        return EXIT_UNAVAILABLE
+    if args.dry_run or not args.quiet:
+        print(_plan(config))
+    if args.dry_run:
+        return EXIT_OK
+    options = dict(output_dir=config.output_dir, store_dir=config.store_dir, scheduler=args.scheduler,
+                   workers=args.workers, progress=not args.quiet, force=args.force or None)
+    return _hand_over("studies.runner", "run_study", config, options, "the study runner")
+
+
+def cmd_report(args) -> int:
+    """Validate the study and call ``studies.report.make_report``."""
+    config = _load(args.study)
+    if config is None:
+        return EXIT_UNAVAILABLE
+    config = _apply_paths(config, args)
+    options = dict(output_dir=config.output_dir, store_dir=config.store_dir, progress=not args.quiet)
+    return _hand_over("studies.report", "make_report", config, options, "the report")
+
+
+def rom_study(args) -> StudyConfig:
+    """The one-point study of ``lfdrom rom`` (validated like a study file; raises StudyConfigError)."""
+    if args.case.casefold() in {n.casefold() for n in TEST_CASES}:
+        if args.naca is not None or args.mach is not None:
+            raise StudyConfigError("<command line>", "--naca", f"{args.case} is a paper case with a fixed aerofoil "
+                                   "and Mach number; give another CASE label to define your own")
+        case = args.case
+    else:
+        if args.naca is None or args.mach is None:
+            raise StudyConfigError("<command line>", "CASE", (
+                f"{args.case!r} is not a paper case ({', '.join(TEST_CASES)}); for your own aerofoil give "
+                "--naca and --mach (e.g. lfdrom rom mine --naca 0012 --mach 0.5 --order 20)"))
+        case = {"name": args.case, "naca": args.naca, "mach": args.mach, "alpha_deg": args.alpha}
+    method = {"dc_gain": "match" if args.dc_gain else "none", "stable": bool(args.stable)}
+    data = {"name": "rom", "cases": [case], "gusts": [], "sweep": {"orders": [args.order], "T": [args.T],
+                                                                    "M_base": args.M, "M": [args.M]},
+            "method": method}
+    out = args.out.resolve()
+    data["output"] = str(out)
+    data["store"] = str(args.store.resolve() if args.store is not None else out / "store")
+    return parse_study(data, source="<command line>")
+
+
+_ROM_KEYS = {"cases[0].name": "CASE", "cases[0].naca": "--naca", "cases[0].mach": "--mach",
+             "cases[0].alpha_deg": "--alpha", "sweep.orders": "--order", "sweep.orders[0]": "--order",
+             "sweep.T[0]": "--T", "sweep.M_base": "--M", "sweep.M[0]": "--M"}
+
+
+def cmd_rom(args) -> int:
+    """Validate one ROM's inputs and hand over to the runner."""
+    for name in ("mach", "alpha"):
+        v = getattr(args, name)
+        if v is not None:
+            try:
+                setattr(args, name, float(v))
+            except ValueError:
+                _err(f"<command line>: --{name}: {v!r} is not a number")
+                return EXIT_UNAVAILABLE
+    try:
+        config = rom_study(args)
+    except StudyConfigError as e:
+        key = _ROM_KEYS.get(e.key, e.key)
+        _err(f"<command line>: {key}: {e.problem}" if key else str(e))
+        return EXIT_UNAVAILABLE
+    if not args.quiet:
+        print(_plan(config))
+    options = dict(output_dir=config.output_dir, store_dir=config.store_dir, progress=not args.quiet)
+    return _hand_over("studies.runner", "run_study", config, options, "the study runner (needed by 'rom')")
+
+
+def dispatch(args) -> int:
+    """Run the subcommand of parsed ``args``; returns the exit status."""
+    return {"cases": cmd_cases, "run": cmd_run, "report": cmd_report, "rom": cmd_rom}[args.command](args)
+
+
