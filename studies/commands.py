@@ -150,12 +150,14 @@ def _apply_paths(config: StudyConfig, args) -> StudyConfig:
 
 def _entry_point(module: str, function: str):
     """``module.function``, or None when the module (or the function) does not exist yet."""
-    try:
-        if importlib.util.find_spec(module) is None:
+    mod = sys.modules.get(module)
+    if mod is None:
+        try:
+            if importlib.util.find_spec(module) is None:
+                return None
+        except ModuleNotFoundError:
             return None
-    except ModuleNotFoundError:
-        return None
-    mod = importlib.import_module(module)  # an ImportError inside a present module is a real failure
+        mod = importlib.import_module(module)  # an ImportError inside a present module is a real failure
     return getattr(mod, function, None)
 
 

@@ -1,0 +1,123 @@
+"""The study subcommands (studies.commands) through their own parser: validation first, hand-over, exit codes."""
+
+import argparse
+import json
+import re
+import sys
+import types
+from pathlib import Path
+
+import pytest
+
+from studies import commands
+
+STUDIES = Path(__file__).resolve().parents[2] / "studies"
+
+
+def run(argv):
+    p = argparse.ArgumentParser(prog="lfdrom")
+    sub = p.add_subparsers(dest="command")
+    commands.add_subcommands(sub)
+    return commands.dispatch(p.parse_args(argv))
+
+
+@pytest.fixture
+def fake_modules(monkeypatch):
+    """Install fake studies.runner / studies.report that record their calls."""
+    calls = []
+
+    def install(name, function, *, fail=False, params="config, output_dir=None, store_dir=None"):
+        ns = {}
+        exec(f"def {function}({params}):\n    calls.append(({function!r}, config, locals()))\n"
+             f"    if {fail!r}:\n        raise RuntimeError('boom')\n    return 'ok'", {"calls": calls}, ns)
+        mod = types.ModuleType(name)
+        setattr(mod, function, ns[function])
+        monkeypatch.setitem(sys.modules, name, mod)
+
+    install.calls = calls
+    return install
+
+
+def test_cases_table(capsys):
+    assert run(["cases"]) == 0
+    out = capsys.readouterr().out
+    for name in ["T1", "T6", "NACA2410", "G1", "G6", "sharp_edged", "0.735"]:
+        assert name in out
+    assert run(["cases", "--format", "json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert [r["name"] for r in data["gust_cases"]] == [f"G{i}" for i in range(1, 7)]
+    assert run(["cases", "--format", "markdown"]) == 0
+    assert "| name | aerofoil |" in capsys.readouterr().out
+
+
+def test_run_dry_run(capsys):
+    assert run(["run", str(STUDIES / "paper.toml"), "--dry-run"]) == 0
+    out = capsys.readouterr().out
+    assert "33 identifications" in out and "T5: NACA2410 M0.25" in out and "N_r [25, 55]" in out
+
+
+def test_runner_missing_exits_2(capsys, monkeypatch):
+    monkeypatch.delitem(sys.modules, "studies.runner", raising=False)  # as if the module did not exist
+    monkeypatch.setattr(commands.importlib.util, "find_spec", lambda name: None)
+    assert run(["run", str(STUDIES / "demo.toml"), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert "not available yet" in err and "valid" in err
+
+
+def test_bad_study_is_rejected_before_the_runner(tmp_path, capsys, fake_modules):
+    fake_modules("studies.runner", "run_study")
+    bad = tmp_path / "bad.toml"
+    bad.write_text('cases = ["T2"]\n[sweep]\norders = [40]\nM = [32]\n')
+    assert run(["run", str(bad)]) == 2
+    assert f"{bad}: sweep.orders: order 40 is impossible" in capsys.readouterr().err
+    assert fake_modules.calls == []
+    assert run(["report", str(tmp_path / "nope.toml")]) == 2
+    assert "no such study file" in capsys.readouterr().err
+
+
+def test_run_hands_over_with_accepted_options(tmp_path, fake_modules, capsys):
+    fake_modules("studies.runner", "run_study")
+    assert run(["run", str(STUDIES / "demo.toml"), "--out", str(tmp_path / "o"), "--quiet"]) == 0
+    (name, config, kw), = fake_modules.calls
+    assert name == "run_study" and config.name == "demo"
+    assert kw["output_dir"] == (tmp_path / "o").resolve() and kw["store_dir"] == (tmp_path / "o" / "store").resolve()
+    # --scheduler is not in this runner's signature: a note, not a failure
+    assert run(["run", str(STUDIES / "demo.toml"), "--scheduler", "tcp://x:1", "--quiet"]) == 0
+    assert "does not take scheduler" in capsys.readouterr().err
+
+
+def test_failures_and_report(fake_modules, capsys):
+    fake_modules("studies.report", "make_report", fail=True)
+    assert run(["report", str(STUDIES / "demo.toml"), "--quiet"]) == 1
+    assert "RuntimeError: boom" in capsys.readouterr().err
+    fake_modules("studies.report", "make_report", params="config, **kw")
+    assert run(["report", str(STUDIES / "demo.toml")]) == 0
+    assert fake_modules.calls[-1][2]["kw"]["progress"] is True
+
+
+@pytest.mark.parametrize("argv,match", [
+    (["rom", "T9", "--order", "9"], "CASE: 'T9' is not a paper case"),
+    (["rom", "T2", "--order", "40", "--M", "32"], "--order: order 40 is impossible"),
+    (["rom", "T2", "--order", "0"], "--order: must be >= 1"),
+    (["rom", "T2", "--order", "9", "--M", "48"], "--M: must be a power of two"),
+    (["rom", "T2", "--order", "9", "--T", "-1"], "--T: must be positive"),
+    (["rom", "T2", "--order", "9", "--naca", "0012"], "--naca: T2 is a paper case"),
+    (["rom", "mine", "--naca", "0012", "--mach", "1.5", "--order", "9"], "--mach: mach = 1.5 is out of range"),
+    (["rom", "mine", "--naca", "00x2", "--mach", "0.5", "--order", "9"], "--naca: .*non-digit"),
+    (["rom", "mine", "--naca", "0012", "--mach", "fast", "--order", "9"], "--mach: 'fast' is not a number"),
+])
+def test_rom_validation(argv, match, capsys, fake_modules):
+    fake_modules("studies.runner", "run_study")
+    assert run(argv + ["--quiet"]) == 2
+    assert re.search(match, capsys.readouterr().err)
+    assert fake_modules.calls == []
+
+
+def test_rom_one_point_study(tmp_path, fake_modules):
+    fake_modules("studies.runner", "run_study")
+    assert run(["rom", "mine", "--naca", "0012", "--mach", "0.5", "--order", "12", "--M", "32", "--dc-gain",
+                "--stable", "--out", str(tmp_path), "--quiet"]) == 0
+    (_, config, _), = fake_modules.calls
+    (point,) = config.points()
+    assert (point.case.naca, point.case.mach, point.order, point.M) == ("0012", 0.5, 12, 32)
+    assert point.method.dc_gain == "match" and point.method.stable and config.gusts == ()
