@@ -225,8 +225,9 @@ def stabilise(A, *, method: str = "lmi", margin: float = 1e-3, gamma1=None, gamm
     subspace : bool
         ``"lmi"`` only. True (default): solve the SDP on the invariant subspace of the eigenvalues with
         ``|lambda| >= 1 - margin`` only (see the module docstring); False: the full n x n SDP (Clarabel
-        took 52 s for a random n = 55 problem, as the 2n x 2n PSD cone makes its KKT system dense, and stopped
-        with NumericalError after about 11 s on the lightly damped N_r = 55 benchmark data; use it for small n).
+        took 52 s for a random n = 55 problem, as the 2n x 2n PSD cone makes its KKT system dense; on the
+        lightly damped N_r = 55 benchmark data it stopped with NumericalError after about 11 s with the
+        shift-equation objective and took 80 s with ``||A P - Q||_F``; use it for small n).
     force : bool
         Run the method even when ``A`` is already stable with the margin.
     solver_opts : dict, optional
