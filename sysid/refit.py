@@ -48,6 +48,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .errors import ConstraintError, FrequencyDataError, SolverError
+from .subspace import evaluate_ss
 
 __all__ = [
     "BDFit",
@@ -227,28 +228,8 @@ def _validate(A, C, z, G, weights, dc_gain, feedthrough):
     return A, C, z, G, weights, cons, n, p, m, K
 
 
-def frequency_response(A, B, C, D, z) -> np.ndarray:
-    """Evaluate ``G(z_k) = C (z_k I - A)^-1 B + D``.
-
-    Parameters
-    ----------
-    A, B, C, D : ndarray, shapes (n, n), (n, m), (p, n), (p, m)
-    z : ndarray, shape (K,), complex
-
-    Returns
-    -------
-    ndarray, shape (p, m, K), complex
-    """
-    A = np.asarray(A, dtype=float)
-    B = np.asarray(B, dtype=float)
-    C = np.asarray(C, dtype=float)
-    D = np.asarray(D, dtype=float)
-    z = np.asarray(z, dtype=complex).ravel()
-    n = A.shape[0]
-    M = z[:, None, None] * np.eye(n) - A  # (K, n, n)
-    X = np.linalg.solve(M, np.broadcast_to(B, (z.size,) + B.shape))  # (K, n, m)
-    H = C @ X + D  # (K, p, m)
-    return np.moveaxis(H, 0, -1)
+# ``frequency_response(A, B, C, D, z)`` -> (p, m, K): the one state-space evaluator of the package.
+frequency_response = evaluate_ss
 
 
 def _output_rows(A, C, z) -> np.ndarray:

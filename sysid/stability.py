@@ -56,6 +56,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from .errors import FrequencyDataError, SolverError
+from .metrics import spectral_radius
 
 __all__ = ["StabiliseResult", "stabilise", "spectral_radius", "is_stable"]
 
@@ -89,14 +90,6 @@ class StabiliseResult:
     status: str = ""
     objective: float = float("nan")
     solve_time: float = 0.0
-
-
-def spectral_radius(A) -> float:
-    """Largest eigenvalue modulus of a square matrix ``A`` (n, n); 0.0 for an empty matrix."""
-    A = np.asarray(A)
-    if A.size == 0:
-        return 0.0
-    return float(np.max(np.abs(np.linalg.eigvals(A))))
 
 
 def is_stable(A, margin: float = 0.0) -> bool:
