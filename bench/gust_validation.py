@@ -5,8 +5,10 @@
 2. LTD lift after a sharp-edged gust against the step response of the compressible Sears function and
    the Kussner function (R.T. Jones).
 3. Phase change with Mach number (M0.2 -> M0.5), which fixes the sign convention of Amiet's factors.
+4. (``--paper``) NACA0006 at M0.3 on the paper's 181 x 60 C-grid (``cfd.c_grid``) against Amiet's function.
 
-Run: ``MPLBACKEND=Agg .venv/bin/python bench/gust_validation.py`` (a few minutes on two cores).
+Run: ``MPLBACKEND=Agg .venv/bin/python bench/gust_validation.py [--paper]`` (a few minutes on two cores;
+``--paper`` runs only part 4).
 """
 
 import sys
@@ -39,6 +41,25 @@ def plate(mach, **args):
     grid = parabolic_c_grid(thickness=0.0, **args)
     flow = FlowCondition(mach)
     return linearise_state(grid, np.broadcast_to(flow.q, grid.cell_shape + (4,)).copy(), flow)
+
+
+def paper_grid(mach=0.3):
+    import cfd
+
+    beta = np.sqrt(1 - mach**2)
+    w = np.array([0.0, 0.1, 0.2, 0.5, 1.0, 2.0])
+    t = time.perf_counter()
+    sol = cfd.solve_steady(cfd.c_grid(cfd.naca("0006")), mach, 0.0)
+    lin = cfd.linearise(sol)
+    H = lfd_response(lin, w, outputs="Cl").H[0, 0] / (2 * np.pi / beta)
+    S = sears_compressible(w, mach, "leading_edge")
+    print(f"4. NACA0006, M{mach}, 181 x 60 grid ({time.perf_counter() - t:.0f} s); thickness raises the slope by "
+          f"about 1 + 0.77 t/c = {1 + 0.77 * 0.06:.3f}")
+    print("    omega   k     |H|    |S_c|   |H|/|S_c|-1   arg H   arg S_c  diff (deg)")
+    for k in range(w.size):
+        print(f"    {w[k]:4.1f}  {w[k] / 2:4.2f}  {abs(H[k]):.3f}  {abs(S[k]):.3f}  {abs(H[k]) / abs(S[k]) - 1:+8.3f}"
+              f"    {np.degrees(np.angle(H[k])):7.2f}  {np.degrees(np.angle(S[k])):7.2f}  "
+              f"{np.degrees(np.angle(H[k] / S[k])):+6.2f}")
 
 
 def main():
@@ -106,4 +127,7 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    if "--paper" in sys.argv:
+        paper_grid()
+    else:
+        main()
