@@ -4,7 +4,8 @@ The analogue of the paper's Figs. 9-10: LFD lift and moment per radian of gust a
 reference) by both gust methods; one factorisation per frequency serves both right-hand sides.
 Writes docs/figures/gust-svm-fvm-<case>.png and docs/data/gust-svm-fvm-<case>.npz, prints a table.
 
-Run: ``MPLBACKEND=Agg .venv/bin/python bench/gust_svm_fvm.py [T2] [T4]`` (minutes per case).
+Run: ``MPLBACKEND=Agg .venv/bin/python bench/gust_svm_fvm.py [T2] [T4] [--plot]`` (minutes per case;
+``--plot`` re-draws the figures from the saved data).
 """
 
 import sys
@@ -58,20 +59,34 @@ def main(cases):
             a, b = H["svm"][0, k], H["fvm"][0, k]
             print(f"  {w:7.3f}   {abs(a):8.4f}   {abs(b):8.4f}   {np.degrees(np.angle(a)):7.2f}   "
                   f"{np.degrees(np.angle(b)):7.2f}   {abs(a / b - 1):.4f}")
-        fig, ax = plt.subplots(2, 2, figsize=(9, 6), sharex=True)
-        for m, style in (("svm", "o-"), ("fvm", "s--")):
-            for r, name in enumerate(("Cl", "Cm")):
-                ax[0, r].semilogx(omega[1:] / 2, np.abs(H[m][r, 1:]), style, label=m.upper())
-                ax[1, r].semilogx(omega[1:] / 2, np.degrees(np.angle(H[m][r, 1:])), style)
-                ax[0, r].set_title(f"{case}: {name} per radian of gust angle")
-        for a in ax[1]:
-            a.set_xlabel("k = omega c / (2 U)")
-        ax[0, 0].set_ylabel("magnitude")
-        ax[1, 0].set_ylabel("phase (deg)")
-        ax[0, 0].legend()
-        fig.tight_layout()
-        fig.savefig(ROOT / "docs" / "figures" / f"gust-svm-fvm-{case}.png", dpi=110)
+        plot(case)
+
+
+def plot(case):
+    """Bode-style figure from docs/data/gust-svm-fvm-<case>.npz (phase unwrapped)."""
+    d = np.load(ROOT / "docs" / "data" / f"gust-svm-fvm-{case}.npz")
+    omega = d["omega"]
+    fig, ax = plt.subplots(2, 2, figsize=(9, 6), sharex=True)
+    for m, style in (("svm", "o-"), ("fvm", "s--")):
+        for r, name in enumerate(("Cl", "Cm")):
+            h = d[m][r, 1:]
+            ax[0, r].semilogx(omega[1:] / 2, np.abs(h), style, label=m.upper())
+            ax[1, r].semilogx(omega[1:] / 2, np.degrees(np.unwrap(np.angle(h))), style)
+            ax[0, r].set_title(f"{case} (NACA{d['naca']}, M{float(d['mach'])}): {name} per radian of gust angle",
+                               fontsize=9)
+    for a in ax[1]:
+        a.set_xlabel("k = omega c / (2 U)")
+    ax[0, 0].set_ylabel("magnitude")
+    ax[1, 0].set_ylabel("phase (deg, unwrapped)")
+    ax[0, 0].legend()
+    fig.tight_layout()
+    fig.savefig(ROOT / "docs" / "figures" / f"gust-svm-fvm-{case}.png", dpi=110)
 
 
 if __name__ == "__main__":
-    main([a for a in sys.argv[1:] if a in CASES] or list(CASES))
+    chosen = [a for a in sys.argv[1:] if a in CASES] or list(CASES)
+    if "--plot" in sys.argv:  # re-draw from the saved data only
+        for c in chosen:
+            plot(c)
+    else:
+        main(chosen)
