@@ -1,0 +1,594 @@
+"""Fast LFD frequency sweep: a reduced adjoint (dual) basis from a few shifted factorisations.
+
+The LFD response to the unit harmonic gust (``cfd.lfd``) is
+
+    y(omega) = C q,      (J + i w V) q = -b(omega),      w = mach * omega   (solver units)
+
+for many frequencies. The forcing ``b(omega) = B g(omega)`` is a fixed sparse operator ``B`` (``gust
+operator``: face velocities and, for the SVM, sources; probed from ``LinearSystem.forcing``) applied to the
+face averages ``g(omega)`` of ``exp(-i omega (x - x_ref))`` (``cfd.gust.face_gust_harmonic``), a field whose
+phase varies across the whole grid: the primal solutions ``q(omega)`` span a large space. The outputs are
+few, so the sweep is done on the dual (adjoint) side instead:
+
+    y(omega) = -Z(omega)^T b(omega),      (J + i w V)^T Z(omega) = C^T      (Z: n x p, one column per output)
+
+whose right-hand side does not depend on ``omega``. ``Z`` is approximated in a basis ``W`` (orthonormal,
+n x m) built by rational Krylov from a few shifts ``sigma``: one sparse LU of ``J + i sigma V`` per shift
+(the same nested-dissection ordering as the direct path), then the blocks
+``Z(sigma)`` and ``((J + i sigma V)^-T V)^k Z(sigma)`` (the derivatives of ``Z`` in ``omega`` at the shift),
+orthonormalised block by block (Gram-Schmidt twice). At every frequency the small least-squares
+(minimum-residual Petrov-Galerkin) problem ``min |C^T - (J + i w V)^T W Y|`` is solved in the coordinates of
+an orthonormal basis of ``[C^T, J^T W, V W]``, so the residual norms are exact (no normal equations), and
+``y = -Y^T (W^T B) g(omega)`` costs one product with an ``m x n_faces`` matrix. Shifts are added greedily at the
+frequency with the largest estimated error until every frequency meets ``tol``.
+
+Error estimate
+--------------
+The basis is nested: ``W_`` is ``W`` without the last Krylov block of every shift. With ``y`` and ``y_`` the
+outputs from ``W`` and ``W_`` and ``rho = |r| / |r_|`` the ratio of their (exact) dual residual norms, the
+error of ``y`` is estimated as the tail of a geometric series with that rate,
+
+    est = |y - y_| rho / (1 - rho)        (rho capped at 0.99, then multiplied by ``SAFETY``),
+
+and reported per output and frequency in ``metadata["error_estimate"]`` (absolute, per radian of gust
+angle), next to the relative dual residual norms ``metadata["residual_norm"]``. The estimate is checked
+against the direct path in ``tests/cfd/test_sweep.py`` (see docs/lfd-sweep.md for the measured effectivity).
+
+``omega = inf`` is the feedthrough ``D`` without a solve (estimate 0); ``omega = 0`` is an ordinary point.
+"""
+
+import time
+import warnings
+
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from sysid import FrequencyResponse
+
+from .gust import face_gust_harmonic
+from .linear import LinearError, _check_method, check_outputs
+from .ordering import nested_dissection, unknown_permutation
+
+__all__ = ["SweepBasis", "fast_sweep", "gust_operator", "face_gust_vector", "SAFETY"]
+
+SAFETY = 10.0
+"""Factor applied to the geometric-tail error estimate (see the module docstring and docs/lfd-sweep.md)."""
+
+_RHO_MAX = 0.99
+
+
+def gust_operator(lin, gust="svm"):
+    """The forcing as a sparse matrix: ``lin.forcing(gi, gj, gust) == B @ concat(gi.ravel(), gj.ravel())``.
+
+    Probed from ``LinearSystem.forcing`` itself (no second implementation of the gust terms): a face
+    influences at most the four cells of its grid row (i-faces) or column (j-faces) nearest to it, so
+    four colours per face family recover every column exactly (eight batched calls).
+
+    Parameters
+    ----------
+    lin : LinearSystem
+    gust : {"svm", "fvm"}
+
+    Returns
+    -------
+    scipy.sparse.csc_matrix, shape (4N, ni (nj-1) + (ni-1) nj), real
+        Columns: the i-faces in C order of ``(i, jc)``, then the j-faces in C order of ``(ic, j)``.
+    """
+    _check_method(gust)
+    ni, nj = lin.grid.shape
+    NI, NJ = ni - 1, nj - 1
+    n_i = ni * NJ
+    rows, cols, vals = [], [], []
+    for family, shape in (("i", (ni, NJ)), ("j", (NI, nj))):
+        a, c = np.meshgrid(np.arange(shape[0]), np.arange(shape[1]), indexing="ij")
+        along = a if family == "i" else c       # index along which a face touches cells d = -2 .. 1
+        n_along = NI if family == "i" else NJ
+        probes = np.stack([(along % 4 == k).astype(float) for k in range(4)])   # (4, *shape)
+        zero = np.zeros((4,) + ((NI, nj) if family == "i" else (ni, NJ)))
+        b = lin.forcing(probes, zero, gust) if family == "i" else lin.forcing(zero, probes, gust)
+        face = np.arange(a.size).reshape(a.shape) + (0 if family == "i" else n_i)
+        for d in (-2, -1, 0, 1):
+            cell_along = along + d
+            ok = (cell_along >= 0) & (cell_along < n_along)
+            ic, jc = (cell_along, c) if family == "i" else (a, cell_along)
+            cell = (ic * NJ + jc)[ok]
+            colour = (along % 4)[ok]
+            for k in range(4):
+                idx = 4 * cell + k
+                rows.append(idx)
+                cols.append(face[ok])
+                vals.append(b[colour, idx])
+    r, c, v = np.concatenate(rows), np.concatenate(cols), np.concatenate(vals)
+    keep = v != 0.0
+    B = sp.csc_matrix((v[keep], (r[keep], c[keep])), shape=(lin.n, n_i + NI * nj))
+    B.sum_duplicates()
+    return B
+
+
+def face_gust_vector(grid, omega, x_ref=0.0):
+    """Face averages of the unit harmonic gust as one vector (columns of :func:`gust_operator`).
+
+    Parameters
+    ----------
+    grid : Grid
+    omega : float
+        U/c units, finite.
+    x_ref : float
+
+    Returns
+    -------
+    ndarray, complex, shape (ni (nj-1) + (ni-1) nj,)
+    """
+    gi, gj = face_gust_harmonic(grid, float(omega), x_ref)
+    return np.concatenate([gi.ravel(), gj.ravel()])
+
+
+class _ShiftFactor:
+    """Sparse LU of ``J + i w V`` (nested dissection, no pivoting; COLAMD with pivoting as a fallback)."""
+
+    def __init__(self, lin, w, perm):
+        self.n = lin.n
+        real = w == 0.0
+        A = (lin.J + sp.diags(1j * w * lin.V)).tocsr() if not real else lin.J.tocsr()
+        self.A = A
+        self.real = real
+        self.perm = perm
+        self.inv = np.empty_like(perm)
+        self.inv[perm] = np.arange(perm.size)
+        self.lu = spla.splu(A[perm][:, perm].tocsc(), permc_spec="NATURAL", diag_pivot_thresh=0.0,
+                            options=dict(SymmetricMode=True))
+        self.pivoted = False
+
+    def _raw_T(self, R):
+        """``A^-T R`` for a block ``R`` (n, k)."""
+        Rp = R[self.perm]
+        if self.pivoted:
+            Rp = R
+        if self.real and np.iscomplexobj(Rp):
+            X = self.lu.solve(np.ascontiguousarray(Rp.real), trans="T") + 1j * self.lu.solve(
+                np.ascontiguousarray(Rp.imag), trans="T")
+        else:
+            X = self.lu.solve(np.ascontiguousarray(Rp), trans="T")
+        return X if self.pivoted else X[self.inv]
+
+    def solve_T(self, R, rtol=1e-10):
+        """``A^-T R`` with one step of iterative refinement and a checked residual.
+
+        Parameters
+        ----------
+        R : ndarray, shape (n, k)
+
+        Returns
+        -------
+        ndarray, shape (n, k)
+        """
+        AT = self.A.T
+        X = self._raw_T(R)
+        X = X + self._raw_T(R - AT @ X)
+        res = np.linalg.norm(R - AT @ X, axis=0)
+        if not (np.all(np.isfinite(X)) and np.all(res <= rtol * np.linalg.norm(R, axis=0) + 1e-300)):
+            if self.pivoted:
+                raise LinearError("shifted factorisation is singular to working precision; try other shifts")
+            warnings.warn("unpivoted nested-dissection LU was inaccurate at a sweep shift; refactorising with "
+                          "COLAMD and partial pivoting", RuntimeWarning, stacklevel=3)
+            self.lu = spla.splu(self.A.tocsc(), permc_spec="COLAMD")
+            self.pivoted = True
+            return self.solve_T(R, rtol)
+        return X
+
+
+def _orthonormalise(X, Q, tol=1e-12):
+    """Block classical Gram-Schmidt, twice, against the orthonormal columns ``Q``; then QR with deflation.
+
+    Parameters
+    ----------
+    X : ndarray, shape (n, k)
+    Q : ndarray, shape (n, m) or None
+    tol : float
+        Columns whose norm falls below ``tol`` times their original norm are dropped (already in span Q).
+
+    Returns
+    -------
+    Qx : ndarray, shape (n, k') with k' <= k
+    coeff : ndarray, shape (m, k)
+        ``Q^H X`` (accumulated over both passes).
+    Rx : ndarray, shape (k', k)
+        ``X = Q coeff + Qx Rx`` (to the dropped parts).
+    """
+    norm0 = np.linalg.norm(X, axis=0)
+    norm0 = np.where(norm0 > 0.0, norm0, 1.0)
+    X = np.array(X, dtype=complex) / norm0  # unit columns: the deflation test is relative to each column
+    m = 0 if Q is None else Q.shape[1]
+    coeff = np.zeros((m, X.shape[1]), complex)
+    for _ in range(2):
+        if m:
+            c = Q.conj().T @ X
+            X -= Q @ c
+            coeff += c
+    Qx, Rx, piv = sla.qr(X, mode="economic", pivoting=True)  # rank-revealing: drop the dependent part
+    r = int(np.sum(np.abs(np.diag(Rx)) > tol))
+    Qx = Qx[:, :r]
+    Rx = Rx[:r][:, np.argsort(piv)]
+    if m and r:  # one more pass for the kept directions (they may be small)
+        c = Q.conj().T @ Qx
+        Qk, Rk = np.linalg.qr(Qx - Q @ c)
+        coeff += c @ Rx
+        return Qk, coeff * norm0, (Rk @ Rx) * norm0
+    return Qx, coeff * norm0, Rx * norm0
+
+
+class SweepBasis:
+    """Reduced dual basis of a :class:`~cfd.linear.LinearSystem`, reusable across sweeps.
+
+    The basis approximates ``Z(omega) = (J + i mach omega V)^-T C^T`` for the chosen outputs; it does not
+    depend on the gust method, ``x_ref`` or the frequencies, so one basis serves SVM and FVM sweeps and
+    any sampling period ``T``. :func:`fast_sweep` extends it in place (more shifts) where the frequencies
+    it is asked for need it.
+
+    Parameters
+    ----------
+    lin : LinearSystem
+    outputs : sequence of {"Cl", "Cm", "Cd"}
+    n_moments : int
+        Krylov blocks generated per shift (the shift's solution and ``n_moments - 1`` derivatives),
+        ``>= 2``; each block holds one vector per output (0.7 MB per vector on the 181 x 60 grid).
+
+    Attributes
+    ----------
+    shifts : list of float
+        Shift frequencies (U/c units), in the order added.
+    size : int
+        Number of basis vectors ``m``; memory held is about ``(3 m + p) * 16 * 4N`` bytes
+        (``W`` and an orthonormal basis of ``[C^T, J^T W, V W]``).
+    timings : dict
+        Seconds spent in factorisations, back-substitutions and orthogonalisation.
+    """
+
+    def __init__(self, lin, outputs=("Cl", "Cm"), n_moments=8):
+        names, rows = check_outputs(outputs)
+        if int(n_moments) != n_moments or n_moments < 2:
+            raise LinearError(f"n_moments must be an integer >= 2 (Krylov blocks per shift); got {n_moments!r}")
+        self.lin = lin
+        self.outputs = tuple(names)
+        self.rows = list(rows)
+        self.n_moments = int(n_moments)
+        self.shifts = []
+        self._perm = unknown_permutation(nested_dissection(lin.grid))
+        Ct = np.asarray(lin.C[self.rows], dtype=float).T  # (n, p)
+        self._c_norm = np.linalg.norm(Ct, axis=0)
+        U, R = np.linalg.qr(Ct.astype(complex))
+        self._U = U                                    # orthonormal basis of [C^T, J^T W, V W]
+        self._Rc = R                                   # C^T = U Rc
+        self._RJ = np.zeros((U.shape[1], 0), complex)  # J^T W = U RJ
+        self._RV = np.zeros((U.shape[1], 0), complex)  # V W = U RV
+        self._W = np.zeros((lin.n, 0), complex)
+        self._last = np.zeros(0, bool)                 # columns of the last block of their shift
+        self._shift_of = np.zeros(0, int)
+        self._WB = {}                                   # gust -> (W^T B) (m, n_faces)
+        self._B = {}
+        self.timings = {"factorise": 0.0, "back_substitute": 0.0, "orthogonalise": 0.0, "n_factor": 0,
+                        "n_back_substitute": 0}
+
+    @property
+    def size(self):
+        return self._W.shape[1]
+
+    def _append(self, X):
+        """Add the block ``X`` (n, k) to ``W`` (orthonormalised); returns the new orthonormal columns."""
+        t0 = time.perf_counter()
+        Wn, _, _ = _orthonormalise(X, self._W if self.size else None)
+        if Wn.shape[1] == 0:
+            self.timings["orthogonalise"] += time.perf_counter() - t0
+            return Wn
+        V = self.lin.V
+        K = np.hstack([np.asarray(self.lin.J.T @ Wn), V[:, None] * Wn])
+        Un, coeff, Rn = _orthonormalise(K, self._U)
+        u_old, u_new = self._U.shape[1], Un.shape[1]
+        k = Wn.shape[1]
+        pad = lambda M: np.vstack([M, np.zeros((u_new, M.shape[1]), complex)])  # noqa: E731
+        newcols = np.vstack([coeff, Rn]) if u_new else coeff
+        self._U = np.hstack([self._U, Un])
+        self._Rc = pad(self._Rc)
+        self._RJ = np.hstack([pad(self._RJ), newcols[:, :k]])
+        self._RV = np.hstack([pad(self._RV), newcols[:, k:]])
+        self._W = np.hstack([self._W, Wn])
+        assert self._RJ.shape == (u_old + u_new, self.size)
+        self.timings["orthogonalise"] += time.perf_counter() - t0
+        return Wn
+
+    def add_shift(self, omega):
+        """Factorise at ``omega`` (U/c units, finite, >= 0) and add its ``n_moments`` Krylov blocks.
+
+        Parameters
+        ----------
+        omega : float
+
+        Returns
+        -------
+        int
+            Number of basis vectors added.
+        """
+        lin = self.lin
+        w = float(lin.to_solver_frequency(float(omega)))
+        t0 = time.perf_counter()
+        fac = _ShiftFactor(lin, w, self._perm)
+        t1 = time.perf_counter()
+        self.timings["factorise"] += t1 - t0
+        self.timings["n_factor"] += 1
+        m0 = self.size
+        X = np.asarray(lin.C[self.rows], dtype=complex).T
+        sizes = []
+        for _ in range(self.n_moments):
+            t0 = time.perf_counter()
+            Y = fac.solve_T(X)
+            self.timings["back_substitute"] += time.perf_counter() - t0
+            self.timings["n_back_substitute"] += X.shape[1]
+            Q = self._append(Y)
+            if Q.shape[1] == 0:
+                break
+            sizes.append(Q.shape[1])
+            X = lin.V[:, None] * Q  # next rational Krylov block: (A^-T V) applied to the newest directions
+        last = np.zeros(self.size - m0, bool)
+        if sizes:
+            last[-sizes[-1]:] = True
+        self._last = np.concatenate([self._last, last])
+        self._shift_of = np.concatenate([self._shift_of, np.full(self.size - m0, len(self.shifts))])
+        self.shifts.append(float(omega))
+        return self.size - m0
+
+    def _projected_forcing(self, gust):
+        """``W^T B`` for the gust method, shape (m, n_faces), extended row-wise as the basis grows."""
+        if gust not in self._B:
+            self._B[gust] = gust_operator(self.lin, gust)
+        old = self._WB.get(gust)
+        k = 0 if old is None else old.shape[0]
+        if k < self.size:
+            new = np.asarray((self._B[gust].T @ self._W[:, k:]).T)
+            self._WB[gust] = new if old is None else np.vstack([old, new])
+        return self._WB[gust]
+
+    def _reduced_solver(self, cols):
+        """Minimum-residual solver of ``min |Rc - (RJ + i w RV)[:, cols] Y|`` at O(m^2) per frequency.
+
+        One QR of ``RV`` and one QZ of the square part of the pencil (see :func:`_min_residual`).
+        """
+        RJ, RV, Rc = self._RJ[:, cols], self._RV[:, cols], self._Rc
+        m = RJ.shape[1]
+        Q1, RVt = sla.qr(RV)                       # RV = Q1 [T; 0]
+        E = Q1.conj().T @ RJ
+        c = Q1.conj().T @ Rc
+        S, P, Qz, Zz = sla.qz(E[:m], RVt[:m], output="complex")
+        return dict(S=S, P=P, Z=Zz, a=Qz.conj().T @ c[:m], b=c[m:], Ez=E[m:] @ Zz, RJ=RJ, RV=RV, Rc=Rc)
+
+    def evaluate(self, omega, gust="svm", x_ref=0.0, cache=None):
+        """Outputs, error estimates and dual residual norms at finite frequencies.
+
+        Parameters
+        ----------
+        omega : ndarray, shape (K,)
+            Finite, ``>= 0``, U/c units.
+        gust : {"svm", "fvm"}
+        x_ref : float
+        cache : dict, optional
+            Reused between calls with the same ``omega``, ``gust`` and ``x_ref`` (face gusts and their
+            projections); pass an empty dict to start one.
+
+        Returns
+        -------
+        y : ndarray, complex, shape (p, K)
+            Outputs per unit gust angle.
+        est : ndarray, shape (p, K)
+            Error estimate of ``y`` (absolute).
+        res : ndarray, shape (p, K)
+            Dual residual norms relative to ``|C_k|``.
+        """
+        _check_method(gust)
+        w = np.asarray(omega, dtype=float)
+        if self.size == 0:
+            raise LinearError("the sweep basis is empty; call add_shift first")
+        cache = {} if cache is None else cache
+        if "G" not in cache:
+            cache["G"] = np.stack([face_gust_vector(self.lin.grid, wk, x_ref) for wk in w], axis=1)  # (nf, K)
+            cache["F"] = np.zeros((0, w.size), complex)
+        WB = self._projected_forcing(gust)
+        k = cache["F"].shape[0]
+        if k < self.size:
+            cache["F"] = np.vstack([cache["F"], WB[k:] @ cache["G"]])                         # W^T b, (m, K)
+        F = cache["F"]
+        ws = self.lin.to_solver_frequency(w)
+        coarse = np.flatnonzero(~self._last)
+        yf, rf = _min_residual(self._reduced_solver(slice(None)), ws, F)
+        yc, rc = _min_residual(self._reduced_solver(coarse), ws, F[coarse])
+        rho = np.minimum(rf / np.maximum(rc, 1e-300), _RHO_MAX)
+        est = SAFETY * np.abs(yf - yc) * rho / (1.0 - rho)
+        return yf, est, rf / self._c_norm[:, None]
+
+
+def _min_residual(red, ws, F):
+    """Reduced outputs and exact residual norms at the solver frequencies ``ws``.
+
+    With ``Q1^H RV = [T; 0]``, ``Q1^H RJ = [E1; E2]`` and the QZ form ``E1 = Qz S Z^H``, ``T = Qz P Z^H``, the
+    least-squares problem at ``w`` is ``min |a - (S + i w P) v|^2 + |b - E2 Z v|^2`` (``Y = Z v``): a triangular
+    matrix plus ``u - m`` dense rows, solved through ``z = (S + i w P) v`` by the Woodbury identity,
+    ``z = a + G^H (I + G G^H)^-1 (b - G a)`` with ``G = E2 Z (S + i w P)^-1``. The residual is then recomputed
+    explicitly from ``RJ``, ``RV`` and ``Rc`` (exact norms); a frequency whose triangular factor is too
+    ill-conditioned for that (explicit and implicit norms disagree) is re-solved by dense least squares.
+
+    Parameters
+    ----------
+    red : dict
+        From ``SweepBasis._reduced_solver``.
+    ws : ndarray, shape (K,)
+        Solver-unit frequencies.
+    F : ndarray, shape (m, K)
+        ``W^T b(omega)`` for the same basis columns.
+
+    Returns
+    -------
+    y : ndarray, complex, shape (p, K)
+    res : ndarray, shape (p, K)
+        Residual norms (absolute).
+    """
+    S, P, Z, a, b, Ez = red["S"], red["P"], red["Z"], red["a"], red["b"], red["Ez"]
+    RJ, RV, Rc = red["RJ"], red["RV"], red["Rc"]
+    p, K = Rc.shape[1], ws.size
+    y = np.zeros((p, K), complex)
+    res = np.zeros((p, K))
+    I = np.eye(Ez.shape[0])
+    for k, wk in enumerate(ws):
+        R = S + 1j * wk * P
+        Y = None
+        with np.errstate(all="ignore"):
+            try:
+                Gh = sla.solve_triangular(R, Ez.conj().T, trans="C", check_finite=False)   # G^H, (m, q)
+                G = Gh.conj().T
+                z = a + Gh @ np.linalg.solve(I + G @ Gh, b - G @ a) if Ez.shape[0] else a
+                v = sla.solve_triangular(R, z, check_finite=False)
+                Y = Z @ v
+                implicit = np.sqrt(np.linalg.norm(a - z, axis=0) ** 2 + np.linalg.norm(b - G @ z, axis=0) ** 2)
+            except (np.linalg.LinAlgError, ValueError):
+                Y = None
+        M = RJ + 1j * wk * RV
+        if Y is not None and np.all(np.isfinite(Y)):
+            r = np.linalg.norm(Rc - M @ Y, axis=0)
+            ok = np.all(r <= 1.01 * implicit + 1e-13 * np.linalg.norm(Rc, axis=0))
+        else:
+            ok = False
+        if not ok:
+            Y = np.linalg.lstsq(M, Rc, rcond=None)[0]
+            r = np.linalg.norm(Rc - M @ Y, axis=0)
+        y[:, k] = -(F[:, k] @ Y)
+        res[:, k] = r
+    return y, res
+
+
+def _check_tol(tol):
+    try:
+        t = float(tol)
+    except (TypeError, ValueError):
+        raise LinearError(f"tol must be a positive finite number (relative output error, e.g. 1e-8); got {tol!r}") \
+            from None
+    if not np.isfinite(t) or t <= 0.0:
+        raise LinearError(f"tol must be a positive finite number (relative output error, e.g. 1e-8); got {tol!r}")
+    return t
+
+
+def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shifts=12, x_ref=0.0, T=None,
+               basis=None, n_moments=8, progress=None):
+    """Gust frequency response over many frequencies from a few factorisations (see the module docstring).
+
+    Parameters
+    ----------
+    lin : LinearSystem
+    omega : array_like, shape (K,), or tuple (omega_d, omega)
+        As :func:`cfd.lfd.lfd_response`: U/c units, ``>= 0``, ``inf`` allowed (feedthrough, no solve);
+        the pair from ``sysid.mckelvey_grid`` is accepted and gives ``T``.
+    gust : {"svm", "fvm"}
+    outputs : sequence of {"Cl", "Cm", "Cd"}
+    tol : float
+        Target relative error of every output at every frequency: the estimate must satisfy
+        ``est <= tol * max(|y(omega)|, 1e-3 max_omega |y|)``.
+    max_shifts : int
+        Budget of shifted factorisations in this call (the basis may already hold some).
+    x_ref : float
+        Gust reference point (chords).
+    T : float, optional
+        Sampling period for the discrete frequencies of the result.
+    basis : SweepBasis, optional
+        A basis from an earlier sweep of the same ``lin`` (and outputs); it is reused and extended in
+        place. Without it a new one is built (pass one to reuse it for another ``T``).
+    n_moments : int
+        Krylov blocks per shift for a new basis.
+    progress : callable, optional
+        Called after every evaluation of the reduced model as ``progress(basis, worst)``, ``worst`` the
+        largest ratio of the error estimate to its allowance (``<= tol`` when done).
+
+    Returns
+    -------
+    sysid.FrequencyResponse
+        As ``lfd_response``; ``metadata`` adds ``"method": "fast"``, ``"error_estimate"`` (p, K) absolute,
+        ``"residual_norm"`` (p, K) relative dual residuals, ``"shifts"``, ``"basis_size"``, ``"tol"``.
+
+    Raises
+    ------
+    LinearError
+        Bad tolerance, frequencies, gust or output names, or a basis of another system.
+
+    Warns
+    -----
+    RuntimeWarning
+        When ``tol`` is not met within ``max_shifts``; the message names the frequencies.
+    """
+    from .lfd import _frequencies  # the direct path's frequency checks (same accepted forms)
+
+    tol = _check_tol(tol)
+    _check_method(gust)
+    names, rows = check_outputs(outputs)
+    if int(max_shifts) != max_shifts or max_shifts < 1:
+        raise LinearError(f"max_shifts must be a positive integer (factorisations allowed); got {max_shifts!r}")
+    omega_d, w = _frequencies(omega)
+    if T is None and omega_d is not None:
+        inner = np.isfinite(w) & (w > 0)
+        if np.any(inner):
+            k = np.flatnonzero(inner)[0]
+            T = 2.0 * np.tan(omega_d[k] / 2.0) / w[k]
+    x_ref = float(x_ref)
+    if not np.isfinite(x_ref):
+        raise LinearError(f"x_ref must be finite (chords); got {x_ref!r}")
+    if basis is None:
+        basis = SweepBasis(lin, names, n_moments=n_moments)
+    elif basis.lin is not lin:
+        raise LinearError("basis was built for another LinearSystem; build a new SweepBasis(lin)")
+    if not set(names) <= set(basis.outputs):
+        raise LinearError(f"basis holds outputs {basis.outputs}; it cannot give {names}: build a new SweepBasis")
+    sel = [basis.outputs.index(o) for o in names]
+    t_start = time.perf_counter()
+    finite = np.isfinite(w)
+    wf = w[finite]
+    H = np.zeros((len(rows), 1, w.size), complex)
+    H[:, 0, ~finite] = lin.D[rows, 0][:, None]
+    est_all = np.zeros((len(rows), w.size))
+    res_all = np.zeros((len(rows), w.size))
+    missed = np.zeros(0)
+    if wf.size:
+        if basis.size == 0:
+            basis.add_shift(0.0 if wf.min() == 0.0 else float(wf.min()))
+        added = 0
+        cache = {}
+        while True:
+            y, est, res = basis.evaluate(wf, gust, x_ref, cache)
+            y, est, res = y[sel], est[sel], res[sel]
+            scale = np.maximum(np.abs(y), 1e-3 * np.abs(y).max(axis=1, keepdims=True)) + 1e-300
+            ratio = (est / scale).max(axis=0)
+            if progress is not None:
+                progress(basis, float(ratio.max()))
+            bad = ratio > tol
+            if not np.any(bad):
+                break
+            if added >= max_shifts:
+                missed = wf[bad]
+                break
+            cand = np.where(bad, ratio, -np.inf)
+            for s in basis.shifts:  # never refactorise at an existing shift
+                cand[np.isclose(wf, s, rtol=1e-12, atol=1e-14)] = -np.inf
+            if not np.any(np.isfinite(cand)):
+                missed = wf[bad]
+                break
+            basis.add_shift(float(wf[np.argmax(cand)]))
+            added += 1
+        H[:, 0, finite] = y
+        est_all[:, finite] = est
+        res_all[:, finite] = res
+    if missed.size:
+        warnings.warn(
+            f"fast_sweep: tol = {tol:g} not met within max_shifts = {max_shifts} at {missed.size} frequencies "
+            f"(omega = {np.array2string(missed, precision=4, threshold=12)}); raise max_shifts or n_moments, or "
+            "use method='direct' there", RuntimeWarning, stacklevel=2)
+    meta = {"gust": gust, "x_ref": x_ref, "mach": lin.mach, "alpha_deg": lin.flow.alpha_deg,
+            "grid": list(map(int, lin.grid.shape)), "method": "fast", "tol": tol,
+            "error_estimate": est_all.tolist(), "residual_norm": res_all.tolist(),
+            "shifts": list(basis.shifts), "basis_size": int(basis.size),
+            "tol_met": bool(missed.size == 0), "seconds": time.perf_counter() - t_start}
+    return FrequencyResponse.from_continuous(H, w, T, inputs=["gust"], outputs=list(names), metadata=meta)
