@@ -73,7 +73,7 @@ def test_steady_gain_equals_lift_slope_of_nonlinear_steady_solves(thick):
     d = 0.25  # deg
     loads = []
     for a in (-d, d):
-        sol = solve_steady(grid, flow.mach, a, tol=1e-12, q0=q, n_rk=0)
+        sol = solve_steady(grid, flow.mach, a, tol=1e-9, q0=q, n_rk=0)  # tol relative to |R(q0)| ~ 1e-3
         assert sol.converged
         loads.append(np.array([sol.cl, sol.cm, sol.cd]))
     slope = (loads[1] - loads[0]) / np.radians(2 * d)
