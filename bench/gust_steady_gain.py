@@ -28,7 +28,7 @@ def main(cases, d=0.25):
         code, mach = CASES[case]
         t0 = time.perf_counter()
         grid = cfd.c_grid(cfd.naca(code))
-        sol = cfd.solve_steady(grid, mach, 0.0, tol=1e-12)
+        sol = cfd.solve_steady(grid, mach, 0.0, tol=1e-11)
         lin = cfd.linearise(sol)
         H0 = cfd.lfd_response(lin, [0.0], outputs=("Cl", "Cm", "Cd")).H[:, 0, 0].real
         loads = []
