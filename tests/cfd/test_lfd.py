@@ -135,3 +135,13 @@ def test_mach_trend_of_phase_confirms_compressible_sears_convention():
     cfd_change = np.degrees(np.angle(H[0.5] / H[0.2]))
     ref = np.degrees(np.angle(sears_compressible(w, 0.5) / sears_compressible(w, 0.2)))
     np.testing.assert_allclose(cfd_change, ref, atol=1.0)
+
+
+def test_mckelvey_sweep_feeds_identification(plate):
+    """End to end: the LFD on the McKelvey grid (omega = inf included) identifies a small accurate ROM."""
+    T = 70 / (2 * np.pi)
+    frf = lfd_response(plate, sysid.mckelvey_grid(16, T))
+    assert frf.is_equispaced and frf.M == 16
+    res = sysid.identify(frf, 6)
+    fit = sysid.FrequencyResponse.from_model(res.model, frf.omega_d)
+    assert np.abs(fit.H - frf.H).max() < 0.01 * np.abs(frf.H).max()
