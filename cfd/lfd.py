@@ -11,7 +11,6 @@ stays bounded while ``i omega V`` grows, so ``q -> 0``.
 """
 
 import numpy as np
-import scipy.sparse as sp
 
 from sysid import FrequencyResponse
 
@@ -73,11 +72,9 @@ def lfd_state(lin, omega, gust="svm", x_ref=0.0, perm=None):
     _check_method(gust)
     gi, gj = face_gust_harmonic(lin.grid, float(omega), x_ref)
     b = lin.forcing(gi, gj, gust)
-    perm = _permutation(lin) if perm is None else perm
     if omega == 0.0:  # the steady gain: a real system (the uniform gust has real face values)
-        return solve_direct(lin.J, -b.real, perm).astype(complex)
-    A = lin.J + sp.diags(1j * lin.to_solver_frequency(omega) * lin.V)
-    return solve_direct(A, -b, perm)
+        return lin.solver(np.zeros(lin.n), perm)(-b.real).astype(complex)
+    return lin.solver(1j * lin.to_solver_frequency(omega) * lin.V, perm)(-b)
 
 
 def lfd_response(lin, omega, gust="svm", outputs=("Cl", "Cm"), x_ref=0.0, T=None):

@@ -197,6 +197,11 @@ class LinearSystem:
         ``d(Cl, Cm, Cd)/dq`` (rows in the order of ``OUTPUTS``).
     loads : ndarray, shape (3,)
         Steady ``(Cl, Cm, Cd)`` from ``wall_loads``.
+    vortex : tuple (u, v) of ndarray, shape (4N,), or None
+        With the point-vortex far field (``scheme.vortex``) the residual depends on the state also through
+        the circulation, which ``cfd.jacobian`` holds frozen: the full Jacobian is ``J + u v^T`` with
+        ``u = dR/dCl`` (complex step through ``residual(circulation=...)``) and ``v = dCl/dq`` (the first row
+        of ``C``). :meth:`solver` adds this rank-one term by the Sherman-Morrison formula. None otherwise.
     """
 
     grid: object
@@ -210,6 +215,7 @@ class LinearSystem:
     C: np.ndarray
     loads: np.ndarray
     D: np.ndarray = field(default_factory=lambda: np.zeros((3, 1)))
+    vortex: tuple = None
 
     @property
     def mach(self):
@@ -228,6 +234,35 @@ class LinearSystem:
     def to_solver_frequency(self, omega):
         """Convective angular frequency (U / c) to solver units (a_inf / c): ``mach * omega``."""
         return np.asarray(omega) * self.mach
+
+    def solver(self, diagonal, perm=None):
+        """Factorise ``diag(diagonal) + J`` (plus the vortex rank-one term) for repeated solves.
+
+        Parameters
+        ----------
+        diagonal : ndarray, shape (4N,), real or complex
+            E.g. ``1j * omega_solver * V`` (LFD) or ``1.5 V / dt_solver`` (BDF2).
+        perm : ndarray of int, optional
+            Ordering of the unknowns (default: nested dissection of the grid).
+
+        Returns
+        -------
+        callable
+            ``solve(b)`` for ``b`` of shape (4N,).
+        """
+        A = self.J + sp.diags(diagonal)
+        solve0, _ = factorise(A, grid_permutation(self.grid) if perm is None else perm)
+        if self.vortex is None:
+            return solve0
+        u, v = self.vortex
+        z = solve0(u)
+        denom = 1.0 + v @ z
+
+        def solve(b):
+            y = solve0(b)
+            return y - z * ((v @ y) / denom)
+
+        return solve
 
     def forcing(self, gi, gj, method="svm"):
         """Gust forcing ``b`` of ``V dq/dt + J q + b = 0`` from face averages of ``v_g / U``.
@@ -354,12 +389,19 @@ def linearise_state(grid, q, flow, scheme=None):
     Bj = _face_matrix(grid, q, flow, scheme, "j")
     C = _output_matrix(grid, q, flow)
     loads = wall_loads(grid, q, flow)
+    vortex = None
+    if scheme is not None and getattr(scheme, "vortex", False):
+        cl0 = loads[0]
+        u = residual(grid, q.astype(complex), flow, scheme=scheme, circulation=cl0 + 1j * H_STEP).imag / H_STEP
+        vortex = (u.ravel(), C[0].copy())
+        for a in vortex:
+            a.setflags(write=False)
     for a in (V, C, loads):
         a.setflags(write=False)
     qf = q.copy()
     qf.setflags(write=False)
     return LinearSystem(grid=grid, flow=flow, q=qf, scheme=scheme, V=V, J=J.tocsr(), Bi=Bi, Bj=Bj, C=C,
-                        loads=loads)
+                        loads=loads, vortex=vortex)
 
 
 def linearise(sol, scheme=None):

@@ -20,10 +20,9 @@ import warnings
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.sparse as sp
 
 from .gust import OneMinusCosine, SharpEdged, SineGust, face_gust
-from .linear import LinearError, _check_method, factorise, grid_permutation
+from .linear import LinearError, _check_method
 
 __all__ = ["LTDHistory", "ltd_response", "phase_error_estimate"]
 
@@ -122,8 +121,7 @@ def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, ma
     t = dt * np.arange(n + 1)
     h = lin.to_solver_time(dt)
     V = lin.V
-    A = lin.J + sp.diags(1.5 * V / h)
-    solve, _ = factorise(A, grid_permutation(lin.grid))
+    solve = lin.solver(1.5 * V / h)
     if initial is None:
         q_prev = np.zeros(lin.n)
         q = np.zeros(lin.n)
