@@ -8,7 +8,12 @@ source)``; nothing here re-implements the flow equations:
   face grid velocities), sparse, by coloured complex step through the same residual (each face
   influences at most the four cells of its row or column nearest to it, so four colours per face
   family suffice);
-- ``dR/dsource = -I`` (the residual subtracts the cell-integrated sources).
+- ``dR/dsource = -I`` (the residual subtracts the cell-integrated sources);
+- with the point-vortex far field (``scheme.vortex``), the circulation feedback that ``cfd.jacobian``
+  freezes, as a rank-one term ``(dR/dCl)(dCl/dq)`` added in every solve (``LinearSystem.solver``).
+
+Linear systems are factorised by :func:`factorise`: nested dissection without pivoting, checked, with
+complex matrices in their real 2n form.
 
 For a gust with face averages ``g`` of ``v_g / U`` (``cfd.gust``) the face velocity is
 ``w_y = -mach g`` and the SVM adds the source ``cfd.gust.svm_source``; the forcing is therefore
@@ -29,9 +34,8 @@ and ``cfd.boundary.wall_pressure`` (8 evaluations), the first from the face geom
 ``C`` against finite differences of ``force_coefficients``.
 """
 
-from dataclasses import dataclass, field
-
 import warnings
+from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
