@@ -121,9 +121,10 @@ def sears_compressible(omega, mach, reference="midchord"):
 
         S_c = S(x) [J0(M^2 x) - i J1(M^2 x)] exp(+i x f(M))       (exp(+i omega t) convention)
 
-    so that ``Cl = (2 pi / beta) (w_ref / U) S_c``. The published form
-    ``S(x) [J0 + i J1] exp(-i x f)`` is written for the ``exp(-i omega t)`` convention. Here the
-    two correction factors are conjugated: the Bessel factor is then the chordwise integral of the
+    so that ``Cl = (2 pi / beta) (w_ref / U) S_c``. The form quoted in shared/REFERENCES.md,
+    ``S(x) [J0 + i J1] exp(-i x f)``, fits the ``exp(-i omega t)`` convention; here the two correction
+    factors are conjugated (confirmed by the CFD: the phase change of the LFD lift with Mach number
+    follows this form, docs/gust_validation.md): the Bessel factor is then the chordwise integral of the
     flat-plate loading ``sqrt((1 - xi) / (1 + xi))`` against the phase ``exp(+i M^2 x xi)`` that
     the Prandtl-Glauert-type transformation of the convected wave equation puts on the pressure in
     the ``exp(+i omega t)`` convention (``Phi = Psi exp(+i k M^2 xi / beta^2)``), which gives
