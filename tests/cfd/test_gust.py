@@ -256,3 +256,14 @@ def test_residual_free_stream_preserved_under_gust(gust):
     np.testing.assert_allclose(R[:, 3:], 0.0, atol=1e-13 * scale)  # the sine train meets the plate
     if gust.x0 is not None:
         np.testing.assert_allclose(R, 0.0, atol=1e-13 * scale)
+
+
+def test_sine_gust_face_values_are_the_real_part_of_the_harmonic_ones():
+    """The LTD forcing of an endless sine train equals Re(U exp(i omega s) g_harmonic): LFD and LTD see one gust."""
+    grid = random_grid(8)
+    w, s, x_ref = 1.7, 0.6, 0.0
+    gust = SineGust(angle_deg=3.0, omega=w)
+    U = 1j * gust.amplitude * np.exp(-1j * w * x_ref)  # u(s) = A sin(omega (x_ref - s)) = Re(U exp(i omega s))
+    assert gust.input(s, x_ref) == pytest.approx((U * np.exp(1j * w * s)).real)
+    for a, b in zip(face_gust(grid, gust, s), face_gust_harmonic(grid, w, x_ref)):
+        np.testing.assert_allclose(a, (U * np.exp(1j * w * s) * b).real, atol=1e-14)
