@@ -1,0 +1,167 @@
+"""Fast LFD sweep benchmark: ``cfd.sweep.fast_sweep`` against the direct path (``cfd.lfd.lfd_response``).
+
+Cases T2 (NACA0010, M0.735) and T5 (NACA2410, M0.25), alpha 0, on the paper's 181 x 60 grid, SVM gust,
+McKelvey grid M = 256, T = 70 / (2 pi) (257 frequencies, the last one omega = inf). Measured side by side
+in one run, per case:
+
+- one complex factorisation of ``J + i w V`` (nested dissection, as the direct path): the cost unit;
+- the fast sweep from scratch (new basis): time, shifts, basis size, multiple of one factorisation;
+- a second fast sweep with another T (``--T2-factor`` times T) reusing the basis: time, new shifts;
+- the direct sweep, one ``lfd_response`` call per frequency (progress printed), over all frequencies or
+  every k-th one (``--direct-every k``; its time is then scaled to the full grid and marked ``~``);
+- the max relative error of Cl and Cm over the frequencies solved directly, and the error estimate's
+  effectivity (estimate / true error; >= 1 means the estimate bounds the error).
+
+Prints a Markdown table. Run: ``.venv/bin/python bench/lfd_sweep_bench.py [--case T2|T5|all]
+[--direct-every 1] [--reference DIR]``; ``--reference DIR`` stores (and reuses) the direct values in
+``DIR/ref_<case>.npz`` so that a rerun measures the fast path against the same reference (the table then
+reports the direct time of the frequencies solved in this run only).
+"""
+
+import argparse
+import os
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+import cfd
+import sysid
+from cfd.lfd import lfd_response
+from cfd.ordering import nested_dissection, unknown_permutation
+from cfd.sweep import SweepBasis, fast_sweep
+
+CASES = {"T2": ("0010", 0.735), "T5": ("2410", 0.25)}
+T0 = 70 / (2 * np.pi)
+
+
+def log(msg):
+    print(f"[{time.strftime('%H:%M:%S')}] {msg}", flush=True)
+
+
+def one_factorisation(lin, omega=1.0):
+    perm = unknown_permutation(nested_dissection(lin.grid))
+    A = (lin.J + sp.diags(1j * lin.to_solver_frequency(omega) * lin.V)).tocsr()
+    t = time.perf_counter()
+    spla.splu(A[perm][:, perm].tocsc(), permc_spec="NATURAL", diag_pivot_thresh=0.0,
+              options=dict(SymmetricMode=True))
+    return time.perf_counter() - t
+
+
+def direct(lin, w, every, ref_path):
+    """Direct values (Cl, Cm) at every ``every``-th frequency; returns H (2, K) with NaN where not solved."""
+    H = np.full((2, w.size), np.nan, complex)
+    if ref_path and os.path.exists(ref_path):
+        d = np.load(ref_path)
+        if d["H"].shape[1] == w.size and np.allclose(d["omega"], w):
+            H = d["H"][:2].copy()
+            log(f"  reference: {np.sum(~np.isnan(H[0]))} stored direct values from {ref_path}")
+    todo = [k for k in range(0, w.size, every) if np.isnan(H[0, k])]
+    t_total, n = 0.0, 0
+    for i, k in enumerate(todo):
+        t = time.perf_counter()
+        H[:, k] = lfd_response(lin, [w[k]]).H[:, 0, 0]
+        t_total += time.perf_counter() - t
+        n += 0 if np.isinf(w[k]) else 1
+        if i % 8 == 0 or i == len(todo) - 1:
+            log(f"  direct {i + 1}/{len(todo)}: omega = {w[k]:.4g}, {t_total / max(n, 1):.1f} s per frequency")
+        if ref_path:
+            np.savez(ref_path, H=H, omega=w)
+    return H, t_total, n
+
+
+def run_case(name, args):
+    foil, mach = CASES[name]
+    log(f"{name}: NACA{foil} M{mach}, grid 181 x 60, steady solve ...")
+    grid = cfd.c_grid(cfd.naca(foil))
+    sol = cfd.solve_steady(grid, mach, 0.0, tol=1e-10)
+    lin = cfd.linearise(sol)
+    omega_d, w = sysid.mckelvey_grid(args.M, T0)
+    t_lu = one_factorisation(lin)
+    log(f"  one complex factorisation: {t_lu:.2f} s ({lin.n} unknowns)")
+
+    basis = SweepBasis(lin, outputs=("Cl", "Cm"), n_moments=args.n_moments)
+    t0 = time.perf_counter()
+
+    def progress(b, worst, failing):
+        log(f"  fast: {len(b.shifts)} shifts, m = {b.size}, worst est/allowance = {worst:.2e}, "
+            f"{failing.size} frequencies above tol")
+
+    frf = fast_sweep(lin, (omega_d, w), basis=basis, tol=args.tol, max_shifts=args.max_shifts, progress=progress)
+    t_fast = time.perf_counter() - t0
+    n_shifts, n_bs = len(basis.shifts), basis.timings["n_back_substitute"]
+    log(f"  fast sweep: {t_fast:.1f} s, shifts {np.round(basis.shifts, 3).tolist()}, m = {basis.size}")
+
+    T2 = args.T2_factor * T0
+    t0 = time.perf_counter()
+    frf2 = fast_sweep(lin, sysid.mckelvey_grid(args.M, T2), basis=basis, tol=args.tol, max_shifts=args.max_shifts)
+    t_second = time.perf_counter() - t0
+    new_shifts = len(basis.shifts) - n_shifts
+    log(f"  second sweep (T = {T2:.3f}): {t_second:.1f} s, {new_shifts} new shifts")
+
+    ref_path = os.path.join(args.reference, f"ref_{name}.npz") if args.reference else None
+    Hd, t_direct, n_direct = direct(lin, w, args.direct_every, ref_path)
+    solved = ~np.isnan(Hd[0]) & np.isfinite(w)
+    n_fin = int(np.isfinite(w).sum())
+    full = n_direct == n_fin
+    t_direct_full = t_direct / max(n_direct, 1) * n_fin
+    H = frf.H[:, 0]
+    err = np.abs(H - Hd)[:, solved]
+    rel = err / np.abs(Hd[:, solved])
+    est = np.asarray(frf.metadata["error_estimate"])[:, solved]
+    sig = err > 1e-13 * np.abs(Hd[:, solved])
+    eff = est[sig] / err[sig] if np.any(sig) else np.array([np.inf])
+    est_rel2 = np.max(np.asarray(frf2.metadata["error_estimate"])[:, :-1] / np.abs(frf2.H[:, 0, :-1]))
+    return {
+        "case": f"{name} NACA{foil} M{mach}", "n": lin.n, "lu": t_lu, "fast": t_fast, "direct": t_direct_full,
+        "direct_full": full, "n_direct": int(solved.sum()), "shifts": n_shifts, "m": basis.size, "n_bs": n_bs,
+        "rel_cl": rel[0].max(), "rel_cm": rel[1].max(), "est_max": np.max(est / np.abs(Hd[:, solved])),
+        "eff_min": eff.min(), "eff_med": np.median(eff), "second": t_second, "new_shifts": new_shifts,
+        "est2": est_rel2, "K": w.size, "tol_met": frf.metadata["tol_met"] and frf2.metadata["tol_met"],
+    }
+
+
+def table(rows):
+    out = ["| case | 1 LU (s) | direct (s) | fast (s) | speed-up | fast / LU | per freq. / LU | shifts | m "
+           "| max rel err Cl | max rel err Cm | max est/|H| | est/err min (median) | 2nd T (s) | 2nd T new shifts |",
+           "|---" * 15 + "|"]
+    for r in rows:
+        d = ("" if r["direct_full"] else "~") + f"{r['direct']:.0f}"
+        out.append(
+            f"| {r['case']} | {r['lu']:.2f} | {d} | {r['fast']:.1f} | {r['direct'] / r['fast']:.0f}x "
+            f"| {r['fast'] / r['lu']:.1f} | {r['fast'] / r['lu'] / (r['K'] - 1):.3f} | {r['shifts']} | {r['m']} "
+            f"| {r['rel_cl']:.1e} | {r['rel_cm']:.1e} | {r['est_max']:.1e} | {r['eff_min']:.1f} ({r['eff_med']:.0f}) "
+            f"| {r['second']:.1f} | {r['new_shifts']} |")
+    return "\n".join(out)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--case", default="all", choices=["T2", "T5", "all"])
+    ap.add_argument("--M", type=int, default=256)
+    ap.add_argument("--tol", type=float, default=1e-8)
+    ap.add_argument("--max-shifts", type=int, default=16)
+    ap.add_argument("--n-moments", type=int, default=16)
+    ap.add_argument("--T2-factor", type=float, default=0.5, help="second sweep at T2 = factor * 70 / (2 pi)")
+    ap.add_argument("--direct-every", type=int, default=1, help="solve directly every k-th frequency only")
+    ap.add_argument("--reference", default=None, help="directory to store / reuse the direct values")
+    args = ap.parse_args(argv)
+    log(f"load average at start: {os.getloadavg()}")
+    rows = [run_case(c, args) for c in (["T2", "T5"] if args.case == "all" else [args.case])]
+    log(f"load average at end: {os.getloadavg()}")
+    print()
+    print(table(rows))
+    print()
+    for r in rows:
+        print(f"{r['case']}: direct solved at {r['n_direct']} of {r['K'] - 1} finite frequencies"
+              f"{'' if r['direct_full'] else ' (direct time scaled to all)'}; {r['n_bs']} back-substitutions; "
+              f"tol met: {r['tol_met']}; second sweep max est/|H| = {r['est2']:.1e}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,151 @@
+"""cfd.sweep: the fast LFD sweep against the direct per-frequency path (cfd.lfd), on coarse grids."""
+
+import sys
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("cfd.steady")
+sys.path.append(str(Path(__file__).parent))
+
+from flowgrids import parabolic_c_grid  # noqa: E402
+
+import sysid  # noqa: E402
+from cfd import gust as cgust  # noqa: E402
+from cfd import solve_steady  # noqa: E402
+from cfd.flow import FlowCondition  # noqa: E402
+from cfd.lfd import lfd_response  # noqa: E402
+from cfd.linear import LinearError, linearise, linearise_state  # noqa: E402
+from cfd.sweep import SweepBasis, face_gust_vector, fast_sweep, gust_operator  # noqa: E402
+
+T = 70 / (2 * np.pi)
+M = 24  # 25 frequencies: 0 ... 2/T tan(23 pi / 48) ~ 4.3, and inf
+
+
+def _system(mach):
+    grid = parabolic_c_grid(thickness=0.12, n_surface=40, n_wake=10, nj=13, eta_max=4.0, xi_max=3.5)
+    sol = solve_steady(grid, mach, 0.0, tol=1e-8)
+    return linearise(sol)
+
+
+@pytest.fixture(scope="module")
+def systems():
+    """NACA0012-like section on a 61 x 13 parabolic C-grid: subsonic M0.5 and transonic M0.8."""
+    return {"M0.5": _system(0.5), "M0.8": _system(0.8)}
+
+
+@pytest.fixture(scope="module")
+def plate():
+    grid = parabolic_c_grid(thickness=0.0, n_surface=24, n_wake=6, nj=9)
+    flow = FlowCondition(0.3)
+    q = np.broadcast_to(flow.q, grid.cell_shape + (4,)).copy()
+    return linearise_state(grid, q, flow)
+
+
+@pytest.fixture(scope="module")
+def references(systems):
+    """Direct sweeps (the reference path) on the McKelvey grid, both gusts, both flows."""
+    grid_w = sysid.mckelvey_grid(M, T)
+    return {(c, g): lfd_response(lin, grid_w, gust=g) for c, lin in systems.items() for g in ("svm", "fvm")}
+
+
+@pytest.mark.parametrize("gust", ["svm", "fvm"])
+def test_gust_operator_equals_forcing(systems, gust):
+    lin = systems["M0.8"]
+    B = gust_operator(lin, gust)
+    rng = np.random.default_rng(1)
+    ni, nj = lin.grid.shape
+    gi = rng.normal(size=(ni, nj - 1)) + 1j * rng.normal(size=(ni, nj - 1))
+    gj = rng.normal(size=(ni - 1, nj)) + 1j * rng.normal(size=(ni - 1, nj))
+    b = lin.forcing(gi, gj, gust)
+    np.testing.assert_allclose(B @ np.concatenate([gi.ravel(), gj.ravel()]), b, rtol=0, atol=1e-13 * np.abs(b).max())
+    gi, gj = cgust.face_gust_harmonic(lin.grid, 2.5, 0.3)
+    np.testing.assert_array_equal(face_gust_vector(lin.grid, 2.5, 0.3), np.concatenate([gi.ravel(), gj.ravel()]))
+
+
+@pytest.mark.parametrize("case", ["M0.5", "M0.8"])
+@pytest.mark.parametrize("gust", ["svm", "fvm"])
+def test_fast_equals_direct_with_trusted_estimate(systems, references, case, gust):
+    lin, ref = systems[case], references[(case, gust)]
+    grid_w = sysid.mckelvey_grid(M, T)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # the tolerance must be met without a warning
+        frf = fast_sweep(lin, grid_w, gust=gust, tol=1e-8, n_moments=8)
+    assert frf.H.shape == ref.H.shape and frf.outputs == ("Cl", "Cm") and frf.T == pytest.approx(T)
+    np.testing.assert_allclose(frf.omega_d, ref.omega_d)
+    H, Hr = frf.H[:, 0], ref.H[:, 0]
+    err = np.abs(H - Hr)
+    fin = np.isfinite(frf.omega)
+    rel = err[:, fin] / np.abs(Hr[:, fin])
+    assert rel.max() < 1e-6
+    est = np.asarray(frf.metadata["error_estimate"])
+    assert est.shape == H.shape and frf.metadata["tol_met"] and frf.metadata["method"] == "fast"
+    # the estimate bounds the true error (up to the direct path's own round-off)
+    assert np.all(est[:, fin] + 1e-11 * np.abs(Hr[:, fin]) >= err[:, fin])
+    assert np.all(np.asarray(frf.metadata["residual_norm"])[:, fin] < 1e-3)
+    # the ends: omega = 0 is an ordinary (real) point, omega = inf is the feedthrough without a solve
+    assert frf.omega[0] == 0.0 and abs(H[0, 0].imag) < 1e-9 * abs(H[0, 0])
+    assert np.all(H[:, -1] == lin.D[:2, 0]) and np.all(est[:, -1] == 0.0)
+
+
+def test_estimate_tracks_error_of_an_unconverged_basis(systems, references):
+    """A deliberately poor basis (one shift): the warning names the frequencies, the estimate stays above the
+    true error and within a factor of 1e3 of it where the error is well above round-off."""
+    lin, ref = systems["M0.8"], references[("M0.8", "svm")]
+    grid_w = sysid.mckelvey_grid(M, T)
+    basis = SweepBasis(lin, n_moments=3)
+    with pytest.warns(RuntimeWarning, match=r"not met within max_shifts = 1 at \d+ frequencies \(omega = \["):
+        frf = fast_sweep(lin, grid_w, basis=basis, tol=1e-8, max_shifts=1)
+    assert not frf.metadata["tol_met"] and len(basis.shifts) == 2
+    fin = np.isfinite(frf.omega)
+    err = np.abs(frf.H[:, 0] - ref.H[:, 0])[:, fin]
+    est = np.asarray(frf.metadata["error_estimate"])[:, fin]
+    big = err > 1e-8 * np.abs(ref.H[:, 0, fin])
+    assert big.sum() > 10
+    eff = est[big] / err[big]
+    assert eff.min() >= 1.0 and np.median(eff) < 1e3
+
+
+def test_basis_reused_for_another_T_and_outputs(systems):
+    lin = systems["M0.5"]
+    basis = SweepBasis(lin, outputs=("Cl", "Cm", "Cd"), n_moments=8)
+    fast_sweep(lin, sysid.mckelvey_grid(M, T), outputs=("Cl", "Cm", "Cd"), basis=basis)
+    n_factor = basis.timings["n_factor"]
+    T2 = 0.7 * T
+    frf = fast_sweep(lin, sysid.mckelvey_grid(M, T2), outputs="Cm", gust="fvm", basis=basis)
+    assert frf.T == pytest.approx(T2) and frf.outputs == ("Cm",)
+    assert basis.timings["n_factor"] <= n_factor + 2  # the basis is reused (new shifts only where needed)
+    ref = lfd_response(lin, frf.omega[[1, 12, 23]], outputs="Cm", gust="fvm")
+    np.testing.assert_allclose(frf.H[0, 0, [1, 12, 23]], ref.H[0, 0], rtol=1e-6)
+
+
+def test_arbitrary_points(systems):
+    lin = systems["M0.8"]
+    w = np.array([np.inf, 2.0, 0.0, 0.37])
+    frf = fast_sweep(lin, w, outputs=("Cl",), x_ref=0.25, n_moments=8)
+    ref = lfd_response(lin, w, outputs=("Cl",), x_ref=0.25)
+    assert frf.T is None and frf.omega_d is None
+    np.testing.assert_allclose(frf.H, ref.H, rtol=1e-6, atol=1e-12)
+
+
+def test_bad_input(plate, systems):
+    w = [0.0, 1.0]
+    for tol in (0.0, -1e-8, np.nan, np.inf, "small"):
+        with pytest.raises(LinearError, match="tol must be a positive finite number"):
+            fast_sweep(plate, w, tol=tol)
+    with pytest.raises(LinearError, match="max_shifts must be a positive integer"):
+        fast_sweep(plate, w, max_shifts=0)
+    with pytest.raises(LinearError, match=">= 0"):
+        fast_sweep(plate, [-1.0])
+    with pytest.raises(LinearError, match="gust method"):
+        fast_sweep(plate, w, gust="fbc")
+    with pytest.raises(LinearError, match="unknown output"):
+        fast_sweep(plate, w, outputs=("Cl", "Cn"))
+    with pytest.raises(LinearError, match="another LinearSystem"):
+        fast_sweep(plate, w, basis=SweepBasis(systems["M0.5"]))
+    with pytest.raises(LinearError, match="cannot give"):
+        fast_sweep(plate, w, outputs="Cd", basis=SweepBasis(plate))
+    with pytest.raises(LinearError, match="n_moments"):
+        SweepBasis(plate, n_moments=1)
