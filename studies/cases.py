@@ -179,10 +179,10 @@ def _check_name(owner: str, name) -> str:
 
 def _naca_code(owner: str, code) -> str:
     """Validate ``code`` through ``cfd.naca``; return the four digits (e.g. ``"0010"``)."""
-    import cfd
+    from cfd.geometry import naca  # the submodule: works even where the cfd package namespace is bare
 
     try:
-        cfd.naca(code)
+        naca(code)
     except ValueError as e:  # cfd.GeometryError
         raise CaseError(f"{owner}: {e}") from None
     if isinstance(code, int):
@@ -240,9 +240,9 @@ class FlowCase:
 
     def foil(self):
         """The ``cfd.Aerofoil``."""
-        import cfd
+        from cfd.geometry import naca
 
-        return cfd.naca(self.naca)
+        return naca(self.naca)
 
     def with_grid(self, **sizes) -> "FlowCase":
         """A copy with some grid sizes replaced (``ni``, ``nj``, ``n_surface``, ``farfield``)."""
@@ -332,13 +332,13 @@ def to_gust(gust_case: GustCase, x0: float = -2.0):
     cfd.GustError
         ``x0`` is too close to the aerofoil (``cfd.GustPositionError``) or not finite.
     """
-    import cfd
+    from cfd.gust import OneMinusCosine, SharpEdged
 
     if not isinstance(gust_case, GustCase):
         raise TypeError(f"to_gust() expects a studies.cases.GustCase, got {type(gust_case).__name__}")
     if gust_case.kind == "one_minus_cosine":
-        return cfd.OneMinusCosine(length=gust_case.length, angle_deg=gust_case.angle_deg, x0=x0)
-    return cfd.SharpEdged(angle_deg=gust_case.angle_deg, x0=x0)
+        return OneMinusCosine(length=gust_case.length, angle_deg=gust_case.angle_deg, x0=x0)
+    return SharpEdged(angle_deg=gust_case.angle_deg, x0=x0)
 
 
 TEST_CASES: Mapping[str, FlowCase] = MappingProxyType({

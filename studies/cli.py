@@ -1,4 +1,10 @@
-"""Command line ``lfdrom`` (console script). Minimal for now: ``lfdrom demo``; later issues add ``run``."""
+"""Command line ``lfdrom`` (console script).
+
+Subcommands: ``demo`` (identification demo on a synthetic system), ``cases`` (the paper's T1-T6 and G1-G6),
+``run STUDY.toml``, ``report STUDY.toml`` and ``rom CASE --order N`` (implemented in :mod:`studies.commands`:
+they validate their inputs first and hand over to ``studies.runner.run_study`` / ``studies.report.make_report``).
+Every subcommand has ``--help``.
+"""
 
 from __future__ import annotations
 
@@ -16,6 +22,9 @@ def build_parser() -> argparse.ArgumentParser:
     p_demo = sub.add_parser("demo", help="identification demo on a synthetic gust-like system",
                             description=demo.__doc__.splitlines()[0])
     demo.build_parser(p_demo)
+    from . import commands
+
+    commands.add_subcommands(sub)
     return parser
 
 
@@ -32,6 +41,10 @@ def main(argv=None) -> int:
         run_demo(args.out, M=args.M, noise=args.noise, orders=tuple(args.orders), seed=args.seed,
                  verbose=not args.quiet)
         return 0
+    from . import commands
+
+    if args.command in commands.COMMANDS:
+        return commands.dispatch(args)
     parser.error(f"unknown command {args.command!r}")  # pragma: no cover
     return 2
 
