@@ -77,8 +77,8 @@ def direct(lin, w, every, ref_path):
 
 def run_case(name, args):
     foil, mach = CASES[name]
-    log(f"{name}: NACA{foil} M{mach}, grid 181 x 60, steady solve ...")
-    grid = cfd.c_grid(cfd.naca(foil))
+    log(f"{name}: NACA{foil} M{mach}, grid {args.ni} x {args.nj}, steady solve ...")
+    grid = cfd.c_grid(cfd.naca(foil), ni=args.ni, nj=args.nj, n_surface=args.n_surface)
     sol = cfd.solve_steady(grid, mach, 0.0, tol=1e-10)
     lin = cfd.linearise(sol)
     omega_d, w = sysid.mckelvey_grid(args.M, T0)
@@ -149,6 +149,9 @@ def main(argv=None):
     ap.add_argument("--n-moments", type=int, default=16)
     ap.add_argument("--T2-factor", type=float, default=0.5, help="second sweep at T2 = factor * 70 / (2 pi)")
     ap.add_argument("--direct-every", type=int, default=1, help="solve directly every k-th frequency only")
+    ap.add_argument("--ni", type=int, default=181)
+    ap.add_argument("--nj", type=int, default=60)
+    ap.add_argument("--n-surface", type=int, default=100)
     ap.add_argument("--reference", default=None, help="directory to store / reuse the direct values")
     args = ap.parse_args(argv)
     log(f"load average at start: {os.getloadavg()}")

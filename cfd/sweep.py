@@ -24,15 +24,16 @@ frequency with the largest estimated error until every frequency meets ``tol``.
 
 Error estimate
 --------------
-The basis is nested: ``W_`` is ``W`` without the last Krylov block of every shift. With ``y`` and ``y_`` the
-outputs from ``W`` and ``W_`` and ``rho = |r| / |r_|`` the ratio of their (exact) dual residual norms, the
-error of ``y`` is estimated as the tail of a geometric series with that rate,
+The basis is nested: ``W_`` is ``W`` without the last Krylov block of every shift. The output error of the
+reduced solution is ``e = r^T q`` (``r`` its dual residual, ``q`` the primal state), and the difference of
+the two reduced outputs is ``y - y_ = (r_ - r)^T q``: the primal state seen along the residual change. With
+the exact residuals of both models (vectors in the small orthonormal basis) the error of ``y`` is estimated as
 
-    est = |y - y_| rho / (1 - rho)        (rho capped at 0.99, then multiplied by ``SAFETY``),
+    est = SAFETY |y - y_| |r| / |r_ - r|,
 
-and reported per output and frequency in ``metadata["error_estimate"]`` (absolute, per radian of gust
-angle), next to the relative dual residual norms ``metadata["residual_norm"]``. The estimate is checked
-against the direct path in ``tests/cfd/test_sweep.py`` (see docs/lfd-sweep.md for the measured effectivity).
+reported per output and frequency in ``metadata["error_estimate"]`` (absolute, per radian of gust angle),
+next to the relative dual residual norms ``metadata["residual_norm"]``. The estimate is checked against the
+direct path in ``tests/cfd/test_sweep.py`` (measured effectivities in docs/lfd-sweep.md).
 
 ``omega = inf`` is the feedthrough ``D`` without a solve (estimate 0); ``omega = 0`` is an ordinary point.
 """
@@ -54,9 +55,7 @@ from .ordering import nested_dissection, unknown_permutation
 __all__ = ["SweepBasis", "fast_sweep", "gust_operator", "face_gust_vector", "SAFETY"]
 
 SAFETY = 10.0
-"""Factor applied to the geometric-tail error estimate (see the module docstring and docs/lfd-sweep.md)."""
-
-_RHO_MAX = 0.99
+"""Factor applied to the residual-weighted error estimate (see the module docstring and docs/lfd-sweep.md)."""
 
 
 def gust_operator(lin, gust="svm"):
@@ -400,10 +399,10 @@ class SweepBasis:
         F = cache["F"]
         ws = self.lin.to_solver_frequency(w)
         coarse = np.flatnonzero(~self._last)
-        yf, rf = _min_residual(self._reduced_solver(slice(None)), ws, F)
-        yc, rc = _min_residual(self._reduced_solver(coarse), ws, F[coarse])
-        rho = np.minimum(rf / np.maximum(rc, 1e-300), _RHO_MAX)
-        est = SAFETY * np.abs(yf - yc) * rho / (1.0 - rho)
+        yf, rf, vf = _min_residual(self._reduced_solver(slice(None)), ws, F)
+        yc, rc, vc = _min_residual(self._reduced_solver(coarse), ws, F[coarse])
+        dr = np.linalg.norm(vc - vf, axis=0)                       # |r_ - r|, (p, K)
+        est = SAFETY * np.abs(yf - yc) * rf / np.maximum(dr, 1e-300)
         return yf, est, rf / self._c_norm[:, None]
 
 
@@ -431,12 +430,15 @@ def _min_residual(red, ws, F):
     y : ndarray, complex, shape (p, K)
     res : ndarray, shape (p, K)
         Residual norms (absolute).
+    vec : ndarray, complex, shape (u, p, K)
+        The residuals in the coordinates of the orthonormal basis ``U`` (exact: ``r = U vec``).
     """
     S, P, Z, a, b, Ez = red["S"], red["P"], red["Z"], red["a"], red["b"], red["Ez"]
     RJ, RV, Rc = red["RJ"], red["RV"], red["Rc"]
     p, K = Rc.shape[1], ws.size
     y = np.zeros((p, K), complex)
     res = np.zeros((p, K))
+    vec = np.zeros((Rc.shape[0], p, K), complex)
     I = np.eye(Ez.shape[0])
     for k, wk in enumerate(ws):
         R = S + 1j * wk * P
@@ -453,16 +455,19 @@ def _min_residual(red, ws, F):
                 Y = None
         M = RJ + 1j * wk * RV
         if Y is not None and np.all(np.isfinite(Y)):
-            r = np.linalg.norm(Rc - M @ Y, axis=0)
+            rv = Rc - M @ Y
+            r = np.linalg.norm(rv, axis=0)
             ok = np.all(r <= 1.01 * implicit + 1e-13 * np.linalg.norm(Rc, axis=0))
         else:
             ok = False
         if not ok:
             Y = np.linalg.lstsq(M, Rc, rcond=None)[0]
-            r = np.linalg.norm(Rc - M @ Y, axis=0)
+            rv = Rc - M @ Y
+            r = np.linalg.norm(rv, axis=0)
         y[:, k] = -(F[:, k] @ Y)
         res[:, k] = r
-    return y, res
+        vec[:, :, k] = rv
+    return y, res, vec
 
 
 def _check_tol(tol):
