@@ -559,10 +559,12 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
     est_all = np.zeros((len(rows), w.size))
     res_all = np.zeros((len(rows), w.size))
     missed = np.zeros(0)
+    stalled = False
     if wf.size:
         if basis.size == 0:
             basis.add_shift(0.0 if wf.min() == 0.0 else float(wf.min()))
         added = 0
+        stalled = False
         cache = {}
         while True:
             y, est, res = basis.evaluate(wf, gust, x_ref, cache)
@@ -583,16 +585,25 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
             if not np.any(np.isfinite(cand)):
                 missed = wf[bad]
                 break
-            basis.add_shift(float(wf[np.argmax(cand)]))
+            n_new = basis.add_shift(float(wf[np.argmax(cand)]))
             added += 1
+            if n_new < 2 * len(basis.rows):  # the new shift's space is (nearly) in the basis already: the
+                stalled = True                 # remaining estimates are at the round-off floor
+                y, est, res = basis.evaluate(wf, gust, x_ref, cache)
+                y, est, res = y[sel], est[sel], res[sel]
+                scale = np.maximum(np.abs(y), 1e-3 * np.abs(y).max(axis=1, keepdims=True)) + 1e-300
+                missed = wf[(est / scale).max(axis=0) > tol]
+                break
         H[:, 0, finite] = y
         est_all[:, finite] = est
         res_all[:, finite] = res
     if missed.size:
+        why = (f"the basis stopped growing (round-off floor of the estimate, about {tol:g} here)" if stalled else
+               f"max_shifts = {max_shifts} used")
         warnings.warn(
             f"fast_sweep: tol = {tol:g} not met within max_shifts = {max_shifts} at {missed.size} frequencies "
-            f"(omega = {np.array2string(missed, precision=4, threshold=12)}); raise max_shifts or n_moments, or "
-            "use method='direct' there", RuntimeWarning, stacklevel=2)
+            f"(omega = {np.array2string(missed, precision=4, threshold=12)}): {why}; raise max_shifts or "
+            "n_moments, loosen tol, or use method='direct' there", RuntimeWarning, stacklevel=2)
     meta = {"gust": gust, "x_ref": x_ref, "mach": lin.mach, "alpha_deg": lin.flow.alpha_deg,
             "grid": list(map(int, lin.grid.shape)), "method": "fast", "tol": tol,
             "error_estimate": est_all.tolist(), "residual_norm": res_all.tolist(),
