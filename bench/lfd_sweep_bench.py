@@ -15,11 +15,13 @@ in one run, per case:
 Prints a Markdown table. Run: ``.venv/bin/python bench/lfd_sweep_bench.py [--case T2|T5|all]
 [--direct-every 1] [--reference DIR]``; ``--reference DIR`` stores (and reuses) the direct values in
 ``DIR/ref_<case>.npz`` so that a rerun measures the fast path against the same reference (the table then
-reports the direct time of the frequencies solved in this run only).
+reports the direct time of the frequencies solved in this run only); ``--lin DIR`` likewise stores and reuses
+the steady solution's ``LinearSystem`` (``DIR/<case>.pkl``), which the stored reference belongs to.
 """
 
 import argparse
 import os
+import pickle
 import sys
 import time
 from pathlib import Path
@@ -53,7 +55,7 @@ def one_factorisation(lin, omega=1.0):
     return time.perf_counter() - t
 
 
-def direct(lin, w, every, ref_path):
+def direct(lin, w, every, ref_path, deadline=None):
     """Direct values (Cl, Cm) at every ``every``-th frequency; returns H (2, K) with NaN where not solved."""
     H = np.full((2, w.size), np.nan, complex)
     if ref_path and os.path.exists(ref_path):
@@ -64,6 +66,9 @@ def direct(lin, w, every, ref_path):
     todo = [k for k in range(0, w.size, every) if np.isnan(H[0, k])]
     t_total, n = 0.0, 0
     for i, k in enumerate(todo):
+        if deadline and time.time() > deadline:
+            log(f"  direct: deadline reached after {i} of {len(todo)} frequencies")
+            break
         t = time.perf_counter()
         H[:, k] = lfd_response(lin, [w[k]]).H[:, 0, 0]
         t_total += time.perf_counter() - t
@@ -77,10 +82,19 @@ def direct(lin, w, every, ref_path):
 
 def run_case(name, args):
     foil, mach = CASES[name]
-    log(f"{name}: NACA{foil} M{mach}, grid {args.ni} x {args.nj}, steady solve ...")
-    grid = cfd.c_grid(cfd.naca(foil), ni=args.ni, nj=args.nj, n_surface=args.n_surface)
-    sol = cfd.solve_steady(grid, mach, 0.0, tol=1e-10)
-    lin = cfd.linearise(sol)
+    cached = os.path.join(args.lin, f"{name}.pkl") if args.lin else None
+    if cached and os.path.exists(cached):
+        with open(cached, "rb") as f:
+            lin = pickle.load(f)
+        log(f"{name}: NACA{foil} M{mach}, linear system loaded from {cached} (grid {lin.grid.shape})")
+    else:
+        log(f"{name}: NACA{foil} M{mach}, grid {args.ni} x {args.nj}, steady solve ...")
+        grid = cfd.c_grid(cfd.naca(foil), ni=args.ni, nj=args.nj, n_surface=args.n_surface)
+        sol = cfd.solve_steady(grid, mach, 0.0, tol=1e-10)
+        lin = cfd.linearise(sol)
+        if cached:
+            with open(cached, "wb") as f:
+                pickle.dump(lin, f)
     omega_d, w = sysid.mckelvey_grid(args.M, T0)
     t_lu = one_factorisation(lin)
     log(f"  one complex factorisation: {t_lu:.2f} s ({lin.n} unknowns)")
@@ -105,7 +119,7 @@ def run_case(name, args):
     log(f"  second sweep (T = {T2:.3f}): {t_second:.1f} s, {new_shifts} new shifts")
 
     ref_path = os.path.join(args.reference, f"ref_{name}.npz") if args.reference else None
-    Hd, t_direct, n_direct = direct(lin, w, args.direct_every, ref_path)
+    Hd, t_direct, n_direct = direct(lin, w, args.direct_every, ref_path, args.deadline)
     solved = ~np.isnan(Hd[0]) & np.isfinite(w)
     n_fin = int(np.isfinite(w).sum())
     full = n_direct == n_fin
@@ -152,6 +166,8 @@ def main(argv=None):
     ap.add_argument("--ni", type=int, default=181)
     ap.add_argument("--nj", type=int, default=60)
     ap.add_argument("--n-surface", type=int, default=100)
+    ap.add_argument("--deadline", type=float, default=None, help="stop the direct solves at this Unix time")
+    ap.add_argument("--lin", default=None, help="directory to store / reuse the linear systems (<case>.pkl)")
     ap.add_argument("--reference", default=None, help="directory to store / reuse the direct values")
     args = ap.parse_args(argv)
     log(f"load average at start: {os.getloadavg()}")
