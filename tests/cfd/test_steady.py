@@ -24,6 +24,15 @@ def test_symmetric_subsonic_flow_has_no_lift_and_converges_ten_decades(grid0012)
     assert set(f) == {"rho", "u", "v", "p", "mach"} and f["mach"].shape == grid0012.cell_shape
 
 
+def test_restart_from_a_converged_state_measures_the_drop_from_the_free_stream(grid0012):
+    sol = cfd.solve_steady(grid0012, 0.5, 2.0, tol=1e-10)
+    # A near-converged start must not be asked to fall a further 1e-10 below its own (round-off) residual.
+    again = cfd.solve_steady(grid0012, 0.5, 2.0, tol=1e-10, q0=sol.q, n_rk=0)
+    assert again.converged
+    assert again.history[-1] <= 1e-10 * sol.history[0]
+    assert again.cl == pytest.approx(sol.cl, abs=1e-9)
+
+
 def test_transonic_naca0012_against_agard(grid0012):
     # AGARD AR-211, M0.8 alpha 1.25: Cl 0.33-0.36, Cd 0.021-0.024, Cm about -0.04 (coarse grids read higher).
     sol = cfd.solve_steady(grid0012, 0.8, 1.25)
