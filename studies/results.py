@@ -1,57 +1,649 @@
-"""Results of a study read back from the store (contract between studies.runner and studies.report).
+"""Results of a study read back from the results store: the contract between the runner and the reports.
 
-CONTRACT (to implement here; the text below is the agreed interface):
+:func:`load_results` reads what :func:`studies.runner.run_study` stored (it never computes) and returns a
+:class:`StudyResults`: frozen records of plain NumPy arrays, no CFD objects. ``studies.report`` builds every
+table and figure from it.
 
-## Shared contract between the runner (helper A) and the report (helper B)
+Records
+-------
+- :class:`FRFRecord` (case, T): the LFD gust response on ``sysid.mckelvey_grid(M_base, T)``.
+- :class:`LTDRecord` (case, gust): the LTD reference history.
+- :class:`RomRecord` (case, T, M, order, method): one identification, ``status`` ``"ok"`` or ``"failed"``.
+- :class:`SimRecord` (case, T, M, order, method, gust): the ROM's gust history against the LTD one.
 
-`studies/results.py` (owned by helper A, committed FIRST, within ~20 minutes, before the runner itself) defines
-what a finished (or partly finished) study looks like when read back from the results store. Pure data, frozen
-dataclasses, NumPy arrays, no CFD objects:
+Metrics (all computed by the runner with the functions of this module and stored with the pieces)
+--------------------------------------------------------------------------------------------------
+``RomRecord.metrics`` (``X`` is each output of the study, ``Cl`` and ``Cm`` by default):
 
-```python
-@dataclass(frozen=True)
-class FRFRecord:          # the LFD gust frequency response of one case at one T (M_base + 1 points)
-    case: str; T: float; M: int
-    frf: sysid.FrequencyResponse     # outputs ("Cl", "Cm"), input "gust", omega (continuous, U/c units), omega_d, T
-    seconds: float                   # compute time
-    method: str                      # "direct" | "fast"
-@dataclass(frozen=True)
-class LTDRecord:          # the LTD reference response of one case to one gust
-    case: str; gust: str             # "T2", "G3"
-    t: np.ndarray; u: np.ndarray; cl: np.ndarray; cm: np.ndarray   # shape (n+1,), convective time, per the gust's real amplitude
-    seconds: float
-@dataclass(frozen=True)
-class RomRecord:          # one sweep point (case, T, M, order, method)
-    case: str; T: float; M: int; order: int; method: str   # method = the study's method-variant name, e.g. "dc_stable"
-    status: str                      # "ok" | "failed"
-    error: str | None                # "ExceptionType: message" when failed
-    A: np.ndarray | None; B; C; D    # discrete ROM at sampling period T (None when failed)
-    hankel_sv: np.ndarray | None     # (q,) Hankel singular values from the subspace step
-    frf_rom: np.ndarray | None       # (p, 1, M_base + 1) ROM evaluated at the FRFRecord's omega_d points
-    metrics: dict                    # frf_max_err_Cl, frf_rms_err_Cl, frf_max_err_Cm, frf_rms_err_Cm (relative, sysid.metrics),
-                                     # dc_err_Cl, dc_err_Cm (absolute), spectral_radius, stable (bool), seconds
-@dataclass(frozen=True)
-class SimRecord:          # ROM response to one gust vs the LTD one
-    case: str; T: float; M: int; order: int; method: str; gust: str
-    t: np.ndarray; cl: np.ndarray; cm: np.ndarray      # ROM on the LTD time grid
-    metrics: dict    # peak_err_Cl, peak_err_Cm (relative to |LTD peak|), t_peak_err_Cl, t_peak_err_Cm (convective time),
-                     # rms_err_Cl, rms_err_Cm (relative to LTD RMS), seconds_rom, seconds_ltd
-@dataclass(frozen=True)
-class StudyResults:
-    config: StudyConfig
-    frf: dict[tuple[str, float], FRFRecord]            # (case, T)
-    ltd: dict[tuple[str, str], LTDRecord]              # (case, gust)
-    roms: list[RomRecord]
-    sims: list[SimRecord]
-    missing: list[str]                                 # human-readable list of pieces not in the store yet
-    def table(self, kind: str = "rom" | "sim") -> list[dict]   # one flat dict per record: keys above + metrics
-```
+- ``frf_max_err_X``, ``frf_rms_err_X``: relative FRF errors of the ROM against the LFD response on the full
+  base grid (``M_base + 1`` points, also where a subsampled ROM was not fitted), per
+  :mod:`sysid.metrics` (peak- and energy-normalised per output);
+- ``frf_max_err_fit``, ``frf_rms_err_fit``: the overall errors on the ``M + 1`` points identified from;
+- ``dc_err_X``: ``|G_rom(z = 1) - H(omega = 0)|`` (absolute, per radian);
+- ``spectral_radius`` (discrete ROM at ``T``), ``stable`` (``spectral_radius < 1``), ``seconds``.
 
-`studies.load_results(study_or_path) -> StudyResults` reads the store only (never computes). `studies.run_study(study_or_path, *,
-scheduler=None, workers=None, progress=True) -> StudyResults` computes what is missing, then returns load_results.
-`studies.report.make_report(study_or_path, out_dir=None) -> pathlib.Path` (helper B) builds everything from
-load_results only; `studies/commands.py` already hands `lfdrom run` / `lfdrom report` over to
-`studies.runner.run_study` / `studies.report.make_report` (read it; keep its behaviour and exit codes).
-If a field turns out to be wrong while building, helper A may change results.py, and must say so in its commit
-message; helper B reads results.py from git (git log -p studies/results.py) before relying on it.
+``SimRecord.metrics``: for each output ``X`` in ``Cl``, ``Cm`` (those the study computes), with the peak of a
+history ``y`` taken as ``y[argmax |y|]`` at time ``t_peak``:
+
+- ``peak_err_X = |peak_rom - peak_ltd| / |peak_ltd|``;
+- ``t_peak_err_X = |t_peak_rom - t_peak_ltd|`` (convective time);
+- ``rms_err_X = rms(y_rom - y_ltd) / rms(y_ltd)``;
+- ``seconds_rom`` (re-discretisation and simulation) and ``seconds_ltd`` (the LTD march of that gust; when
+  several gusts were marched together, their shared time divided by their number).
+
+Store layout (written by the runner through these functions, see :mod:`studies.cache` for the keys)
+--------------------------------------------------------------------------------------------------
+====== ===================================== ===========================================================
+piece  arrays                                metadata
+====== ===================================== ===========================================================
+steady ``q`` (ni-1, nj-1, 4)                 ``cl``, ``cd``, ``cm``, ``converged``, ``iterations``, ``seconds``
+frf    ``H`` (p, 1, K), ``omega_d``,          ``T``, ``M``, ``outputs``, ``inputs``, ``method``, ``seconds``
+       ``omega`` (K,), K = M_base + 1
+ltd    ``t``, ``u``, ``cl``, ``cm``, ``cd``   ``seconds``, ``dt``, ``gust_method``
+       (n + 1,)
+rom    ``A`` (n, n), ``B`` (n, 1),            ``metrics``, ``identify_method``, ``enforced``, ``outputs``
+       ``C`` (p, n), ``D`` (p, 1),
+       ``hankel_sv`` (q,), ``frf_rom``
+       (p, 1, M_base + 1)
+sim    ``t``, ``cl``, ``cm`` (n + 1,)         ``metrics``
+====== ===================================== ===========================================================
+
+Every piece's metadata also holds ``status`` (``"ok"`` or ``"failed"``); a failed piece has no arrays and an
+``error`` (``"ExceptionType: message"``). A failed steady flow or FRF marks the ROMs that need it failed (with
+that reason); a failed LTD or ROM simulation is listed in :attr:`StudyResults.failed`.
 """
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Mapping, Optional
+
+import numpy as np
+
+from sysid import FrequencyResponse
+
+from .config import StudyConfig, SweepPoint, frf_piece, load_study, ltd_piece, rom_piece, sim_piece, steady_piece
+
+__all__ = [
+    "FRFRecord",
+    "LTDRecord",
+    "RomRecord",
+    "SimRecord",
+    "StudyResults",
+    "load_results",
+    "open_store",
+    "failure_payload",
+    "steady_payload",
+    "frf_payload",
+    "ltd_payload",
+    "rom_payload",
+    "sim_payload",
+    "rom_metrics",
+    "sim_metrics",
+    "peak",
+    "is_failed",
+    "error_text",
+    "SIM_OUTPUTS",
+]
+
+SIM_OUTPUTS = ("Cl", "Cm")
+"""Outputs whose gust histories are compared (when the study computes them)."""
+
+
+# ---------------------------------------------------------------------------------------------
+# Records
+# ---------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True, eq=False)
+class FRFRecord:
+    """The LFD gust frequency response of one case at one ``T`` (``M + 1`` points, ``M = M_base``).
+
+    Attributes
+    ----------
+    case : str
+    T : float
+        Sampling period of the bilinear map (convective time).
+    M : int
+        Grid intervals of the computed response (the study's ``M_base``).
+    frf : sysid.FrequencyResponse
+        ``H`` of shape (p, 1, M + 1), outputs of the study (``"Cl"``, ``"Cm"``), input ``"gust"``, per radian
+        of gust angle; ``omega`` continuous (U/c units, last one ``inf``), ``omega_d`` and ``T``.
+    seconds : float
+        Compute time of the sweep (wall clock, s).
+    method : str
+        ``"direct"`` or ``"fast"`` (the LFD path that produced it; ``"auto"`` when the solver did not say).
+    """
+
+    case: str
+    T: float
+    M: int
+    frf: FrequencyResponse
+    seconds: float
+    method: str
+
+
+@dataclass(frozen=True, eq=False)
+class LTDRecord:
+    """The LTD reference response of one case to one gust.
+
+    Attributes
+    ----------
+    case, gust : str
+        E.g. ``"T2"``, ``"G3"``.
+    t : ndarray, shape (n + 1,)
+        Convective time, ``0, dt, ..., t_end``.
+    u : ndarray, shape (n + 1,)
+        Gust input ``v_g(x_ref, t) / U`` at the gust's real amplitude.
+    cl, cm : ndarray, shape (n + 1,)
+        Load perturbations about the steady loads.
+    seconds : float
+        Compute time (s).
+    """
+
+    case: str
+    gust: str
+    t: np.ndarray
+    u: np.ndarray
+    cl: np.ndarray
+    cm: np.ndarray
+    seconds: float
+
+
+@dataclass(frozen=True, eq=False)
+class RomRecord:
+    """One sweep point: case, ``T``, ``M`` (``N_omega = M + 1``), order and method variant.
+
+    Attributes
+    ----------
+    case : str
+    T : float
+    M : int
+    order : int
+        ``N_r``.
+    method : str
+        The study's method-variant name (e.g. ``"dc_stable"``).
+    status : {"ok", "failed"}
+    error : str or None
+        ``"ExceptionType: message"`` when failed.
+    A, B, C, D : ndarray or None
+        Discrete ROM at sampling period ``T``: shapes (n, n), (n, 1), (p, n), (p, 1); None when failed.
+    hankel_sv : ndarray, shape (q,), or None
+        Hankel singular values of the subspace step.
+    frf_rom : ndarray, complex, shape (p, 1, M_base + 1), or None
+        The ROM at the :class:`FRFRecord`'s ``omega_d`` points.
+    metrics : dict
+        See the module docstring; empty when failed.
+    """
+
+    case: str
+    T: float
+    M: int
+    order: int
+    method: str
+    status: str
+    error: Optional[str] = None
+    A: Optional[np.ndarray] = None
+    B: Optional[np.ndarray] = None
+    C: Optional[np.ndarray] = None
+    D: Optional[np.ndarray] = None
+    hankel_sv: Optional[np.ndarray] = None
+    frf_rom: Optional[np.ndarray] = None
+    metrics: dict = field(default_factory=dict)
+
+    @property
+    def ok(self) -> bool:
+        """``status == "ok"``."""
+        return self.status == "ok"
+
+    def model(self, outputs=("Cl", "Cm"), inputs=("gust",)):
+        """The discrete ROM as a ``control.StateSpace`` (``dt = T``).
+
+        Raises
+        ------
+        ValueError
+            The point failed (no model).
+        """
+        if not self.ok:
+            raise ValueError(f"sweep point {self.label()} failed ({self.error}); it has no model")
+        import control
+
+        p = self.C.shape[0]
+        outs = list(outputs)[:p] if len(outputs) >= p else [f"y[{i}]" for i in range(p)]
+        return control.ss(self.A, self.B, self.C, self.D, self.T, inputs=list(inputs), outputs=outs)
+
+    def label(self) -> str:
+        """Short text naming the point, e.g. ``"T2 T=11.1408 M=256 N_r=9 plain"``."""
+        return f"{self.case} T={self.T:.6g} M={self.M} N_r={self.order} {self.method}"
+
+
+@dataclass(frozen=True, eq=False)
+class SimRecord:
+    """A ROM's response to one gust, against the LTD one.
+
+    Attributes
+    ----------
+    case : str
+    T : float
+    M : int
+    order : int
+    method : str
+    gust : str
+    t : ndarray, shape (n + 1,)
+        The LTD time grid (convective time).
+    cl, cm : ndarray, shape (n + 1,)
+        ROM loads (perturbations) at the gust's real amplitude.
+    metrics : dict
+        See the module docstring.
+    """
+
+    case: str
+    T: float
+    M: int
+    order: int
+    method: str
+    gust: str
+    t: np.ndarray
+    cl: np.ndarray
+    cm: np.ndarray
+    metrics: dict = field(default_factory=dict)
+
+
+_ROM_COLUMNS = ("case", "T", "M", "N_omega", "order", "method", "status", "error")
+_SIM_COLUMNS = ("case", "T", "M", "N_omega", "order", "method", "gust")
+
+
+@dataclass(frozen=True, eq=False)
+class StudyResults:
+    """What the store holds for a study (complete or not).
+
+    Attributes
+    ----------
+    config : StudyConfig
+    frf : dict of (case, T) -> FRFRecord
+    ltd : dict of (case, gust) -> LTDRecord
+    roms : list of RomRecord
+        In the order of ``config.points()``; points not yet computed are left out (see ``missing``).
+    sims : list of SimRecord
+        ROM gust histories whose ROM and LTD reference both exist.
+    missing : list of str
+        Pieces not in the store yet, e.g. ``"frf T2 T=11.1408"``; empty when the study is complete.
+    failed : list of str
+        Pieces that failed, with their error: CFD pieces (steady, FRF, LTD) and ROM simulations. Failed
+        identifications are also :class:`RomRecord` with ``status = "failed"``.
+    steady : dict of case -> dict
+        Steady loads and solver data per case: ``cl``, ``cd``, ``cm``, ``iterations``, ``seconds``.
+    """
+
+    config: StudyConfig
+    frf: dict
+    ltd: dict
+    roms: list
+    sims: list
+    missing: list
+    failed: list = field(default_factory=list)
+    steady: dict = field(default_factory=dict)
+
+    @property
+    def complete(self) -> bool:
+        """Nothing missing (failures count as done)."""
+        return not self.missing
+
+    def table(self, kind: str = "rom") -> list:
+        """Flat rows, one dict per record: the record's identifying fields followed by its metrics.
+
+        Parameters
+        ----------
+        kind : {"rom", "sim", "frf", "ltd"}
+            ``"rom"``: case, T, M, N_omega, order, method, status, error and the ROM metrics (missing ones
+            as NaN for failed points, so that every row has the same keys). ``"sim"``: case, T, M, N_omega,
+            order, method, gust and the simulation metrics. ``"frf"``: case, T, M, method, seconds.
+            ``"ltd"``: case, gust, seconds, n_steps.
+
+        Returns
+        -------
+        list of dict
+
+        Raises
+        ------
+        ValueError
+            Unknown ``kind``.
+        """
+        if kind == "rom":
+            keys = _union_keys(r.metrics for r in self.roms)
+            rows = []
+            for r in self.roms:
+                row = dict(case=r.case, T=r.T, M=r.M, N_omega=r.M + 1, order=r.order, method=r.method,
+                           status=r.status, error=r.error)
+                row.update({k: r.metrics.get(k, float("nan")) for k in keys})
+                rows.append(row)
+            return rows
+        if kind == "sim":
+            keys = _union_keys(s.metrics for s in self.sims)
+            return [dict(case=s.case, T=s.T, M=s.M, N_omega=s.M + 1, order=s.order, method=s.method, gust=s.gust,
+                         **{k: s.metrics.get(k, float("nan")) for k in keys}) for s in self.sims]
+        if kind == "frf":
+            return [dict(case=f.case, T=f.T, M=f.M, method=f.method, seconds=f.seconds) for f in self.frf.values()]
+        if kind == "ltd":
+            return [dict(case=r.case, gust=r.gust, seconds=r.seconds, n_steps=len(r.t) - 1) for r in self.ltd.values()]
+        raise ValueError(f"table kind must be 'rom', 'sim', 'frf' or 'ltd', got {kind!r}")
+
+    def rom(self, case: str, T: float, M: int, order: int, method: str) -> RomRecord:
+        """The :class:`RomRecord` of one sweep point (``T`` compared to 1e-9 relative).
+
+        Raises
+        ------
+        KeyError
+            No such record (not computed yet, or not a point of the study).
+        """
+        for r in self.roms:
+            if (r.case == case and np.isclose(r.T, T, rtol=1e-9, atol=0.0) and r.M == M and r.order == order
+                    and r.method == method):
+                return r
+        raise KeyError(f"no ROM record for {case} T={T:.6g} M={M} N_r={order} {method}")
+
+
+def _union_keys(dicts) -> list:
+    keys: list = []
+    for d in dicts:
+        for k in d:
+            if k not in keys:
+                keys.append(k)
+    return keys
+
+
+# ---------------------------------------------------------------------------------------------
+# Metrics (used by the runner, stored with the pieces)
+# ---------------------------------------------------------------------------------------------
+
+def peak(t, y) -> tuple:
+    """The signed extreme of a history and its time: ``(y[k], t[k])`` with ``k = argmax |y|``.
+
+    Parameters
+    ----------
+    t, y : array_like, shape (n,)
+
+    Returns
+    -------
+    tuple of float
+    """
+    y = np.asarray(y, dtype=float)
+    k = int(np.argmax(np.abs(y)))
+    return float(y[k]), float(np.asarray(t, dtype=float)[k])
+
+
+def rom_metrics(frf_rom, H, fit_index, outputs, dc_model, spectral_radius: float, seconds: float) -> dict:
+    """Metrics of one identified ROM (see the module docstring).
+
+    Parameters
+    ----------
+    frf_rom : array_like, complex, shape (p, 1, K)
+        ROM on the base grid (``K = M_base + 1``).
+    H : array_like, complex, shape (p, 1, K)
+        LFD response on the base grid.
+    fit_index : array_like of int
+        Indices of the ``M + 1`` points identified from.
+    outputs : sequence of str
+        Names of the ``p`` outputs.
+    dc_model : array_like, shape (p, 1)
+        ``G_rom(z = 1)``.
+    spectral_radius : float
+    seconds : float
+
+    Returns
+    -------
+    dict of str -> float or bool
+    """
+    from sysid.metrics import max_relative_error, rms_relative_error
+
+    Hm = np.asarray(frf_rom, dtype=complex)
+    Hd = np.asarray(H, dtype=complex)
+    mx = max_relative_error(Hm, Hd, per_output=True)
+    rms = rms_relative_error(Hm, Hd, per_output=True)
+    out: dict = {}
+    for i, name in enumerate(outputs):
+        out[f"frf_max_err_{name}"] = float(mx[i])
+        out[f"frf_rms_err_{name}"] = float(rms[i])
+    idx = np.asarray(fit_index, dtype=int)
+    out["frf_max_err_fit"] = max_relative_error(Hm[:, :, idx], Hd[:, :, idx])
+    out["frf_rms_err_fit"] = rms_relative_error(Hm[:, :, idx], Hd[:, :, idx])
+    dc = np.asarray(dc_model, dtype=float).reshape(len(outputs), -1)
+    for i, name in enumerate(outputs):
+        out[f"dc_err_{name}"] = float(np.abs(dc[i, 0] - Hd[i, 0, 0].real))
+    out["spectral_radius"] = float(spectral_radius)
+    out["stable"] = bool(spectral_radius < 1.0)
+    out["seconds"] = float(seconds)
+    return out
+
+
+def sim_metrics(t, rom: Mapping[str, Any], ltd: Mapping[str, Any], seconds_rom: float, seconds_ltd: float) -> dict:
+    """Metrics of a ROM gust history against the LTD one (see the module docstring).
+
+    Parameters
+    ----------
+    t : array_like, shape (n + 1,)
+        The common time grid (convective time).
+    rom, ltd : mapping of output name -> array_like, shape (n + 1,)
+        Histories, e.g. ``{"Cl": cl, "Cm": cm}``; the outputs compared are those in both.
+    seconds_rom, seconds_ltd : float
+
+    Returns
+    -------
+    dict of str -> float
+        ``inf`` relative errors where the LTD history is identically zero and the ROM's is not (0 where both
+        are).
+    """
+    out: dict = {}
+    for name in SIM_OUTPUTS:
+        if name not in rom or name not in ltd:
+            continue
+        yr = np.asarray(rom[name], dtype=float)
+        yl = np.asarray(ltd[name], dtype=float)
+        pr, tr = peak(t, yr)
+        pl, tl = peak(t, yl)
+        out[f"peak_err_{name}"] = _ratio(abs(pr - pl), abs(pl))
+        out[f"t_peak_err_{name}"] = abs(tr - tl)
+        out[f"rms_err_{name}"] = _ratio(float(np.sqrt(np.mean((yr - yl) ** 2))), float(np.sqrt(np.mean(yl ** 2))))
+    out["seconds_rom"] = float(seconds_rom)
+    out["seconds_ltd"] = float(seconds_ltd)
+    return out
+
+
+def _ratio(num: float, den: float) -> float:
+    if den > 0.0:
+        return float(num / den)
+    return 0.0 if num == 0.0 else float("inf")
+
+
+# ---------------------------------------------------------------------------------------------
+# Store payloads: (arrays, metadata) of each piece, written by the runner, read below
+# ---------------------------------------------------------------------------------------------
+
+def error_text(exc: BaseException) -> str:
+    """``"ExceptionType: message"`` (first 2000 characters)."""
+    return f"{type(exc).__name__}: {exc}"[:2000]
+
+
+def failure_payload(exc_or_text, **extra) -> tuple:
+    """``(arrays, metadata)`` of a failed piece: no arrays, ``status = "failed"`` and the error text."""
+    text = exc_or_text if isinstance(exc_or_text, str) else error_text(exc_or_text)
+    return {}, dict(extra, status="failed", error=text)
+
+
+def steady_payload(sol, seconds: float) -> tuple:
+    """``(arrays, metadata)`` of a ``cfd.SteadySolution``."""
+    return ({"q": np.asarray(sol.q)},
+            dict(status="ok", cl=float(sol.cl), cd=float(sol.cd), cm=float(sol.cm), converged=bool(sol.converged),
+                 iterations=int(sol.iterations), seconds=float(seconds)))
+
+
+def frf_payload(frf: FrequencyResponse, M: int, method: str, seconds: float) -> tuple:
+    """``(arrays, metadata)`` of an LFD response on McKelvey's grid of ``M`` intervals."""
+    return ({"H": np.asarray(frf.H), "omega_d": np.asarray(frf.omega_d), "omega": np.asarray(frf.omega)},
+            dict(status="ok", T=float(frf.T), M=int(M), outputs=list(frf.outputs), inputs=list(frf.inputs),
+                 method=str(method), seconds=float(seconds)))
+
+
+def ltd_payload(hist, seconds: float, gust_method: str) -> tuple:
+    """``(arrays, metadata)`` of a ``cfd.LTDHistory`` (or any object with ``t, u, cl, cm, cd, dt``)."""
+    return ({"t": np.asarray(hist.t), "u": np.asarray(hist.u), "cl": np.asarray(hist.cl), "cm": np.asarray(hist.cm),
+             "cd": np.asarray(hist.cd)},
+            dict(status="ok", seconds=float(seconds), dt=float(hist.dt), gust_method=str(gust_method)))
+
+
+def rom_payload(A, B, C, D, hankel_sv, frf_rom, metrics: Mapping, *, identify_method: str = "",
+                enforced: Optional[Mapping] = None, outputs=()) -> tuple:
+    """``(arrays, metadata)`` of an identified ROM (see the module docstring for shapes)."""
+    return ({"A": np.asarray(A, dtype=float), "B": np.asarray(B, dtype=float), "C": np.asarray(C, dtype=float),
+             "D": np.asarray(D, dtype=float), "hankel_sv": np.asarray(hankel_sv, dtype=float),
+             "frf_rom": np.asarray(frf_rom, dtype=complex)},
+            dict(status="ok", metrics=dict(metrics), identify_method=str(identify_method),
+                 enforced=dict(enforced or {}), outputs=list(outputs)))
+
+
+def sim_payload(t, cl, cm, metrics: Mapping) -> tuple:
+    """``(arrays, metadata)`` of a ROM gust history."""
+    return ({"t": np.asarray(t, dtype=float), "cl": np.asarray(cl, dtype=float), "cm": np.asarray(cm, dtype=float)},
+            dict(status="ok", metrics=dict(metrics)))
+
+
+def is_failed(entry) -> bool:
+    """Whether a store entry records a failure."""
+    return entry is not None and entry.metadata.get("status") == "failed"
+
+
+# ---------------------------------------------------------------------------------------------
+# Reading
+# ---------------------------------------------------------------------------------------------
+
+def open_store(config: StudyConfig, store_dir=None):
+    """The :class:`studies.cache.ResultStore` of a study (``store_dir`` overrides ``config.store_dir``)."""
+    from .cache import ResultStore
+
+    return ResultStore(Path(store_dir) if store_dir is not None else config.store_dir)
+
+
+def _as_config(study_or_path) -> StudyConfig:
+    if isinstance(study_or_path, StudyConfig):
+        return study_or_path
+    if isinstance(study_or_path, (str, Path)):
+        return load_study(study_or_path)
+    raise TypeError(f"expected a StudyConfig or the path of a study file, got {type(study_or_path).__name__}")
+
+
+def _fmt_T(T: float) -> str:
+    return f"T={T:.6g}"
+
+
+def load_results(study_or_path, *, store_dir=None) -> StudyResults:
+    """Read a study's results from its store; computes nothing.
+
+    Parameters
+    ----------
+    study_or_path : StudyConfig or path-like
+        A validated study, or the path of its TOML file (validated here).
+    store_dir : path-like, optional
+        Overrides the study's store folder.
+
+    Returns
+    -------
+    StudyResults
+        With what the store holds; ``missing`` lists the rest.
+
+    Raises
+    ------
+    studies.config.StudyConfigError
+        The study file is invalid.
+    TypeError
+        Neither a StudyConfig nor a path.
+    """
+    config = _as_config(study_or_path)
+    store = open_store(config, store_dir)
+    outputs = list(config.cfd.outputs)
+    frfs: dict = {}
+    ltds: dict = {}
+    roms: list = []
+    sims: list = []
+    missing: list = []
+    failed: list = []
+    steady: dict = {}
+    case_fail: dict = {}   # case name -> reason (steady failed or missing)
+    frf_fail: dict = {}    # (case, T) -> reason
+    frf_entries: dict = {}
+
+    for cs in config.cases:
+        c = cs.case
+        e = store.get("steady", steady_piece(c))
+        if e is None:
+            missing.append(f"steady {c.name}")
+        elif is_failed(e):
+            reason = f"steady flow of {c.name} failed: {e.metadata.get('error')}"
+            failed.append(reason)
+            case_fail[c.name] = reason
+        else:
+            steady[c.name] = {k: e.metadata.get(k) for k in ("cl", "cd", "cm", "iterations", "converged", "seconds")}
+        for T in cs.T:
+            e = store.get("frf", frf_piece(c, T, config.M_base, config.cfd))
+            if e is None:
+                missing.append(f"frf {c.name} {_fmt_T(T)}")
+                continue
+            if is_failed(e):
+                reason = f"frequency response of {c.name} at {_fmt_T(T)} failed: {e.metadata.get('error')}"
+                failed.append(reason)
+                frf_fail[(c.name, T)] = reason
+                continue
+            md = e.metadata
+            frf = FrequencyResponse(e["H"], e["omega_d"], T, inputs=md.get("inputs", ["gust"]),
+                                    outputs=md.get("outputs", outputs), omega=e["omega"],
+                                    metadata={"case": c.name, "method": md.get("method", "auto")})
+            frfs[(c.name, T)] = FRFRecord(case=c.name, T=T, M=config.M_base, frf=frf,
+                                          seconds=float(md.get("seconds", float("nan"))),
+                                          method=str(md.get("method", "auto")))
+            frf_entries[(c.name, T)] = e
+        for g in config.gusts:
+            e = store.get("ltd", ltd_piece(c, g, config.simulation, config.cfd))
+            if e is None:
+                missing.append(f"ltd {c.name} {g.name}")
+            elif is_failed(e):
+                failed.append(f"LTD response of {c.name} to {g.name} failed: {e.metadata.get('error')}")
+            else:
+                ltds[(c.name, g.name)] = LTDRecord(case=c.name, gust=g.name, t=e["t"], u=e["u"], cl=e["cl"],
+                                                   cm=e["cm"], seconds=float(e.metadata.get("seconds", float("nan"))))
+
+    for pt in config.points():
+        _read_point(store, config, pt, frfs, ltds, case_fail, frf_fail, roms, sims, missing, failed)
+
+    return StudyResults(config=config, frf=frfs, ltd=ltds, roms=roms, sims=sims, missing=missing, failed=failed,
+                        steady=steady)
+
+
+def _read_point(store, config: StudyConfig, pt: SweepPoint, frfs, ltds, case_fail, frf_fail, roms, sims, missing,
+                failed) -> None:
+    c = pt.case
+    ident = dict(case=c.name, T=pt.T, M=pt.M, order=pt.order, method=pt.method.name)
+    label = f"{c.name} {_fmt_T(pt.T)} M={pt.M} N_r={pt.order} {pt.method.name}"
+    e = store.get("rom", rom_piece(pt, config.M_base, config.cfd))
+    if e is None:
+        reason = frf_fail.get((c.name, pt.T)) or (case_fail.get(c.name) if (c.name, pt.T) not in frfs else None)
+        if reason is not None:
+            roms.append(RomRecord(status="failed", error=reason, **ident))
+        else:
+            missing.append(f"rom {label}")
+        return
+    if is_failed(e):
+        roms.append(RomRecord(status="failed", error=str(e.metadata.get("error")), **ident))
+        return
+    roms.append(RomRecord(status="ok", error=None, A=e["A"], B=e["B"], C=e["C"], D=e["D"], hankel_sv=e["hankel_sv"],
+                          frf_rom=e["frf_rom"], metrics=dict(e.metadata.get("metrics", {})), **ident))
+    for g in config.gusts:
+        s = store.get("sim", sim_piece(pt, g, config.M_base, config.simulation, config.cfd))
+        if s is None:
+            if (c.name, g.name) in ltds or not any(f.startswith(f"LTD response of {c.name} to {g.name} ")
+                                                   for f in failed):
+                missing.append(f"sim {label} {g.name}")
+            continue
+        if is_failed(s):
+            failed.append(f"ROM response of {label} to {g.name} failed: {s.metadata.get('error')}")
+            continue
+        sims.append(SimRecord(gust=g.name, t=s["t"], cl=s["cl"], cm=s["cm"], metrics=dict(s.metadata.get("metrics", {})),
+                              **ident))
