@@ -21,7 +21,7 @@ __all__ = ["lfd_response", "lfd_state", "solve_direct"]
 
 
 def solve_direct(A, b, perm=None):
-    """Solve ``A x = b`` once with :func:`cfd.linear.factorise` (checked LU, real form for complex ``A``)."""
+    """Solve ``A x = b`` once with :func:`cfd.linear.factorise` (checked nested-dissection LU)."""
     solve, _ = factorise(A, perm)
     return solve(b)
 

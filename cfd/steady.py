@@ -30,8 +30,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
+from .superlu import splu_nested, splu_pivoted
 from .errors import ConvergenceError, FlowConditionError, MeshError
 from .euler import DEFAULT_SCHEME, residual, spectral_radius_sum
 from .flow import FlowCondition, primitive
@@ -123,8 +123,7 @@ def factorise(A, perm=None):
     if perm is not None:
         Ap = sp.csr_matrix(A)[perm][:, perm].tocsc()
         try:
-            lu = spla.splu(Ap, permc_spec="NATURAL", diag_pivot_thresh=0.0,
-                           options=dict(SymmetricMode=True))
+            lu = splu_nested(Ap)
             inv = np.empty_like(perm)
             inv[perm] = np.arange(perm.size)
 
@@ -136,7 +135,7 @@ def factorise(A, perm=None):
                 return solve, (lu.L.nnz + lu.U.nnz) / A.nnz
         except RuntimeError:
             pass
-    lu = spla.splu(sp.csc_matrix(A), permc_spec="COLAMD")
+    lu = splu_pivoted(A)
     return lu.solve, (lu.L.nnz + lu.U.nnz) / A.nnz
 
 
