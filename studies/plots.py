@@ -32,7 +32,7 @@ __all__ = [
 ]
 
 LINESTYLES = ("-", "--", ":", "-.", (0, (5, 1, 1, 1, 1, 1)), (0, (1, 3)))
-REF_STYLE = dict(color="k", lw=2.2, alpha=0.8)
+REF_STYLE = dict(color="0.2", lw=2.2)
 _TEX_NAMES = {"Cl": r"$C_l$", "Cm": r"$C_m$", "Cd": r"$C_d$"}
 
 
@@ -252,20 +252,20 @@ def frf_plot(omega, H_ref, models=(), *, outputs: Sequence[str] = ("Cl", "Cm"), 
         ref = H_ref[j, input_index]
         ph_ref = unwrapped_phase_deg(ref[sel])
         a_m, a_p = axes[0, j], axes[1, j]
-        a_m.loglog(ks, np.abs(ref[sel]), label=ref_label, **REF_STYLE, zorder=1)
-        a_p.semilogx(ks, ph_ref, **REF_STYLE, zorder=1)
+        a_m.loglog(ks, np.abs(ref[sel]), label=ref_label, **REF_STYLE, zorder=2)
+        a_p.semilogx(ks, ph_ref, **REF_STYLE, zorder=2)
         if mask is not None and mask.any():
-            a_m.loglog(k[mask], np.abs(ref[mask]), "o", mfc="none", mec="k", ms=4.5, zorder=1.5,
+            a_m.loglog(k[mask], np.abs(ref[mask]), "o", mfc="none", mec="k", ms=4.5, zorder=2.5,
                        label=f"{ref_label} samples used ({int(mask.sum())})")
         scale = max(float(np.abs(ref).max()), np.finfo(float).tiny)
         for i, (lab, H, st) in enumerate(mods):
             style = _style(i, st, colours)
             h = H[j, input_index]
-            a_m.loglog(ks, np.abs(h[sel]), label=lab, zorder=2, **style)
-            a_p.semilogx(ks, unwrapped_phase_deg(h[sel], like=ph_ref), zorder=2, **style)
+            a_m.loglog(ks, np.abs(h[sel]), label=lab, zorder=3, **style)
+            a_p.semilogx(ks, unwrapped_phase_deg(h[sel], like=ph_ref), zorder=3, **style)
             if nrow == 3:
                 err = np.abs(h[sel] - ref[sel]) / scale
-                axes[2, j].loglog(ks, np.maximum(err, 1e-17), zorder=2, **style)
+                axes[2, j].loglog(ks, np.maximum(err, 1e-17), zorder=3, **style)
         a_m.set_title(f"{_label(name)} per radian of gust angle")
         a_m.set_ylabel(f"|{_label(name)}| [1/rad]")
         a_p.set_ylabel("phase [deg]")
@@ -273,8 +273,8 @@ def frf_plot(omega, H_ref, models=(), *, outputs: Sequence[str] = ("Cl", "Cm"), 
             axes[2, j].set_ylabel("|model - ref| / max |ref|")
         axes[-1, j].set_xlabel(r"reduced frequency $k = \omega c / (2U)$")
         for ax in axes[:, j]:
-            ax.grid(True, which="major", alpha=0.35)
-            ax.grid(True, which="minor", alpha=0.12)
+            ax.grid(True, which="major", color="0.85")
+            ax.grid(True, which="minor", color="0.94", lw=0.6)
     for ax in axes[0]:
         plain_log_ticks(ax, "y")
     if nrow == 3:
@@ -343,7 +343,7 @@ def hankel_plot(sv, *, orders: Sequence[int] = (), normalise: bool = True, title
                 color="0.3")
     ax.set_xlabel("index i")
     ax.set_ylabel(r"$\sigma_i / \sigma_1$" if normalise else r"$\sigma_i$")
-    ax.grid(True, which="major", alpha=0.35)
+    ax.grid(True, which="major", color="0.85")
     ax.legend(fontsize=8, loc="lower left")
     if title:
         ax.set_title(title, fontsize=10)
@@ -448,8 +448,8 @@ def error_vs_order_plot(rows: Sequence[Mapping[str, Any]], metrics: Sequence[str
                 ax.semilogy(xs[~st], ys[~st], "x", color=c, ms=8, mew=2)
         ax.set_xlabel(r"model order $N_r$" if x == "order" else x)
         ax.set_ylabel(mlabel)
-        ax.grid(True, which="major", alpha=0.35)
-        ax.grid(True, which="minor", alpha=0.12)
+        ax.grid(True, which="major", color="0.85")
+        ax.grid(True, which="minor", color="0.94", lw=0.6)
         if x == "order":
             from matplotlib.ticker import MaxNLocator
 
@@ -564,12 +564,12 @@ def history_plot(t, reference: Mapping[str, Any] | None, models=(), *, outputs: 
             col["u"].set_ylabel("gust angle [deg]", fontsize=8)
         ay = col["y"]
         if ref is not None:
-            ay.plot(t, ref[o], label=ref_label, **REF_STYLE, zorder=1)
+            ay.plot(t, ref[o], label=ref_label, **REF_STYLE, zorder=2)
         for i, (lab, data, st) in enumerate(mods):
             style = _style(i, st, colours)
-            ay.plot(t, data[o], label=lab, zorder=2, **style)
+            ay.plot(t, data[o], label=lab, zorder=3, **style)
             if "e" in col:
-                col["e"].plot(t, data[o] - ref[o], zorder=2, **style)
+                col["e"].plot(t, data[o] - ref[o], zorder=3, **style)
         ay.set_ylabel(rf"$\Delta${_label(o)}")
         ay.set_title(rf"$\Delta${_label(o)} (perturbation about the steady flow)", fontsize=10)
         if "e" in col:
@@ -577,7 +577,7 @@ def history_plot(t, reference: Mapping[str, Any] | None, models=(), *, outputs: 
             col["e"].set_ylabel(f"model - {ref_label}", fontsize=9)
         axes[-1, j].set_xlabel(t_label or "convective time s = t U / c")
         for ax in axes[:, j]:
-            ax.grid(True, alpha=0.35)
+            ax.grid(True, color="0.85")
     if legend:
         axes[rows.index("y"), 0].legend(fontsize=8, loc="best")
     if title:
