@@ -114,8 +114,9 @@ def plain_log_ticks(ax, axis: str = "y", *, plain: bool = True) -> None:
     """Tidy the labels of a log axis.
 
     Major ticks are labelled with plain numbers (``0.2``, ``5``, ``1e-05``) when ``plain``, else as matplotlib
-    does (``10^-3``). Minor ticks (2, 3 and 5 times a power of ten) are labelled, in plain numbers, only when
-    the axis spans less than about one and a half decades; otherwise they are not labelled.
+    does (``10^-3``). When fewer than two powers of ten lie on the axis, minor ticks are labelled too, in plain
+    numbers (all of them within a factor 3, 2, 3 and 5 times a power of ten within a decade, 2 and 5 beyond);
+    otherwise they are not.
     """
     from matplotlib.ticker import FuncFormatter, NullFormatter
 
@@ -123,9 +124,15 @@ def plain_log_ticks(ax, axis: str = "y", *, plain: bool = True) -> None:
     lo, hi = (ax.get_ylim() if axis == "y" else ax.get_xlim())
     if plain:
         a.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
-    if lo > 0 and hi / lo < 30.0:
-        a.set_minor_formatter(FuncFormatter(lambda v, _: f"{v:g}" if round(v / 10 ** np.floor(np.log10(v)), 6)
-                                            in (2.0, 3.0, 5.0) else ""))
+    if lo > 0 and hi > lo:
+        n_major = int(np.floor(np.log10(hi)) - np.ceil(np.log10(lo))) + 1
+        keep = ((2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0) if hi / lo <= 3.0 else (2.0, 3.0, 5.0) if hi / lo <= 10.0
+                else (2.0, 5.0))
+    else:
+        n_major = 2
+    if n_major < 2:
+        a.set_minor_formatter(FuncFormatter(lambda v, _: f"{v:g}" if v > 0 and round(
+            v / 10 ** np.floor(np.log10(v)), 6) in keep else ""))
     else:
         a.set_minor_formatter(NullFormatter())
 
@@ -279,7 +286,7 @@ def frf_plot(omega, H_ref, models=(), *, outputs: Sequence[str] = ("Cl", "Cm"), 
         plain_log_ticks(ax, "y")
     if nrow == 3:
         for ax in axes[2]:
-            plain_log_ticks(ax, "y", plain=False)
+            plain_log_ticks(ax, "y")
     if legend:
         axes[0, 0].legend(fontsize=8, loc="lower left")
     if title:
@@ -454,6 +461,8 @@ def error_vs_order_plot(rows: Sequence[Mapping[str, Any]], metrics: Sequence[str
             from matplotlib.ticker import MaxNLocator
 
             ax.xaxis.set_major_locator(MaxNLocator(integer=True))
+    for ax in axes[:n]:
+        plain_log_ticks(ax, "y")
     for ax in axes[n:]:
         ax.set_visible(False)
     cl = {(_group_label(ck, cnames) if cnames else "ROMs"): colours[i % len(colours)] for i, ck in enumerate(ckeys)}
