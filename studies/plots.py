@@ -348,6 +348,9 @@ def hankel_plot(sv, *, orders: Sequence[int] = (), normalise: bool = True, title
         ax.axvline(n + 0.5, color="0.4", ls=":", lw=1.0, label="model orders $N_r$" if j == 0 else None)
         ax.text(n + 0.5, 1.0, f" {n}", transform=ax.get_xaxis_transform(), va="top", ha="left", fontsize=8,
                 color="0.3")
+    from matplotlib.ticker import MaxNLocator
+
+    ax.xaxis.set_major_locator(MaxNLocator(integer=True))
     ax.set_xlabel("index i")
     ax.set_ylabel(r"$\sigma_i / \sigma_1$" if normalise else r"$\sigma_i$")
     ax.grid(True, which="major", color="0.85")

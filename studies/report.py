@@ -445,7 +445,7 @@ def _hankel_figures(results, fig_dir: Path, dpi: int, say, paper: bool = False) 
         if not best:
             continue
         multi_T = len({k[0] for k in best}) > 1
-        sets = [(f"N_ω = {M + 1}" + (f", T = {T:.4g}" if multi_T else ""), sv)
+        sets = [(rf"$N_\omega$ = {M + 1}" + (f", T = {T:.4g}" if multi_T else ""), sv)
                 for (T, M), sv in sorted(best.items(), key=lambda kv: (kv[0][0], -kv[0][1]))]
         title = f"{case}: Hankel singular values of the subspace step"
         fig, _ = plots.hankel_plot(sets, orders=sorted(orders), title=title)
@@ -704,6 +704,20 @@ def _method_table(config) -> str:
                                Column("margin", "margin", ".0e"), Column("weights"), Column("algorithm")], "markdown")
 
 
+_DOCS = Path(__file__).resolve().parents[1] / "docs"
+
+
+def _paper_elsewhere(page_dir: Path) -> str:
+    """Where the paper's figures that are not part of a study are reproduced (grids, steady flow, SVM/FVM)."""
+    def link(name, anchor=""):
+        return f"[{name}]({_rel(_DOCS / name, page_dir)}{anchor})"
+
+    return ("The paper's figures outside a study are reproduced elsewhere: the C-grid (Figs. 1-2) in "
+            f"{link('mesh.md')}, the steady pressure distributions of T1-T6 (Figs. 3-8) in {link('validation.md')} "
+            f"(section 6), and the SVM against FVM LFD responses of T2 and T4 (Figs. 9-10) in "
+            f"{link('gust_validation.md')} (section 6). The figures below are the analogues of Figs. 11-37.\n")
+
+
 def _bullets(items: Sequence[str], limit: int = 40) -> str:
     out = [f"- {i}" for i in items[:limit]]
     if len(items) > limit:
@@ -833,6 +847,8 @@ def write_report(results, out_dir, *, page=None, prose=None, progress: bool = Fa
         md.append(_bullets([f"{r.case} T={r.T:.4g} N_omega={r.M + 1} N_r={r.order} {r.method}: {r.error}"
                             for r in failed_points] + list(getattr(results, "failed", []))))
     md.append(_slot("summary", slots, paper))
+    if paper:
+        md.append(_paper_elsewhere(page_dir))
     md.append("## Study\n")
     md.append(_study_table(config))
     md.append("\nGusts (angle = peak effective gust angle; responses are at this amplitude):\n")

@@ -176,6 +176,7 @@ def test_paper_mode_names_the_paper_figures_and_claims(paperlike, tmp_path):
     assert "Analogue of the paper's Figs. 21, 29." in text and "Analogue of the paper's Figs. 24, 25." in text
     assert "Analogue of the paper's Fig. 28." not in text  # needs T6 as well
     assert "> **The paper:** N_r = 25 gives ROMs" in text
+    assert "(Figs. 9-10) in [gust_validation.md](../../" in text  # relative to the page, wherever it is
     for link in page_links(page):
         assert (page.parent / link).is_file(), link
     off = make_report(paperlike, tmp_path / "plain", paper=False, figures=False).read_text()
