@@ -26,6 +26,7 @@ __all__ = [
     "save_figure",
     "key_legend",
     "plain_log_ticks",
+    "percent_formatter",
     "reduced_frequency",
     "unwrapped_phase_deg",
     "LINESTYLES",
@@ -680,11 +681,20 @@ def heatmap_plot(values, row_labels: Sequence[str], col_labels: Sequence[str], *
     if colorbar:
         cb = fig.colorbar(im, ax=ax, fraction=0.046, pad=0.03)
         cb.set_label(cbar_label, fontsize=9)
+        if percent:
+            cb.formatter = percent_formatter()
     if title:
-        ax.set_title(title, fontsize=10)
+        ax.set_title(title, fontsize=10, pad=16)  # room for the column labels on top
     if own:
         fig.tight_layout()
     return fig, ax
+
+
+def percent_formatter():
+    """A tick formatter writing fractions as percentages (``0.012`` -> ``1.2%``), e.g. for colour bars."""
+    from matplotlib.ticker import FuncFormatter
+
+    return FuncFormatter(lambda v, _: _percent_text(v) if v > 0 else "0%")
 
 
 def _percent_text(v: float) -> str:

@@ -592,20 +592,20 @@ def _heatmap_figures(results, fig_dir: Path, dpi: int, say, paper: bool = False)
         vmin = float(pos.min()) if pos.size else 1e-6
         vmax = max(float(fin.max()), vmin * 10)
         plt = plots._plt()
-        fig, axes = plt.subplots(1, len(methods), figsize=(0.9 * len(gusts) * len(methods) + 2.6 + 0.6 * len(methods),
-                                                          0.36 * len(pts) + 1.9), squeeze=False, layout="constrained")
-        for ax, m, v in zip(axes[0], methods, vals):
+        heights = [len(pts) + 1.5 for _ in methods]
+        fig, axes = plt.subplots(len(methods), 1, figsize=(0.95 * len(gusts) + 4.2, 0.36 * sum(heights) + 0.8),
+                                 squeeze=False, layout="constrained", gridspec_kw=dict(height_ratios=heights))
+        for ax, m, v in zip(axes[:, 0], methods, vals):
             plots.heatmap_plot(v, labels, gusts, ax=ax, vmin=vmin, vmax=vmax, colorbar=False, title=f"method {m}")
-            if ax is not axes[0, 0]:
-                ax.set_yticklabels([])
-        title = f"Relative peak error of {o}, ROM against LTD, |peak_ROM - peak_LTD| / |peak_LTD|"
+        title = f"Relative peak error of {o}, ROM against LTD:\n|peak_ROM - peak_LTD| / |peak_LTD|"
         fig.suptitle(title, fontsize=10)
-        cb = fig.colorbar(axes[0, -1].images[0], ax=list(axes[0]), fraction=0.04, pad=0.02)
-        cb.set_label(f"peak error {o} (relative)", fontsize=9)
+        cb = fig.colorbar(axes[0, 0].images[0], ax=list(axes[:, 0]), fraction=0.05, pad=0.02, shrink=0.8)
+        cb.set_label(f"peak error {o}", fontsize=9)
+        cb.formatter = plots.percent_formatter()
         path = plots.save_figure(fig, fig_dir / (_slug("heatmap", "peak", o) + ".png"), dpi=dpi,
                                  palette=False)  # a palette would band the continuous colour bar
-        figs.append(_Figure("heatmaps", path, f"{title}; rows: sweep points, columns: gusts, one panel per method "
-                                              f"(common log colour scale; hatched: no history)."))
+        figs.append(_Figure("heatmaps", path, f"{title.replace(chr(10), ' ')}; rows: sweep points, columns: gusts, "
+                                              f"one panel per method (common log colour scale; hatched: no history)."))
         say(f"  {path}")
     return figs
 
