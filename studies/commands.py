@@ -4,7 +4,8 @@ Each validates its inputs with :mod:`studies.cases` and :mod:`studies.config` be
 then hands over to ``studies.runner.run_study`` or ``studies.report.make_report``. Those receive the
 validated :class:`studies.config.StudyConfig` as first argument, plus the keyword arguments among
 ``output_dir``, ``store_dir``, ``scheduler``, ``workers``, ``progress`` and ``force`` that their signature
-accepts. While a module is missing the command says so and exits with status 2.
+accepts. While a module is missing the command says so and exits with status 2. ``rom`` then writes the one
+ROM the runner identified as ``.npz`` and ``.mat`` (:mod:`studies.rom_export`).
 
 Exit status: 0 success, 1 the runner or report failed, 2 bad input or the runner/report not available.
 """
@@ -81,8 +82,11 @@ def add_subcommands(sub) -> None:
     p.add_argument("--M", type=int, default=256, help="grid intervals, N_omega = M + 1 (default 256)")
     p.add_argument("--dc-gain", action="store_true", help="match the DC gain exactly")
     p.add_argument("--stable", action="store_true", help="enforce stability (spectral radius < 1 - 1e-3)")
-    p.add_argument("--out", type=Path, default=Path("rom-output"), help="output folder (default rom-output)")
-    p.add_argument("--store", type=Path, default=None, help="results store (default OUT/store)")
+    p.add_argument("--out", type=Path, default=Path("rom-output"),
+                   help="output folder (default rom-output; files CASE_N<order>_M<M>.npz and .mat), or a file "
+                        "name ending in .npz or .mat (both files are written)")
+    p.add_argument("--store", type=Path, default=None,
+                   help="results store (default OUT/store, or store/ next to an OUT file)")
     p.add_argument("--quiet", action="store_true")
 
 
@@ -176,7 +180,7 @@ def _call(fn, config, options: dict):
     return fn(config, **kw)
 
 
-def _hand_over(module, function, config, options, what) -> int:
+def _hand_over(module, function, config, options, what, result=None) -> int:
     try:
         fn = _entry_point(module, function)
     except ImportError as e:
@@ -187,7 +191,9 @@ def _hand_over(module, function, config, options, what) -> int:
              f"({config.source}) are valid: {len(config.points())} sweep point(s)")
         return EXIT_UNAVAILABLE
     try:
-        _call(fn, config, options)
+        out = _call(fn, config, options)
+        if result is not None:
+            result["result"] = out
     except StudyConfigError as e:
         _err(str(e))
         return EXIT_UNAVAILABLE
@@ -256,6 +262,8 @@ def rom_study(args) -> StudyConfig:
                                                                     "M_base": args.M, "M": [args.M]},
             "method": method}
     out = args.out.resolve()
+    if out.suffix in (".npz", ".mat"):
+        out = out.parent
     data["output"] = str(out)
     data["store"] = str(args.store.resolve() if args.store is not None else out / "store")
     return parse_study(data, source="<command line>")
@@ -285,7 +293,51 @@ def cmd_rom(args) -> int:
     if not args.quiet:
         print(_plan(config))
     options = dict(output_dir=config.output_dir, store_dir=config.store_dir, progress=not args.quiet)
-    return _hand_over("studies.runner", "run_study", config, options, "the study runner (needed by 'rom')")
+    holder = {}
+    status = _hand_over("studies.runner", "run_study", config, options, "the study runner (needed by 'rom')",
+                        result=holder)
+    if status != EXIT_OK or not hasattr(holder.get("result"), "roms"):
+        return status
+    return _export_rom(holder["result"], args)
+
+
+def _rom_files(args):
+    """``(npz, mat)`` paths of ``lfdrom rom``: ``--out`` a folder, or a file name ending in .npz or .mat."""
+    out = args.out
+    if out.suffix in (".npz", ".mat"):
+        stem = out.with_suffix("")
+    else:
+        stem = out / f"{args.case}_N{args.order}_M{args.M}"
+    return stem.with_suffix(".npz"), stem.with_suffix(".mat")
+
+
+def _export_rom(results, args) -> int:
+    """Write the one ROM of ``lfdrom rom`` as .npz and .mat (discrete, sampling period T)."""
+    from .rom_export import export_rom_mat, export_rom_npz
+
+    (rec,) = results.roms or [None]
+    if rec is None:
+        _err(f"no ROM was produced: {'; '.join(results.missing + results.failed) or 'nothing stored'}")
+        return EXIT_FAILED
+    if not rec.ok:
+        _err(f"the identification failed: {rec.error}")
+        return EXIT_FAILED
+    point = results.config.points()[0]
+    model = rec.model(outputs=results.config.cfd.outputs)
+    meta = dict(case=rec.case, naca=point.case.naca, mach=point.case.mach, alpha_deg=point.case.alpha_deg,
+                grid=point.case.grid.kwargs(), order=rec.order, T=rec.T, M=rec.M, N_omega=rec.M + 1,
+                method=point.method.canonical(), gust_method=results.config.cfd.gust_method,
+                input="gust angle v_g(x=0)/U, rad", outputs=list(results.config.cfd.outputs),
+                time="convective, s = t U / c", metrics=rec.metrics)
+    npz, mat = _rom_files(args)
+    export_rom_npz(npz, model, meta)
+    export_rom_mat(mat, model, meta)
+    m = rec.metrics
+    if not args.quiet:
+        print(f"ROM {rec.label()}: FRF max error Cl {m.get('frf_max_err_Cl', float('nan')):.3g}, "
+              f"spectral radius {m.get('spectral_radius', float('nan')):.6f}")
+    print(f"wrote {npz} and {mat}")
+    return EXIT_OK
 
 
 def dispatch(args) -> int:

@@ -121,3 +121,29 @@ def test_rom_one_point_study(tmp_path, fake_modules):
     (point,) = config.points()
     assert (point.case.naca, point.case.mach, point.order, point.M) == ("0012", 0.5, 12, 32)
     assert point.method.dc_gain == "match" and point.method.stable and config.gusts == ()
+
+
+@pytest.mark.parametrize("out, expected", [
+    ("rom-output", ("rom-output/T2_N9_M256.npz", "rom-output/T2_N9_M256.mat")),
+    ("x/mine.npz", ("x/mine.npz", "x/mine.mat")),
+    ("x/mine.mat", ("x/mine.npz", "x/mine.mat")),
+])
+def test_rom_file_names(out, expected):
+    args = argparse.Namespace(out=Path(out), case="T2", order=9, M=256)
+    assert commands._rom_files(args) == tuple(Path(e) for e in expected)
+
+
+def test_rom_reports_a_failed_identification(tmp_path, monkeypatch, capsys):
+    from studies.results import RomRecord
+
+    def run_study(config, **kw):
+        rec = RomRecord(case="T2", T=1.0, M=32, order=9, method="default", status="failed",
+                        error="OrderError: too large")
+        return types.SimpleNamespace(roms=[rec], missing=[], failed=[], config=config)
+
+    mod = types.ModuleType("studies.runner")
+    mod.run_study = run_study
+    monkeypatch.setitem(sys.modules, "studies.runner", mod)
+    assert run(["rom", "T2", "--order", "9", "--M", "32", "--out", str(tmp_path), "--quiet"]) == 1
+    assert "the identification failed: OrderError: too large" in capsys.readouterr().err
+    assert not list(tmp_path.glob("*.npz"))
