@@ -37,8 +37,8 @@ Store layout (written by the runner through these functions, see :mod:`studies.c
 piece  arrays                                metadata
 ====== ===================================== ===========================================================
 steady ``q`` (ni-1, nj-1, 4)                 ``cl``, ``cd``, ``cm``, ``converged``, ``iterations``, ``seconds``
-frf    ``H`` (p, 1, K), ``omega_d``,          ``T``, ``M``, ``outputs``, ``inputs``, ``method``, ``seconds``
-       ``omega`` (K,), K = M_base + 1
+frf    ``H`` (p, 1, K), ``omega_d``,          ``T``, ``M``, ``outputs``, ``inputs``, ``method``, ``seconds``,
+       ``omega`` (K,), K = M_base + 1         ``lfd`` (the solver's own metadata, e.g. the fast sweep's estimate)
 ltd    ``t``, ``u``, ``cl``, ``cm``, ``cd``   ``seconds``, ``dt``, ``gust_method``
        (n + 1,)
 rom    ``A`` (n, n), ``B`` (n, 1),            ``metrics``, ``identify_method``, ``enforced``, ``outputs``
@@ -267,7 +267,8 @@ class StudyResults:
     sims : list of SimRecord
         ROM gust histories whose ROM and LTD reference both exist.
     missing : list of str
-        Pieces not in the store yet, e.g. ``"frf T2 T=11.1408"``; empty when the study is complete.
+        Pieces not in the store yet, e.g. ``"frf T2 T=11.1408"``; empty when the study is complete (the
+        FRFs and LTD histories of a case whose steady flow failed are not listed: they cannot be computed).
     failed : list of str
         Pieces that failed, with their error: CFD pieces (steady, FRF, LTD) and ROM simulations. Failed
         identifications are also :class:`RomRecord` with ``status = "failed"``.
@@ -481,7 +482,7 @@ def frf_payload(frf: FrequencyResponse, M: int, method: str, seconds: float) -> 
     """``(arrays, metadata)`` of an LFD response on McKelvey's grid of ``M`` intervals."""
     return ({"H": np.asarray(frf.H), "omega_d": np.asarray(frf.omega_d), "omega": np.asarray(frf.omega)},
             dict(status="ok", T=float(frf.T), M=int(M), outputs=list(frf.outputs), inputs=list(frf.inputs),
-                 method=str(method), seconds=float(seconds)))
+                 method=str(method), seconds=float(seconds), lfd=dict(frf.metadata)))
 
 
 def ltd_payload(hist, seconds: float, gust_method: str) -> tuple:
@@ -585,7 +586,8 @@ def load_results(study_or_path, *, store_dir=None) -> StudyResults:
         for T in cs.T:
             e = store.get("frf", frf_piece(c, T, config.M_base, config.cfd))
             if e is None:
-                missing.append(f"frf {c.name} {_fmt_T(T)}")
+                if c.name not in case_fail:  # without a steady flow there is nothing to compute
+                    missing.append(f"frf {c.name} {_fmt_T(T)}")
                 continue
             if is_failed(e):
                 reason = f"frequency response of {c.name} at {_fmt_T(T)} failed: {e.metadata.get('error')}"
@@ -603,7 +605,8 @@ def load_results(study_or_path, *, store_dir=None) -> StudyResults:
         for g in config.gusts:
             e = store.get("ltd", ltd_piece(c, g, config.simulation, config.cfd))
             if e is None:
-                missing.append(f"ltd {c.name} {g.name}")
+                if c.name not in case_fail:
+                    missing.append(f"ltd {c.name} {g.name}")
             elif is_failed(e):
                 failed.append(f"LTD response of {c.name} to {g.name} failed: {e.metadata.get('error')}")
             else:

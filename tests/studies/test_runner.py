@@ -1,0 +1,287 @@
+"""studies.runner: a tiny study end to end on a coarse grid, resume, failures, interruption, executors, `lfdrom rom`."""
+
+import argparse
+import importlib.util
+import json
+import shutil
+import time
+
+import control
+import numpy as np
+import pytest
+
+import sysid
+from studies import commands, runner
+from studies.config import load_study
+from studies.results import load_results
+from studies.runner import RunnerError, rom_simulation, run_study
+
+# T2 (NACA0010, M0.735) on a 61 x 16 grid, far field 10 chords (3600 unknowns): CFD in seconds.
+# G4 (1-cosine, 10 chords) has its energy below omega ~ 1.3, inside the band of McKelvey's M = 16 grid at
+# T = 70 / (2 pi) (omega_k = (2/T) tan(pi k / 32) <= 1.8 for k < 15), so the ROM is compared with the LTD
+# response where it was identified.
+STUDY = """
+name = "tiny"
+output = "out"
+cases = ["T2"]
+gusts = ["G4"]
+[grid]
+ni = 61
+nj = 16
+n_surface = 40
+farfield = 10.0
+[sweep]
+orders = [2, 4]
+T = ["70/(2*pi)"]
+M_base = 16
+M = [16, 8]
+[methods.plain]
+[methods.dc_stable]
+dc_gain = "match"
+stable = true
+margin = 1e-3
+[simulation]
+dt = 0.1
+t_end = 16.0
+x0 = -2.0
+"""
+
+N_POINTS = 8  # 2 M x 2 orders x 2 methods
+
+
+@pytest.fixture(scope="module")
+def computed(tmp_path_factory):
+    """The tiny study computed once (inline), with its elapsed time."""
+    d = tmp_path_factory.mktemp("tiny")
+    (d / "tiny.toml").write_text(STUDY)
+    config = load_study(d / "tiny.toml")
+    t0 = time.perf_counter()
+    results = run_study(config, progress=False)
+    return config, results, time.perf_counter() - t0
+
+
+@pytest.fixture
+def counts(monkeypatch):
+    """Count the calls of the runner's compute functions (inline runs only)."""
+    calls = {}
+
+    def wrap(name):
+        fn = getattr(runner, name)
+
+        def counted(*a, **k):
+            calls[name] = calls.get(name, 0) + 1
+            return fn(*a, **k)
+
+        monkeypatch.setattr(runner, name, counted)
+
+    for name in ("_steady", "_linear_system", "_lfd", "_ltd", "_identify", "rom_simulation"):
+        wrap(name)
+    return calls
+
+
+def copy_study(config, tmp_path, drop=()):
+    """The computed study on a copy of its store, without the pieces in ``drop``."""
+    from dataclasses import replace
+
+    store = tmp_path / "store"
+    shutil.copytree(config.store_dir, store)
+    for piece in drop:
+        shutil.rmtree(store / piece, ignore_errors=True)
+    return replace(config, store_dir=store, output_dir=tmp_path / "out")
+
+
+def test_end_to_end_metrics(computed):
+    config, res, elapsed = computed
+    assert res.complete and res.failed == [] and elapsed < 120
+    assert len(res.roms) == N_POINTS and all(r.ok for r in res.roms)
+    assert len(res.sims) == N_POINTS and len(res.ltd) == 1
+    (frf,) = res.frf.values()
+    assert frf.frf.H.shape == (2, 1, 17) and frf.method in ("direct", "fast") and frf.seconds > 0
+    # the highest order fits the LFD response of Cl closely on all 17 points (the coarse-grid response is smooth)
+    best = res.rom(config.cases[0].case.name, config.cases[0].T[0], 16, 4, "plain")
+    assert best.metrics["frf_max_err_Cl"] < 0.05
+    assert best.metrics["frf_max_err_Cl"] < res.rom("T2", config.cases[0].T[0], 16, 2, "plain").metrics["frf_max_err_Cl"]
+    # DC matching and stability hold by construction
+    for r in res.roms:
+        if r.method == "dc_stable":
+            assert abs(r.metrics["dc_err_Cl"]) < 1e-8 * abs(res.frf[("T2", r.T)].frf.H[0, 0, 0])
+            assert r.metrics["spectral_radius"] < 1 - 1e-3 + 1e-9 and r.metrics["stable"]
+    # ROM against LTD: both discretise the same linear system; the gap is the ROM's FRF error (a few %),
+    # BDF2 and Tustin at dt = 0.1 (phase errors ~ (omega dt)^2 / 3 < 1e-3 at omega ~ 0.6) and the ROM's
+    # extrapolation above the sampled band; 10 % on the Cl peak at order 4 is a loose, safe bound
+    sim = next(s for s in res.sims if (s.M, s.order, s.method) == (16, 4, "plain"))
+    assert sim.metrics["peak_err_Cl"] < 0.1 and sim.metrics["rms_err_Cl"] < 0.2
+    assert sim.metrics["t_peak_err_Cl"] < 1.0
+    assert all(np.isfinite(list(s.metrics.values())).all() for s in res.sims)
+    ltd = res.ltd[("T2", "G4")]
+    np.testing.assert_array_equal(sim.t, ltd.t)
+    assert ltd.t[-1] == pytest.approx(16.0) and abs(ltd.cl).max() > 0
+    log = json.loads((config.output_dir / "run-log.json").read_text())
+    assert log["totals"]["rom"]["count"] == N_POINTS and log["totals"]["sim"]["count"] == N_POINTS
+
+
+def test_second_run_computes_nothing(computed, counts, capsys):
+    config, first, _ = computed
+    again = run_study(config, progress=True)
+    assert counts == {}
+    out = capsys.readouterr().out
+    assert "to compute: 0 CFD piece(s), up to 0 ROM piece(s)" in out and "0 piece(s) computed" in out
+    for a, b in zip(first.roms, again.roms):
+        np.testing.assert_array_equal(a.A, b.A)
+    assert load_results(config).complete
+
+
+def test_failing_point_is_recorded_and_retried(computed, counts, tmp_path, monkeypatch):
+    config, first, _ = computed
+    study = copy_study(config, tmp_path, drop=("rom", "sim"))
+    real = sysid.identify
+
+    def flaky(frf, order, **kw):
+        if order == 4:
+            raise sysid.OrderError("order 4 refused for the test")
+        return real(frf, order, **kw)
+
+    monkeypatch.setattr(sysid, "identify", flaky)
+    res = run_study(study, progress=False)
+    failed = [r for r in res.roms if not r.ok]
+    assert len(failed) == 4 and {r.order for r in failed} == {4}
+    assert all(r.error == "OrderError: order 4 refused for the test" and r.A is None for r in failed)
+    assert sum(r.ok for r in res.roms) == 4 and {s.order for s in res.sims} == {2}
+    assert res.complete  # failures count as done
+    assert "_steady" not in counts and "_lfd" not in counts and "_ltd" not in counts
+    rows = res.table("rom")
+    assert [r["status"] for r in rows].count("failed") == 4
+    # the next run retries the failed points only
+    monkeypatch.setattr(sysid, "identify", real)
+    counts.clear()
+    res = run_study(study, progress=False)
+    assert counts == {"_identify": 4, "rom_simulation": 4}
+    assert all(r.ok for r in res.roms) and len(res.sims) == N_POINTS
+
+
+def test_interrupted_run_keeps_finished_pieces(computed, counts, tmp_path, monkeypatch):
+    config, first, _ = computed
+    study = copy_study(config, tmp_path, drop=("ltd", "rom", "sim"))
+    real = runner._identify
+    n = {"calls": 0}
+
+    def interrupt(*a, **k):
+        n["calls"] += 1
+        if n["calls"] == 3:
+            raise KeyboardInterrupt
+        return real(*a, **k)
+
+    monkeypatch.setattr(runner, "_identify", interrupt)
+    with pytest.raises(KeyboardInterrupt):
+        run_study(study, progress=False)
+    part = load_results(study)
+    assert len(part.ltd) == 1 and sum(r.ok for r in part.roms) == 2 and not part.complete
+    assert sum(m.startswith("rom ") for m in part.missing) == N_POINTS - 2
+    monkeypatch.setattr(runner, "_identify", real)
+    counts.clear()
+    res = run_study(study, progress=False)
+    assert "_ltd" not in counts and "_lfd" not in counts and counts["_identify"] == N_POINTS - 2
+    assert res.complete and len(res.sims) == N_POINTS
+    for a in first.sims:  # same numbers as the uninterrupted run
+        b = next(s for s in res.sims if (s.M, s.order, s.method) == (a.M, a.order, a.method))
+        np.testing.assert_allclose(b.cl, a.cl, rtol=1e-10, atol=1e-12)
+
+
+def test_cfd_failure_marks_the_case_failed(computed, tmp_path, monkeypatch):
+    config, _, _ = computed
+
+    def diverge(case):
+        raise RuntimeError(f"steady solver diverged for {case.name}")
+
+    monkeypatch.setattr(runner, "_steady", diverge)
+    study = copy_study(config, tmp_path, drop=("steady", "frf", "ltd", "rom", "sim"))
+    res = run_study(study, progress=False)
+    assert len(res.roms) == N_POINTS and not any(r.ok for r in res.roms)
+    assert all("steady flow of T2 failed: RuntimeError: steady solver diverged for T2" in r.error for r in res.roms)
+    assert res.frf == {} and res.ltd == {} and res.sims == [] and res.complete
+    assert any("steady flow of T2 failed" in f for f in res.failed)
+
+
+def test_local_processes_give_the_same_results(computed, tmp_path):
+    config, first, _ = computed
+    study = copy_study(config, tmp_path, drop=("ltd", "rom", "sim"))
+    res = run_study(study, workers=2, progress=False)
+    assert res.complete and len(res.sims) == N_POINTS
+    for a, b in zip(first.roms, res.roms):
+        np.testing.assert_allclose(b.frf_rom, a.frf_rom, rtol=1e-8, atol=1e-12)
+
+
+@pytest.mark.skipif(importlib.util.find_spec("distributed") is None, reason="needs dask[distributed]")
+def test_dask_local_cluster(computed, tmp_path):
+    config, first, _ = computed
+    study = copy_study(config, tmp_path, drop=("ltd", "rom", "sim"))
+    res = run_study(study, scheduler="local", workers=1, progress=False)
+    assert res.complete and len(res.ltd) == 1 and len(res.sims) == N_POINTS
+    np.testing.assert_allclose(res.ltd[("T2", "G4")].cl, first.ltd[("T2", "G4")].cl, rtol=1e-10, atol=1e-14)
+
+
+@pytest.mark.parametrize("kw, match", [
+    (dict(workers=0), "workers must be a positive integer"),
+    (dict(workers="2"), "workers must be a positive integer"),
+    (dict(scheduler="somewhere"), "scheduler must be a Dask address"),
+])
+def test_bad_options(computed, kw, match):
+    with pytest.raises(RunnerError, match=match):
+        run_study(computed[0], progress=False, **kw)
+
+
+def test_bad_study_argument():
+    with pytest.raises(TypeError, match="StudyConfig or the path"):
+        run_study(3.5)
+
+
+# ZOH is exact for a step input; Tustin treats the input as piecewise linear, so the jump at t = 0 costs
+# about dt / 2 times the initial slope (1) at the first samples, and O(dt^2) afterwards
+@pytest.mark.parametrize("disc, tol", [("tustin", 0.51e-2), ("zoh", 1e-10)])
+def test_rom_simulation_first_order(disc, tol):
+    """dx/dt = -x + u sampled at T = 0.5 (bilinear), re-discretised at dt = 0.01: step response 1 - exp(-t)."""
+    cont = control.ss([[-1.0]], [[1.0]], [[1.0], [2.0]], [[0.0], [0.0]])
+    rom = sysid.c2d_bilinear(cont, 0.5)
+    t = np.arange(0, 801) * 0.01
+    y = rom_simulation(rom.A, rom.B, rom.C, rom.D, 0.5, t, np.ones_like(t), disc)
+    assert y.shape == (2, t.size)
+    np.testing.assert_allclose(y[0], 1 - np.exp(-t), atol=tol)
+    np.testing.assert_allclose(y[1], 2 * y[0], rtol=1e-12)
+
+
+@pytest.mark.parametrize("t, disc, match", [
+    (np.array([0.0]), "tustin", "at least two time points"),
+    (np.arange(3.0), "euler", "discretisation must be"),
+])
+def test_rom_simulation_bad_input(t, disc, match):
+    with pytest.raises(ValueError, match=match):
+        rom_simulation(np.eye(1) * 0.5, np.ones((1, 1)), np.ones((1, 1)), np.zeros((1, 1)), 1.0, t, t, disc)
+
+
+def test_lfdrom_rom_writes_npz_and_mat(computed, tmp_path, monkeypatch, capsys):
+    """`lfdrom rom` exports the runner's ROM; the runner is pointed at the tiny grid's cached FRF."""
+    config, _, _ = computed
+    from dataclasses import replace
+
+    real = runner.run_study
+
+    def on_tiny_grid(study, **kw):  # same case on the tiny grid, reusing the computed store
+        case = replace(study.cases[0], case=replace(study.cases[0].case, grid=config.cases[0].case.grid))
+        return real(replace(study, cases=(case,), store_dir=config.store_dir), progress=False)
+
+    monkeypatch.setattr(runner, "run_study", on_tiny_grid)
+    p = argparse.ArgumentParser(prog="lfdrom")
+    commands.add_subcommands(p.add_subparsers(dest="command"))
+    out = tmp_path / "rom.mat"
+    status = commands.dispatch(p.parse_args(["rom", "T2", "--order", "4", "--M", "16", "--dc-gain", "--out", str(out),
+                                             "--quiet"]))
+    assert status == 0 and "wrote" in capsys.readouterr().out
+    from studies.rom_export import load_rom_npz
+    import scipy.io
+
+    model, meta = load_rom_npz(tmp_path / "rom.npz")
+    mat = scipy.io.loadmat(out)
+    assert model.nstates == 4 and model.dt == pytest.approx(70 / (2 * np.pi), rel=1e-11)
+    np.testing.assert_allclose(mat["A"], model.A)
+    assert meta["order"] == 4 and meta["case"] == "T2" and meta["method"]["dc_gain"] == "match"
+    assert list(model.output_labels) == ["Cl", "Cm"]
