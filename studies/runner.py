@@ -5,7 +5,7 @@ Pipeline of a case (``studies.config`` names the pieces, ``studies.cache`` keys 
     mesh -> steady ------------------> linearise -> LFD FRF per T on mckelvey_grid(M_base, T)
                                                  \\-> LTD history per gust (x0, dt, t_end of the study)
     FRF -> subsample to each M -> identify (order, method variant) -> ROM
-    ROM -> d2c (Eq. 26) -> Tustin or ZOH at the LTD step -> python-control simulation per gust -> vs LTD
+    ROM -> d2c (Eq. 26) -> Tustin or ZOH at the LTD step -> simulation per gust -> vs LTD
 
 Tasks and executors
 -------------------
@@ -63,7 +63,7 @@ from .results import (
     steady_payload,
 )
 
-__all__ = ["run_study", "RunnerError", "PIECES"]
+__all__ = ["run_study", "rom_simulation", "simulate_discrete", "markov_parameters", "RunnerError", "PIECES"]
 
 PIECES = ("steady", "frf", "ltd", "rom", "sim")
 
@@ -264,11 +264,82 @@ def _identify(frf, point, M_base):
                        enforced=dict(res.enforced), outputs=list(frf.outputs))
 
 
-def rom_simulation(A, B, C, D, T, t, u, discretisation="tustin"):
-    """Simulate a discrete ROM (sampling period ``T``) at the time step of ``t`` with python-control.
+def markov_parameters(A, B, C, N):
+    """The first ``N`` Markov parameters ``C A^k B``, ``k = 0 .. N - 1``, by doubling.
+
+    ``[B, AB, ..., A^(2L-1) B] = [X, A^L X]`` with ``X = [B, ..., A^(L-1) B]``: ``log2 N`` matrix products
+    instead of ``N`` matrix-vector products in Python.
+
+    Parameters
+    ----------
+    A, B, C : ndarray, shapes (n, n), (n, m), (p, n)
+    N : int
+
+    Returns
+    -------
+    ndarray, shape (p, m, N)
+    """
+    A = np.asarray(A, dtype=float)
+    B = np.asarray(B, dtype=float)
+    C = np.asarray(C, dtype=float)
+    n, m = B.shape
+    X = B.T.reshape(m, n, 1)  # per input: columns A^k b
+    P = A
+    while X.shape[2] < N:
+        X = np.concatenate([X, np.einsum("ij,mjk->mik", P, X)], axis=2)
+        P = P @ P
+    return np.einsum("pi,mik->pmk", C, X[:, :, :N])
+
+
+def simulate_discrete(A, B, C, D, u, method="auto"):
+    """Response of ``x[k+1] = A x[k] + B u[k], y[k] = C x[k] + D u[k]`` from rest, as python-control's
+    ``forced_response`` gives it.
+
+    ``"convolution"``: ``y = D u + g * u`` with the impulse response ``g[0] = 0``, ``g[k] = C A^(k-1) B``
+    (:func:`markov_parameters`) and an FFT convolution: the same numbers to round-off, about 20 times
+    faster than the step-by-step recursion of ``control.forced_response`` for 2000 steps. ``"control"``:
+    ``control.forced_response``. ``"auto"``: the convolution when ``A`` is stable (spectral radius
+    ``< 1``), else python-control (the impulse response of an unstable model grows without bound and its
+    FFT would lose the small early values).
+
+    Parameters
+    ----------
+    A, B, C, D : ndarray, shapes (n, n), (n, m), (p, n), (p, m)
+    u : ndarray, shape (N,) or (m, N)
+    method : {"auto", "convolution", "control"}
+
+    Returns
+    -------
+    ndarray, shape (p, N)
+    """
+    import control
+    from scipy.signal import fftconvolve
+
+    A, B, C, D = (np.atleast_2d(np.asarray(x, dtype=float)) for x in (A, B, C, D))
+    U = np.atleast_2d(np.asarray(u, dtype=float))
+    N = U.shape[1]
+    if method not in ("auto", "convolution", "control"):
+        raise ValueError(f"method must be 'auto', 'convolution' or 'control', got {method!r}")
+    if method == "auto":
+        rho = float(np.max(np.abs(np.linalg.eigvals(A)))) if A.size else 0.0
+        method = "convolution" if rho < 1.0 else "control"
+    if method == "control":
+        out = control.forced_response(control.ss(A, B, C, D, True), U=U)
+        return np.atleast_2d(np.asarray(out.outputs))
+    G = markov_parameters(A, B, C, max(N - 1, 1))  # (p, m, N - 1): g[1:]
+    Y = D @ U
+    for j in range(U.shape[0]):
+        Y[:, 1:] += fftconvolve(G[:, j, :], U[j][None, :], axes=1)[:, :N - 1]
+    return Y
+
+
+def rom_simulation(A, B, C, D, T, t, u, discretisation="tustin", method="auto"):
+    """Simulate a discrete ROM (sampling period ``T``) at the time step of ``t``.
 
     The ROM is mapped to continuous time by the inverse bilinear map (paper Eq. 26) and re-discretised at
-    ``dt = t[1] - t[0]`` by Tustin (Eq. 31) or zero-order hold (Eq. 32), then driven by ``u`` from rest.
+    ``dt = t[1] - t[0]`` by Tustin (Eq. 31) or zero-order hold (Eq. 32) (python-control state-space models
+    and :mod:`sysid.transforms`), then driven by ``u`` from rest (:func:`simulate_discrete`: an FFT
+    convolution with its impulse response, or ``control.forced_response`` for an unstable model).
 
     Parameters
     ----------
@@ -280,6 +351,8 @@ def rom_simulation(A, B, C, D, T, t, u, discretisation="tustin"):
     u : ndarray, shape (N,)
         Input (gust angle ``v_g / U`` at the reference point).
     discretisation : {"tustin", "zoh"}
+    method : {"auto", "convolution", "control"}
+        See :func:`simulate_discrete`.
 
     Returns
     -------
@@ -304,8 +377,7 @@ def rom_simulation(A, B, C, D, T, t, u, discretisation="tustin"):
     rom = control.ss(A, B, C, D, T)
     rc = sysid.d2c_bilinear(rom)
     rd = sysid.c2d_bilinear(rc, dt) if discretisation == "tustin" else sysid.c2d_zoh(rc, dt)
-    out = control.forced_response(rd, T=t, U=np.asarray(u, dtype=float))
-    return np.atleast_2d(np.asarray(out.outputs))
+    return simulate_discrete(rd.A, rd.B, rd.C, rd.D, np.asarray(u, dtype=float), method)
 
 
 def _task_roms(config: StudyConfig, case_name: str, root: str, codes: dict, force: bool) -> list:

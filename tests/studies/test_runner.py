@@ -249,6 +249,31 @@ def test_rom_simulation_first_order(disc, tol):
     np.testing.assert_allclose(y[1], 2 * y[0], rtol=1e-12)
 
 
+@pytest.mark.parametrize("rho, method", [(0.95, "auto"), (0.95, "convolution"), (0.95, "control"), (1.02, "auto")])
+def test_simulate_discrete_matches_python_control(rho, method):
+    rng = np.random.default_rng(3)
+    n, N = 12, 1500
+    Q, _ = np.linalg.qr(rng.normal(size=(n, n)))
+    A = Q @ np.diag(rho * np.cos(np.linspace(0, 3, n))) @ Q.T  # spectral radius rho
+    B, C, D = rng.normal(size=(n, 1)), rng.normal(size=(2, n)), rng.normal(size=(2, 1))
+    u = np.sin(0.05 * np.arange(N)) * (np.arange(N) > 20)
+    ref = np.asarray(control.forced_response(control.ss(A, B, C, D, True), U=u).outputs)
+    y = runner.simulate_discrete(A, B, C, D, u, method)
+    assert y.shape == (2, N)
+    np.testing.assert_allclose(y, ref, rtol=0, atol=1e-11 * np.abs(ref).max())
+
+
+def test_markov_parameters():
+    A = np.array([[0.5, 1.0], [0.0, 0.25]])
+    B = np.array([[0.0], [1.0]])
+    C = np.eye(2)
+    G = runner.markov_parameters(A, B, C, 5)
+    expected = [np.linalg.matrix_power(A, k) @ B for k in range(5)]
+    np.testing.assert_allclose(G[:, 0, :], np.hstack(expected), rtol=1e-15)
+    with pytest.raises(ValueError, match="method must be"):
+        runner.simulate_discrete(A, B, C, np.zeros((2, 1)), np.ones(4), "rk4")
+
+
 @pytest.mark.parametrize("t, disc, match", [
     (np.array([0.0]), "tustin", "at least two time points"),
     (np.arange(3.0), "euler", "discretisation must be"),
