@@ -73,6 +73,7 @@ __all__ = [
     "StudyResults",
     "load_results",
     "open_store",
+    "store_dependencies",
     "failure_payload",
     "steady_payload",
     "frf_payload",
@@ -432,7 +433,8 @@ def sim_metrics(t, rom: Mapping[str, Any], ltd: Mapping[str, Any], seconds_rom: 
     -------
     dict of str -> float
         ``inf`` relative errors where the LTD history is identically zero and the ROM's is not (0 where both
-        are).
+        are), and every error ``inf`` for an output whose ROM history is not finite (an unstable ROM
+        overflowed).
     """
     out: dict = {}
     for name in SIM_OUTPUTS:
@@ -440,6 +442,10 @@ def sim_metrics(t, rom: Mapping[str, Any], ltd: Mapping[str, Any], seconds_rom: 
             continue
         yr = np.asarray(rom[name], dtype=float)
         yl = np.asarray(ltd[name], dtype=float)
+        if not np.all(np.isfinite(yr)):  # an unstable ROM overflowed: its errors are infinite
+            out.update({f"peak_err_{name}": float("inf"), f"t_peak_err_{name}": float("inf"),
+                        f"rms_err_{name}": float("inf")})
+            continue
         pr, tr = peak(t, yr)
         pl, tl = peak(t, yl)
         out[f"peak_err_{name}"] = _ratio(abs(pr - pl), abs(pl))
@@ -517,11 +523,24 @@ def is_failed(entry) -> bool:
 # Reading
 # ---------------------------------------------------------------------------------------------
 
+def store_dependencies() -> dict:
+    """Piece -> sources in its key: :data:`studies.cache.PIECE_DEPENDENCIES`, plus this module for the ROM
+    and ROM-simulation pieces (their stored metrics are computed by the functions above)."""
+    from .cache import PIECE_DEPENDENCIES
+
+    deps = {k: tuple(v) for k, v in PIECE_DEPENDENCIES.items()}
+    for piece in ("rom", "sim"):
+        deps[piece] = tuple(sorted(set(deps.get(piece, ())) | {"studies.results"}))
+    return deps
+
+
 def open_store(config: StudyConfig, store_dir=None):
-    """The :class:`studies.cache.ResultStore` of a study (``store_dir`` overrides ``config.store_dir``)."""
+    """The :class:`studies.cache.ResultStore` of a study (``store_dir`` overrides ``config.store_dir``), with
+    the keys of :func:`store_dependencies`."""
     from .cache import ResultStore
 
-    return ResultStore(Path(store_dir) if store_dir is not None else config.store_dir)
+    return ResultStore(Path(store_dir) if store_dir is not None else config.store_dir,
+                       dependencies=store_dependencies())
 
 
 def _as_config(study_or_path) -> StudyConfig:

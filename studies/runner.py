@@ -56,11 +56,13 @@ from .results import (
     is_failed,
     load_results,
     ltd_payload,
+    open_store,
     rom_metrics,
     rom_payload,
     sim_metrics,
     sim_payload,
     steady_payload,
+    store_dependencies,
 )
 
 __all__ = ["run_study", "rom_simulation", "simulate_discrete", "markov_parameters", "RunnerError", "PIECES"]
@@ -84,7 +86,7 @@ class _PinnedStore(ResultStore):
     """
 
     def __init__(self, root, codes: dict):
-        super().__init__(root)
+        super().__init__(root, dependencies=store_dependencies())
         self._codes = dict(codes)
 
     def code_version(self, piece: str) -> dict:
@@ -621,7 +623,7 @@ def run_study(study, *, output_dir=None, store_dir=None, scheduler: Optional[str
 
 def _run(config: StudyConfig, pool, progress: bool, force: bool) -> StudyResults:
     root = str(config.store_dir)
-    base = ResultStore(root)
+    base = open_store(config)
     codes = {p: base.code_version(p) for p in PIECES}
     store = _store(root, codes)
 

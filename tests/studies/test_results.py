@@ -222,6 +222,10 @@ def test_sim_metrics_values():
     z = np.zeros_like(t)
     m0 = sim_metrics(t, {"Cl": z + 1.0}, {"Cl": z}, 0.0, 0.0)
     assert m0["peak_err_Cl"] == np.inf and "peak_err_Cm" not in m0
+    blown = np.where(t > 5, np.inf, ltd)  # an unstable ROM that overflowed
+    blown[-1] = np.nan
+    m1 = sim_metrics(t, {"Cl": blown}, {"Cl": ltd}, 0.0, 0.0)
+    assert (m1["peak_err_Cl"], m1["t_peak_err_Cl"], m1["rms_err_Cl"]) == (np.inf, np.inf, np.inf)
 
 
 def test_rom_metrics_values():
@@ -234,3 +238,12 @@ def test_rom_metrics_values():
     assert m["frf_max_err_fit"] == 0.0 and m["frf_rms_err_fit"] == 0.0
     assert m["dc_err_Cl"] == pytest.approx(0.25) and m["dc_err_Cm"] == 0.0
     assert m["stable"] is False and m["spectral_radius"] == 1.02 and m["seconds"] == 0.3
+
+
+@pytest.mark.parametrize("piece, has_results", [("steady", False), ("frf", False), ("ltd", False), ("rom", True),
+                                                ("sim", True)])
+def test_metric_code_enters_the_rom_and_sim_keys(piece, has_results):
+    from studies.results import store_dependencies
+
+    deps = store_dependencies()[piece]
+    assert ("studies.results" in deps) == has_results and ("cfd" in deps)
