@@ -1,4 +1,4 @@
-"""Linear frequency-domain (LFD) gust response: one sparse solve per frequency (the reference path).
+"""Linear frequency-domain (LFD) gust response: a sparse solve per frequency (the reference path), or the fast sweep.
 
 For the unit harmonic gust ``v_g / U = exp(i omega (s - (x - x_ref)))`` (input ``u = exp(i omega s)`` at
 ``x_ref``) the face averages are ``cfd.gust.face_gust_harmonic`` and the response solves
@@ -17,7 +17,7 @@ from sysid import FrequencyResponse
 from .gust import face_gust_harmonic
 from .linear import LinearError, _check_method, check_outputs, factorise, grid_permutation
 
-__all__ = ["lfd_response", "lfd_state", "solve_direct"]
+__all__ = ["lfd_response", "lfd_state", "solve_direct", "METHODS", "AUTO_FAST_ABOVE"]
 
 
 def solve_direct(A, b, perm=None):
@@ -51,6 +51,29 @@ def _frequencies(omega):
     return omega_d, w
 
 
+def _grid_and_T(omega, T):
+    """Frequencies (checked) and the sampling period: ``T`` as given, else recovered from a McKelvey pair."""
+    omega_d, w = _frequencies(omega)
+    if T is None and omega_d is not None:
+        inner = np.isfinite(w) & (w > 0)
+        if np.any(inner):
+            k = np.flatnonzero(inner)[0]
+            T = 2.0 * np.tan(omega_d[k] / 2.0) / w[k]
+    return w, T
+
+
+def _check_x_ref(x_ref):
+    x_ref = float(x_ref)
+    if not np.isfinite(x_ref):
+        raise LinearError(f"x_ref must be finite (chords); got {x_ref!r}")
+    return x_ref
+
+
+METHODS = ("auto", "direct", "fast")
+AUTO_FAST_ABOVE = 8
+"""``method="auto"`` takes the fast sweep for more than this many finite frequencies."""
+
+
 def lfd_state(lin, omega, gust="svm", x_ref=0.0, perm=None):
     """Complex state amplitude of the response to the unit harmonic gust at one finite frequency.
 
@@ -77,8 +100,9 @@ def lfd_state(lin, omega, gust="svm", x_ref=0.0, perm=None):
     return lin.solver(1j * lin.to_solver_frequency(omega) * lin.V, perm)(-b)
 
 
-def lfd_response(lin, omega, gust="svm", outputs=("Cl", "Cm"), x_ref=0.0, T=None):
-    """Gust frequency response by a direct sparse solve per frequency.
+def lfd_response(lin, omega, gust="svm", outputs=("Cl", "Cm"), x_ref=0.0, T=None, method="auto", tol=1e-8,
+                 **fast_options):
+    """Gust frequency response of the linearised Euler equations.
 
     Parameters
     ----------
@@ -95,29 +119,39 @@ def lfd_response(lin, omega, gust="svm", outputs=("Cl", "Cm"), x_ref=0.0, T=None
         Gust reference point (chords), where the input ``u = v_g(x_ref) / U`` is measured.
     T : float, optional
         Sampling period for the discrete frequencies of the result (``sysid`` Eq. 28 map).
+    method : {"auto", "direct", "fast"}
+        ``"direct"``: one sparse factorisation per frequency (the reference path). ``"fast"``:
+        :func:`cfd.sweep.fast_sweep`, a reduced basis from a few factorisations with a per-frequency error
+        estimate. ``"auto"``: fast for more than :data:`AUTO_FAST_ABOVE` finite frequencies, else direct.
+    tol : float
+        Relative error target of the fast sweep (ignored by the direct path).
+    **fast_options
+        Passed to :func:`cfd.sweep.fast_sweep` (``max_shifts``, ``n_moments``, ``basis``, ``progress``).
 
     Returns
     -------
     sysid.FrequencyResponse
         ``H`` of shape ``(len(outputs), 1, K)``: load coefficients per unit gust angle (per radian),
-        perturbations about the steady loads, input ``"gust"``.
+        perturbations about the steady loads, input ``"gust"``. ``metadata["method"]`` says which path
+        ran; the fast path adds its error estimate (see :func:`cfd.sweep.fast_sweep`).
 
     Raises
     ------
     LinearError
-        Negative, NaN or -inf frequencies, unknown gust method or output name.
+        Negative, NaN or -inf frequencies, unknown gust method, output name or ``method``, bad ``tol``.
     """
     _check_method(gust)
     names, rows = check_outputs(outputs)
-    omega_d, w = _frequencies(omega)
-    if T is None and omega_d is not None:
-        inner = np.isfinite(w) & (w > 0)
-        if np.any(inner):
-            k = np.flatnonzero(inner)[0]
-            T = 2.0 * np.tan(omega_d[k] / 2.0) / w[k]
-    x_ref = float(x_ref)
-    if not np.isfinite(x_ref):
-        raise LinearError(f"x_ref must be finite (chords); got {x_ref!r}")
+    if method not in METHODS:
+        raise LinearError(f"method must be one of {METHODS}; got {method!r}")
+    w, T = _grid_and_T(omega, T)
+    x_ref = _check_x_ref(x_ref)
+    if method == "fast" or (method == "auto" and np.isfinite(w).sum() > AUTO_FAST_ABOVE):
+        from .sweep import fast_sweep
+
+        return fast_sweep(lin, w, gust, names, tol=tol, x_ref=x_ref, T=T, **fast_options)
+    if fast_options:
+        raise LinearError(f"options {sorted(fast_options)} belong to the fast sweep; the direct path takes none")
     C = lin.C[rows]
     perm = _permutation(lin)
     H = np.zeros((len(rows), 1, w.size), complex)
@@ -127,5 +161,5 @@ def lfd_response(lin, omega, gust="svm", outputs=("Cl", "Cm"), x_ref=0.0, T=None
             continue
         H[:, 0, k] = C @ lfd_state(lin, wk, gust, x_ref, perm)
     meta = {"gust": gust, "x_ref": x_ref, "mach": lin.mach, "alpha_deg": lin.flow.alpha_deg,
-            "grid": list(map(int, lin.grid.shape))}
+            "grid": list(map(int, lin.grid.shape)), "method": "direct"}
     return FrequencyResponse.from_continuous(H, w, T, inputs=["gust"], outputs=list(names), metadata=meta)

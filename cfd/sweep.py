@@ -16,9 +16,11 @@ whose right-hand side does not depend on ``omega``. ``Z`` is approximated in a b
 n x m) built by rational Krylov from a few shifts ``sigma``: one sparse LU of ``J + i sigma V`` per shift
 (the same nested-dissection ordering as the direct path), then the blocks
 ``Z(sigma)`` and ``((J + i sigma V)^-T V)^k Z(sigma)`` (the derivatives of ``Z`` in ``omega`` at the shift),
-orthonormalised block by block (Gram-Schmidt twice). At every frequency the small least-squares
-(minimum-residual Petrov-Galerkin) problem ``min |C^T - (J + i w V)^T W Y|`` is solved in the coordinates of
-an orthonormal basis of ``[C^T, J^T W, V W]``, so the residual norms are exact (no normal equations), and
+orthonormalised block by block (Gram-Schmidt twice). At every frequency the small Galerkin system
+``W^H (J + i w V)^T W Y = W^H C^T`` is solved through one QZ form of the projected pencil (a triangular
+solve of ``p`` columns per frequency, ``O(m^2 p)``), and its residual ``C^T - (J + i w V)^T W Y`` is
+evaluated in the coordinates of an orthonormal basis of ``[C^T, J^T W, V W]``, so the residual norms are
+exact (no normal equations, no cancellation), and
 ``y = -Y^T (W^T B) g(omega)`` costs one product with an ``m x n_faces`` matrix. Shifts are added greedily at the
 frequency with the largest estimated error until every frequency meets ``tol``.
 
@@ -44,10 +46,10 @@ import warnings
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from sysid import FrequencyResponse
 
+from .superlu import splu_nested, splu_pivoted
 from .gust import face_gust_harmonic
 from .linear import LinearError, _check_method, check_outputs
 from .ordering import nested_dissection, unknown_permutation
@@ -137,9 +139,27 @@ class _ShiftFactor:
         self.perm = perm
         self.inv = np.empty_like(perm)
         self.inv[perm] = np.arange(perm.size)
-        self.lu = spla.splu(A[perm][:, perm].tocsc(), permc_spec="NATURAL", diag_pivot_thresh=0.0,
-                            options=dict(SymmetricMode=True))
+        self.lu = splu_nested(A[perm][:, perm])
         self.pivoted = False
+        self.vortex = lin.vortex
+        self._sm = None
+
+    def _rank_one_T(self, R, X):
+        """Sherman-Morrison for the vortex term: ``(A + u v^T)^-T R`` from ``X = A^-T R``."""
+        u, v = self.vortex
+        if self._sm is None:
+            z = self._raw_T(v[:, None].astype(float))[:, 0]
+            self._sm = (z, 1.0 + u @ z)
+        z, den = self._sm
+        return X - np.outer(z, (u @ X) / den)
+
+    def _apply_T(self, X):
+        """``(A + u v^T)^T X`` (without the vortex term: ``A^T X``)."""
+        out = self.A.T @ X
+        if self.vortex is not None:
+            u, v = self.vortex
+            out = out + np.outer(v, u @ X)
+        return out
 
     def _raw_T(self, R):
         """``A^-T R`` for a block ``R`` (n, k)."""
@@ -165,16 +185,18 @@ class _ShiftFactor:
         -------
         ndarray, shape (n, k)
         """
-        AT = self.A.T
         X = self._raw_T(R)
-        res = np.linalg.norm(R - AT @ X, axis=0)
+        if self.vortex is not None:
+            X = self._rank_one_T(R, X)
+        res = np.linalg.norm(R - self._apply_T(X), axis=0)
         if not (np.all(np.isfinite(X)) and np.all(res <= rtol * np.linalg.norm(R, axis=0) + 1e-300)):
             if self.pivoted:
                 raise LinearError("shifted factorisation is singular to working precision; try other shifts")
             warnings.warn("unpivoted nested-dissection LU was inaccurate at a sweep shift; refactorising with "
                           "COLAMD and partial pivoting", RuntimeWarning, stacklevel=3)
-            self.lu = spla.splu(self.A.tocsc(), permc_spec="COLAMD")
+            self.lu = splu_pivoted(self.A)
             self.pivoted = True
+            self._sm = None
             return self.solve_T(R, rtol)
         return X
 
@@ -264,6 +286,10 @@ class SweepBasis:
         self._RJ = np.zeros((U.shape[1], 0), complex)  # J^T W = U RJ
         self._RV = np.zeros((U.shape[1], 0), complex)  # V W = U RV
         self._W = np.zeros((lin.n, 0), complex)
+        self._Jr = np.zeros((0, 0), complex)            # W^H J^T W
+        self._Vr = np.zeros((0, 0), complex)            # W^H V W
+        self._Cr = np.zeros((0, len(self.rows)), complex)   # W^H C^T
+        self._Ct = Ct
         self._last = np.zeros(0, bool)                 # columns of the last block of their shift
         self._shift_of = np.zeros(0, int)
         self._WB = {}                                   # gust -> (W^T B) (m, n_faces)
@@ -283,7 +309,7 @@ class SweepBasis:
             self.timings["orthogonalise"] += time.perf_counter() - t0
             return Wn
         V = self.lin.V
-        K = np.hstack([np.asarray(self.lin.J.T @ Wn), V[:, None] * Wn])
+        K = np.hstack([self._Jt(Wn), V[:, None] * Wn])
         Un, coeff, Rn = _orthonormalise(K, self._U)
         u_old, u_new = self._U.shape[1], Un.shape[1]
         k = Wn.shape[1]
@@ -293,10 +319,30 @@ class SweepBasis:
         self._Rc = pad(self._Rc)
         self._RJ = np.hstack([pad(self._RJ), newcols[:, :k]])
         self._RV = np.hstack([pad(self._RV), newcols[:, k:]])
+        self._extend_galerkin(Wn, K[:, :k], K[:, k:])
         self._W = np.hstack([self._W, Wn])
         assert self._RJ.shape == (u_old + u_new, self.size)
         self.timings["orthogonalise"] += time.perf_counter() - t0
         return Wn
+
+    def _Jt(self, X, transpose=True):
+        """``J^T X`` (or ``J X``), with the vortex rank-one term ``u v^T`` of ``J`` when the system has one."""
+        lin = self.lin
+        out = np.asarray((lin.J.T if transpose else lin.J) @ X)
+        if lin.vortex is not None:
+            u, v = lin.vortex
+            out = out + (np.outer(v, u @ X) if transpose else np.outer(u, v @ X))
+        return out
+
+    def _extend_galerkin(self, Wn, JtWn, VWn):
+        """Border the projected matrices ``W^H J^T W``, ``W^H V W`` and ``W^H C^T`` with the new columns ``Wn``."""
+        W = self._W
+        JWn = self._Jt(Wn, transpose=False)                      # for Wn^H J^T W = (W^H J Wn)^H (J real)
+        top_J, top_V = W.conj().T @ JtWn, W.conj().T @ VWn      # (m, k)
+        left_J = (W.conj().T @ JWn).conj().T                     # (k, m)
+        self._Jr = np.block([[self._Jr, top_J], [left_J, Wn.conj().T @ JtWn]])
+        self._Vr = np.block([[self._Vr, top_V], [top_V.conj().T, Wn.conj().T @ VWn]])
+        self._Cr = np.vstack([self._Cr, Wn.conj().T @ self._Ct])
 
     def add_shift(self, omega):
         """Factorise at ``omega`` (U/c units, finite, >= 0) and add its ``n_moments`` Krylov blocks.
@@ -349,18 +395,18 @@ class SweepBasis:
             self._WB[gust] = new if old is None else np.vstack([old, new])
         return self._WB[gust]
 
-    def _reduced_solver(self, cols):
-        """Minimum-residual solver of ``min |Rc - (RJ + i w RV)[:, cols] Y|`` at O(m^2) per frequency.
+    def _reduced_pencil(self, cols):
+        """QZ form of the Galerkin pencil on the basis columns ``cols``.
 
-        One QR of ``RV`` and one QZ of the square part of the pencil (see :func:`_min_residual`).
+        ``W^H (J + i w V)^T W Y = W^H C^T`` with ``W^H J^T W = Q S Z^H`` and ``W^H V W = Q P Z^H`` (``S``,
+        ``P`` upper triangular, ``Q``, ``Z`` unitary): at each frequency ``Y = Z (S + i w P)^-1 Q^H W^H C^T``,
+        one triangular solve of ``p`` columns, ``O(m^2 p)``. ``W^H V W`` is Hermitian positive definite
+        (``V`` holds the cell areas), so the pencil is regular.
         """
-        RJ, RV, Rc = self._RJ[:, cols], self._RV[:, cols], self._Rc
-        m = RJ.shape[1]
-        Q1, RVt = sla.qr(RV)                       # RV = Q1 [T; 0]
-        E = Q1.conj().T @ RJ
-        c = Q1.conj().T @ Rc
-        S, P, Qz, Zz = sla.qz(E[:m], RVt[:m], output="complex")
-        return dict(S=S, P=P, Z=Zz, a=Qz.conj().T @ c[:m], b=c[m:], Ez=E[m:] @ Zz, RJ=RJ, RV=RV, Rc=Rc)
+        Jr, Vr = self._Jr[np.ix_(cols, cols)], self._Vr[np.ix_(cols, cols)]
+        S, P, Q, Z = sla.qz(Jr, Vr, output="complex")
+        return dict(S=S, P=P, Z=Z, a=Q.conj().T @ self._Cr[cols], RJZ=self._RJ[:, cols] @ Z,
+                    RVZ=self._RV[:, cols] @ Z)
 
     def evaluate(self, omega, gust="svm", x_ref=0.0, cache=None):
         """Outputs, error estimates and dual residual norms at finite frequencies.
@@ -399,74 +445,49 @@ class SweepBasis:
         F = cache["F"]
         ws = self.lin.to_solver_frequency(w)
         coarse = np.flatnonzero(~self._last)
-        yf, rf, vf = _min_residual(self._reduced_solver(slice(None)), ws, F)
-        yc, rc, vc = _min_residual(self._reduced_solver(coarse), ws, F[coarse])
-        dr = np.linalg.norm(vc - vf, axis=0)                       # |r_ - r|, (p, K)
-        est = SAFETY * np.abs(yf - yc) * rf / np.maximum(dr, 1e-300)
+        yf, rf, vf = _galerkin(self._reduced_pencil(np.arange(self.size)), ws, F, self._Rc)
+        yc, rc, vc = _galerkin(self._reduced_pencil(coarse), ws, F[coarse], self._Rc)
+        dr = np.linalg.norm(vc - vf, axis=1)                       # |r_ - r|, (K, p)
+        est = SAFETY * np.abs(yf - yc) * rf / np.maximum(dr.T, 1e-300)
         return yf, est, rf / self._c_norm[:, None]
 
 
-def _min_residual(red, ws, F):
+def _galerkin(red, ws, F, Rc):
     """Reduced outputs and exact residual norms at the solver frequencies ``ws``.
-
-    With ``Q1^H RV = [T; 0]``, ``Q1^H RJ = [E1; E2]`` and the QZ form ``E1 = Qz S Z^H``, ``T = Qz P Z^H``, the
-    least-squares problem at ``w`` is ``min |a - (S + i w P) v|^2 + |b - E2 Z v|^2`` (``Y = Z v``): a triangular
-    matrix plus ``u - m`` dense rows, solved through ``z = (S + i w P) v`` by the Woodbury identity,
-    ``z = a + G^H (I + G G^H)^-1 (b - G a)`` with ``G = E2 Z (S + i w P)^-1``. The residual is then recomputed
-    explicitly from ``RJ``, ``RV`` and ``Rc`` (exact norms); a frequency whose triangular factor is too
-    ill-conditioned for that (explicit and implicit norms disagree) is re-solved by dense least squares.
 
     Parameters
     ----------
     red : dict
-        From ``SweepBasis._reduced_solver``.
+        From ``SweepBasis._reduced_pencil``.
     ws : ndarray, shape (K,)
         Solver-unit frequencies.
     F : ndarray, shape (m, K)
         ``W^T b(omega)`` for the same basis columns.
+    Rc : ndarray, shape (u, p)
+        ``C^T`` in the coordinates of the orthonormal basis ``U``.
 
     Returns
     -------
     y : ndarray, complex, shape (p, K)
     res : ndarray, shape (p, K)
-        Residual norms (absolute).
-    vec : ndarray, complex, shape (u, p, K)
-        The residuals in the coordinates of the orthonormal basis ``U`` (exact: ``r = U vec``).
+        Residual norms ``|C^T - (J + i w V)^T W Y|`` (absolute), computed in the small basis: exact up to
+        rounding, with no cancellation.
+    vec : ndarray, complex, shape (K, u, p)
+        The residuals in the coordinates of ``U``.
     """
-    S, P, Z, a, b, Ez = red["S"], red["P"], red["Z"], red["a"], red["b"], red["Ez"]
-    RJ, RV, Rc = red["RJ"], red["RV"], red["Rc"]
-    p, K = Rc.shape[1], ws.size
-    y = np.zeros((p, K), complex)
-    res = np.zeros((p, K))
-    vec = np.zeros((Rc.shape[0], p, K), complex)
-    I = np.eye(Ez.shape[0])
-    for k, wk in enumerate(ws):
-        R = S + 1j * wk * P
-        Y = None
-        with np.errstate(all="ignore"):
-            try:
-                Gh = sla.solve_triangular(R, Ez.conj().T, trans="C", check_finite=False)   # G^H, (m, q)
-                G = Gh.conj().T
-                z = a + Gh @ np.linalg.solve(I + G @ Gh, b - G @ a) if Ez.shape[0] else a
-                v = sla.solve_triangular(R, z, check_finite=False)
-                Y = Z @ v
-                implicit = np.sqrt(np.linalg.norm(a - z, axis=0) ** 2 + np.linalg.norm(b - G @ z, axis=0) ** 2)
-            except (np.linalg.LinAlgError, ValueError):
-                Y = None
-        M = RJ + 1j * wk * RV
-        if Y is not None and np.all(np.isfinite(Y)):
-            rv = Rc - M @ Y
-            r = np.linalg.norm(rv, axis=0)
-            ok = np.all(r <= 1.01 * implicit + 1e-13 * np.linalg.norm(Rc, axis=0))
-        else:
-            ok = False
-        if not ok:
-            Y = np.linalg.lstsq(M, Rc, rcond=None)[0]
-            rv = Rc - M @ Y
-            r = np.linalg.norm(rv, axis=0)
-        y[:, k] = -(F[:, k] @ Y)
-        res[:, k] = r
-        vec[:, :, k] = rv
+    S, P, a = red["S"], red["P"], red["a"]
+    v = np.empty((ws.size,) + a.shape, complex)                      # (K, m, p)
+    with np.errstate(all="ignore"):
+        for k, wk in enumerate(ws):
+            v[k] = sla.solve_triangular(S + 1j * wk * P, a, check_finite=False)
+    FZ = F.T @ red["Z"]                                               # (K, m): F^T Z
+    y = -np.einsum("km,kmp->pk", FZ, v)
+    vec = Rc[None] - red["RJZ"] @ v - 1j * ws[:, None, None] * (red["RVZ"] @ v)
+    res = np.linalg.norm(vec, axis=1).T
+    bad = ~(np.all(np.isfinite(v), axis=(1, 2)))
+    if np.any(bad):  # a reduced pole exactly at a requested frequency: report it as unresolved
+        y[:, bad] = 0.0
+        res[:, bad] = np.inf
     return y, res, vec
 
 
@@ -528,22 +549,15 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
     RuntimeWarning
         When ``tol`` is not met within ``max_shifts``; the message names the frequencies.
     """
-    from .lfd import _frequencies  # the direct path's frequency checks (same accepted forms)
+    from .lfd import _check_x_ref, _grid_and_T  # the direct path's checks (same accepted forms)
 
     tol = _check_tol(tol)
     _check_method(gust)
     names, rows = check_outputs(outputs)
     if int(max_shifts) != max_shifts or max_shifts < 1:
         raise LinearError(f"max_shifts must be a positive integer (factorisations allowed); got {max_shifts!r}")
-    omega_d, w = _frequencies(omega)
-    if T is None and omega_d is not None:
-        inner = np.isfinite(w) & (w > 0)
-        if np.any(inner):
-            k = np.flatnonzero(inner)[0]
-            T = 2.0 * np.tan(omega_d[k] / 2.0) / w[k]
-    x_ref = float(x_ref)
-    if not np.isfinite(x_ref):
-        raise LinearError(f"x_ref must be finite (chords); got {x_ref!r}")
+    w, T = _grid_and_T(omega, T)
+    x_ref = _check_x_ref(x_ref)
     if basis is None:
         basis = SweepBasis(lin, names, n_moments=n_moments)
     elif basis.lin is not lin:

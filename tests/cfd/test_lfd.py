@@ -43,7 +43,7 @@ def thick():
 def test_feedthrough_and_mckelvey_grid(plate):
     T = 70 / (2 * np.pi)
     omega_d, omega = sysid.mckelvey_grid(2, T)
-    frf = lfd_response(plate, (omega_d, omega))
+    frf = lfd_response(plate, (omega_d, omega), method="direct")
     assert frf.H.shape == (2, 1, 3) and frf.outputs == ("Cl", "Cm") and frf.inputs == ("gust",)
     assert frf.T == pytest.approx(T) and np.allclose(frf.omega_d, omega_d)
     assert np.all(frf.H[:, 0, -1] == 0.0)  # omega = inf: the feedthrough, no solve
@@ -93,12 +93,12 @@ def test_steady_gain_equals_lift_slope_of_nonlinear_steady_solves(thick):
 
 def test_svm_equals_fvm_on_uniform_base_and_differs_on_thick(plate, thick):
     w = [0.0, 0.8]
-    a = lfd_response(plate, w[1:], gust="svm").H
-    b = lfd_response(plate, w[1:], gust="fvm").H
+    a = lfd_response(plate, w[1:], gust="svm", method="direct").H
+    b = lfd_response(plate, w[1:], gust="fvm", method="direct").H
     np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-12)  # u_bar = U: no SVM source
     lin = thick[3]
-    a = lfd_response(lin, w, gust="svm").H
-    b = lfd_response(lin, w, gust="fvm").H
+    a = lfd_response(lin, w, gust="svm", method="direct").H
+    b = lfd_response(lin, w, gust="fvm", method="direct").H
     np.testing.assert_allclose(a[..., 0], b[..., 0], rtol=1e-12)  # omega = 0: no source either
     assert 1e-4 < abs(a[0, 0, 1] - b[0, 0, 1]) / abs(a[0, 0, 1]) < 0.2
 
@@ -112,7 +112,7 @@ def test_flat_plate_against_compressible_sears():
     at omega <= 0.2 here (the steady gain itself is 2 % high on this grid).
     """
     w = np.array([0.1, 0.2])
-    H = lfd_response(plate_system(), w, outputs="Cl").H[0, 0] / (2 * np.pi / np.sqrt(1 - 0.09))
+    H = lfd_response(plate_system(), w, outputs="Cl", method="direct").H[0, 0] / (2 * np.pi / np.sqrt(1 - 0.09))
     S = sears_compressible(w, 0.3, "leading_edge")
     np.testing.assert_allclose(np.abs(H), np.abs(S), rtol=0.06)
     np.testing.assert_allclose(np.degrees(np.angle(H)), np.degrees(np.angle(S)), atol=3.0)
@@ -131,7 +131,7 @@ def test_mach_trend_of_phase_confirms_compressible_sears_convention():
     for m in (0.2, 0.5):
         flow = FlowCondition(m)
         q = np.broadcast_to(flow.q, grid.cell_shape + (4,)).copy()
-        H[m] = lfd_response(linearise_state(grid, q, flow), w, outputs="Cl").H[0, 0]
+        H[m] = lfd_response(linearise_state(grid, q, flow), w, outputs="Cl", method="direct").H[0, 0]
     cfd_change = np.degrees(np.angle(H[0.5] / H[0.2]))
     ref = np.degrees(np.angle(sears_compressible(w, 0.5) / sears_compressible(w, 0.2)))
     np.testing.assert_allclose(cfd_change, ref, atol=1.0)
@@ -140,7 +140,7 @@ def test_mach_trend_of_phase_confirms_compressible_sears_convention():
 def test_mckelvey_sweep_feeds_identification(plate):
     """End to end: the LFD on the McKelvey grid (omega = inf included) identifies a small accurate ROM."""
     T = 70 / (2 * np.pi)
-    frf = lfd_response(plate, sysid.mckelvey_grid(16, T))
+    frf = lfd_response(plate, sysid.mckelvey_grid(16, T), method="direct")
     assert frf.is_equispaced and frf.M == 16
     res = sysid.identify(frf, 6)
     fit = sysid.FrequencyResponse.from_model(res.model, frf.omega_d)

@@ -48,7 +48,7 @@ def plate():
 def references(systems):
     """Direct sweeps (the reference path) on the McKelvey grid, both gusts, both flows."""
     grid_w = sysid.mckelvey_grid(M, T)
-    return {(c, g): lfd_response(lin, grid_w, gust=g) for c, lin in systems.items() for g in ("svm", "fvm")}
+    return {(c, g): lfd_response(lin, grid_w, gust=g, method="direct") for c, lin in systems.items() for g in ("svm", "fvm")}
 
 
 @pytest.mark.parametrize("gust", ["svm", "fvm"])
@@ -126,7 +126,7 @@ def test_basis_reused_for_another_T_and_outputs(systems):
     frf = fast_sweep(lin, sysid.mckelvey_grid(M, T2), outputs="Cm", gust="fvm", basis=basis)
     assert frf.T == pytest.approx(T2) and frf.outputs == ("Cm",)
     assert basis.timings["n_factor"] <= n_factor + 2  # the basis is reused (new shifts only where needed)
-    ref = lfd_response(lin, frf.omega[[1, 12, 23]], outputs="Cm", gust="fvm")
+    ref = lfd_response(lin, frf.omega[[1, 12, 23]], outputs="Cm", gust="fvm", method="direct")
     np.testing.assert_allclose(frf.H[0, 0, [1, 12, 23]], ref.H[0, 0], rtol=1e-6)
 
 
@@ -134,7 +134,7 @@ def test_arbitrary_points(systems):
     lin = systems["M0.8"]
     w = np.array([np.inf, 2.0, 0.0, 0.37])
     frf = fast_sweep(lin, w, outputs=("Cl",), x_ref=0.25, n_moments=8)
-    ref = lfd_response(lin, w, outputs=("Cl",), x_ref=0.25)
+    ref = lfd_response(lin, w, outputs=("Cl",), x_ref=0.25, method="direct")
     assert frf.T is None and frf.omega_d is None
     np.testing.assert_allclose(frf.H, ref.H, rtol=1e-6, atol=1e-12)
 
@@ -158,3 +158,44 @@ def test_bad_input(plate, systems):
         fast_sweep(plate, w, outputs="Cd", basis=SweepBasis(plate))
     with pytest.raises(LinearError, match="n_moments"):
         SweepBasis(plate, n_moments=1)
+
+
+def test_vortex_far_field_system():
+    """With the point-vortex far field the rank-one circulation term is in the sweep operator too."""
+    from cfd.euler import Scheme
+
+    grid = parabolic_c_grid(thickness=0.12, n_surface=24, n_wake=6, nj=9, eta_max=4.0, xi_max=3.5)
+    scheme = Scheme(vortex=True)
+    lin = linearise(solve_steady(grid, 0.5, 0.0, tol=1e-9, scheme=scheme), scheme=scheme)
+    assert lin.vortex is not None
+    w = np.array([0.0, 0.3, 1.0, 3.0])
+    ref = lfd_response(lin, w, method="direct").H
+    fast = lfd_response(lin, w, method="fast", tol=1e-9).H
+    assert np.abs(fast - ref).max() <= 1e-7 * np.abs(ref).max()
+    import dataclasses
+
+    frozen = lfd_response(dataclasses.replace(lin, vortex=None), w[:1], method="direct").H
+    assert np.abs(frozen[0, 0, 0] - ref[0, 0, 0]) > 1e-3 * np.abs(ref[0, 0, 0])  # the term matters here
+
+
+@pytest.mark.parametrize("method, n, expected", [("auto", 8, "direct"), ("auto", 9, "fast"), ("direct", 12, "direct"),
+                                                 ("fast", 2, "fast")])
+def test_lfd_response_method_dispatch(plate, method, n, expected):
+    w = np.linspace(0.0, 2.0, n)
+    frf = lfd_response(plate, w, method=method)
+    assert frf.metadata["method"] == expected
+    if expected == "fast":
+        ref = lfd_response(plate, w, method="direct").H
+        assert np.abs(frf.H - ref).max() <= 1e-6 * np.abs(ref).max()
+        assert np.asarray(frf.metadata["error_estimate"]).shape == (2, n)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(method="krylov"), "method must be one of"),
+    (dict(method="fast", tol=0.0), "tol must be a positive finite"),
+    (dict(method="fast", tol=np.nan), "tol must be a positive finite"),
+    (dict(method="direct", max_shifts=3), "belong to the fast sweep"),
+])
+def test_lfd_response_method_bad_input(plate, kwargs, match):
+    with pytest.raises(LinearError, match=match):
+        lfd_response(plate, [0.5, 1.0], **kwargs)
