@@ -14,7 +14,8 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 demo: $(STAMP)
-	$(PY) -m studies.demo --out demo-output
+	$(VENV)/bin/lfdrom run studies/demo.toml --workers 2
+	$(VENV)/bin/lfdrom report studies/demo.toml
 
 test: $(STAMP)
 	$(PY) -m pytest -q
@@ -23,4 +24,4 @@ bench: $(STAMP)
 	$(PY) bench/sysid_bench.py
 
 clean:
-	rm -rf $(VENV) demo-output
+	rm -rf $(VENV) demo-output results
