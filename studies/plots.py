@@ -495,6 +495,11 @@ def _finite(v) -> bool:
 # Time histories
 # ---------------------------------------------------------------------------------------------
 
+OFF_SCALE = 3.0
+"""A model whose history departs from the reference by more than this many reference ranges is drawn off
+scale (the axes keep the reference's scale and the legend says so)."""
+
+
 def history_plot(t, reference: Mapping[str, Any] | None, models=(), *, outputs: Sequence[str] = ("Cl", "Cm"),
                  ref_label: str = "LTD", u=None, error: bool = True, t_label: str | None = None,
                  title: str | None = None, legend: bool = True, fig=None):
@@ -578,11 +583,23 @@ def history_plot(t, reference: Mapping[str, Any] | None, models=(), *, outputs: 
         ay = col["y"]
         if ref is not None:
             ay.plot(t, ref[o], label=ref_label, **REF_STYLE, zorder=2)
+        span = None
+        if ref is not None and np.all(np.isfinite(ref[o])):
+            span = max(float(np.ptp(ref[o])), 1e-12)
+        clipped = False
         for i, (lab, data, st) in enumerate(mods):
             style = _style(i, st, colours)
-            ay.plot(t, data[o], label=lab, zorder=3, **style)
+            off = span is not None and not (np.max(np.abs(data[o] - ref[o]), initial=0.0) <= OFF_SCALE * span)
+            clipped |= off
+            shown = np.where(np.isfinite(data[o]), data[o], np.nan)
+            ay.plot(t, shown, label=lab + (" (diverges, off scale)" if off and j == 0 else ""), zorder=3, **style)
             if "e" in col:
-                col["e"].plot(t, data[o] - ref[o], zorder=3, **style)
+                col["e"].plot(t, shown - ref[o], zorder=3, **style)
+        if clipped:  # a diverging (unstable) model would flatten everything else: keep the reference's scale
+            lo, hi = float(np.min(ref[o])), float(np.max(ref[o]))
+            ay.set_ylim(lo - 0.5 * span, hi + 0.5 * span)
+            if "e" in col:
+                col["e"].set_ylim(-0.5 * span, 0.5 * span)
         ay.set_ylabel(rf"$\Delta${_label(o)}")
         ay.set_title(rf"$\Delta${_label(o)} (perturbation about the steady flow)", fontsize=10)
         if "e" in col:
