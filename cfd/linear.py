@@ -13,7 +13,7 @@ source)``; nothing here re-implements the flow equations:
   freezes, as a rank-one term ``(dR/dCl)(dCl/dq)`` added in every solve (``LinearSystem.solver``).
 
 Linear systems are factorised by :func:`factorise`: nested dissection without pivoting, checked, with
-complex matrices as they are (SuperLU complex).
+complex matrices in their real 2n form.
 
 For a gust with face averages ``g`` of ``v_g / U`` (``cfd.gust``) the face velocity is
 ``w_y = -mach g`` and the SVM adds the source ``cfd.gust.svm_source``; the forcing is therefore
@@ -307,12 +307,15 @@ def factorise(A, perm=None, rtol=1e-9):
 
     The unknowns are ordered by ``perm`` (geometric nested dissection of the grid, ``cfd.ordering``) and
     factorised by SuperLU without row pivoting, which fills several times less than COLAMD with
-    pivoting. A complex matrix is factorised as it is: on the NACA0010 M0.735 Jacobians, SuperLU's
-    complex LU of ``J + i w V`` took 0.66 s (18 720 unknowns, fill 17) and 1.9 s (42 480, fill 20)
-    where the real equivalent ``[[Ar, -Ai], [Ai, Ar]]`` took 2.9 s and 9.6 s (fill 33 and 39), measured
-    side by side on an idle machine. The factors are checked on a random right-hand side
-    (``|A x - b| <= rtol |b|``); if the check fails, COLAMD with partial pivoting is used instead (with a
-    RuntimeWarning).
+    pivoting. A complex matrix ``A = Ar + i Ai`` is factorised as its real equivalent
+    ``[[Ar, -Ai], [Ai, Ar]]`` with the real and imaginary parts of each unknown interleaved. SciPy's
+    complex SuperLU is faster when it behaves (1.9 - 2.8 s against 8 - 9.6 s for the real form on the
+    42 480-unknown paper grid, fill 20 against 39, measured side by side), but its time is erratic: the
+    first complex factorisation in a process took 20 s on a 2 880-unknown grid where the real form takes
+    0.3 s, and 76 - 156 s on the paper grid, even with :func:`cfd.superlu.reserve_heap` (not understood).
+    The reference path uses the predictable real form.
+    The factors are checked on a random right-hand side (``|A x - b| <= rtol |b|``); if the check
+    fails, COLAMD with partial pivoting is used instead (with a RuntimeWarning).
 
     Parameters
     ----------
@@ -326,25 +329,42 @@ def factorise(A, perm=None, rtol=1e-9):
     solve : callable
         ``solve(b)``, ``b`` of shape (n,), returns ``x`` (complex if ``A`` is).
     fill : float
-        ``nnz(L + U) / nnz(A)`` of the factorisation used.
+        ``nnz(L + U) / nnz(A)`` of the factorisation used (of the real form for complex ``A``).
     """
     A = sp.csr_matrix(A)
     n = A.shape[0]
     cplx = np.iscomplexobj(A.data)
+    if cplx:
+        K = sp.bmat([[A.real, -A.imag], [A.imag, A.real]], format="csr")
+        K.eliminate_zeros()
+
+        def wrap(solve_real):
+            def solve(b):
+                b = np.asarray(b)
+                y = solve_real(np.concatenate([b.real, b.imag]).astype(float))
+                return y[:n] + 1j * y[n:]
+            return solve
+    else:
+        K = A
+
+        def wrap(solve_real):
+            return solve_real
     if perm is not None:
+        p = np.stack([perm, perm + n], axis=1).ravel() if cplx else perm
         try:
-            solve, nnz = _lu_nopivot(A, perm)
+            solve_real, nnz = _lu_nopivot(K, p)
+            solve = wrap(solve_real)
             rng = np.random.default_rng(0)
             b = rng.normal(size=n) + (1j * rng.normal(size=n) if cplx else 0.0)
             x = solve(b)
             if np.all(np.isfinite(x)) and np.linalg.norm(A @ x - b) <= rtol * np.linalg.norm(b):
-                return solve, nnz / A.nnz
+                return solve, nnz / K.nnz
         except RuntimeError:
             pass
         warnings.warn("unpivoted nested-dissection LU was inaccurate; re-factorising with COLAMD and pivoting",
                       RuntimeWarning, stacklevel=2)
-    lu = splu_pivoted(A)
-    return lu.solve, (lu.L.nnz + lu.U.nnz) / A.nnz
+    lu = splu_pivoted(K)
+    return wrap(lu.solve), (lu.L.nnz + lu.U.nnz) / K.nnz
 
 
 def grid_permutation(grid):
