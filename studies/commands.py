@@ -68,6 +68,11 @@ def add_subcommands(sub) -> None:
                        description="Write the tables (CSV, Markdown, LaTeX) and figures of STUDY.toml from the "
                                    "results store only (run the study first).")
     study_args(p, "writing")
+    p.add_argument("--page", default=None, metavar="FILE.md",
+                   help="write the report page here (e.g. docs/paper-reproduction.md; its figures and tables go "
+                        "to a folder of the same name) instead of <output>/report.md")
+    p.add_argument("--prose", default=None, metavar="FILE.toml",
+                   help="TOML file of prose-slot texts (slot = \"text\"); slots already in the page are kept")
 
     p = sub.add_parser("rom", help="identify and save one ROM (npz and MATLAB .mat)",
                        description="One ROM of a paper case (T1-T6) or of your own aerofoil (--naca, --mach): "
@@ -240,7 +245,8 @@ def cmd_report(args) -> int:
     if config is None:
         return EXIT_UNAVAILABLE
     config = _apply_paths(config, args)
-    options = dict(output_dir=config.output_dir, store_dir=config.store_dir, progress=not args.quiet)
+    options = dict(output_dir=config.output_dir, store_dir=config.store_dir, progress=not args.quiet,
+                   page=getattr(args, "page", None), prose=getattr(args, "prose", None))
     return _hand_over("studies.report", "make_report", config, options, "the report")
 
 

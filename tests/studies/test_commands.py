@@ -93,6 +93,15 @@ def test_failures_and_report(fake_modules, capsys):
     fake_modules("studies.report", "make_report", params="config, **kw")
     assert run(["report", str(STUDIES / "demo.toml")]) == 0
     assert fake_modules.calls[-1][2]["kw"]["progress"] is True
+    assert "page" not in fake_modules.calls[-1][2]["kw"]  # not given: the report's default page
+
+
+def test_report_page_and_prose_are_handed_over(fake_modules, tmp_path):
+    fake_modules("studies.report", "make_report", params="config, **kw")
+    page, prose = tmp_path / "paper.md", tmp_path / "prose.toml"
+    assert run(["report", str(STUDIES / "demo.toml"), "--quiet", "--page", str(page), "--prose", str(prose)]) == 0
+    kw = fake_modules.calls[-1][2]["kw"]
+    assert kw["page"] == str(page) and kw["prose"] == str(prose)
 
 
 @pytest.mark.parametrize("argv,match", [
