@@ -127,7 +127,13 @@ def face_gust_vector(grid, omega, x_ref=0.0):
 
 
 class _ShiftFactor:
-    """Sparse LU of ``J + s V``, ``s`` real or complex (nested dissection, no pivoting; COLAMD with pivoting as a fallback)."""
+    """Sparse LU of ``(J + s V)^T``, ``s`` real or complex (nested dissection, no pivoting; COLAMD with pivoting
+    as a fallback).
+
+    The transpose is factorised because the sweep only solves with it: SuperLU's plain solve is faster than
+    its transposed one (on the paper grid, 2 right-hand sides 0.10 - 0.14 s against 0.13 - 0.16 s, 8 of them
+    0.25 s against 0.58 s; the factorisations cost the same).
+    """
 
     def __init__(self, lin, s, perm):
         self.n = lin.n
@@ -139,7 +145,7 @@ class _ShiftFactor:
         self.perm = perm
         self.inv = np.empty_like(perm)
         self.inv[perm] = np.arange(perm.size)
-        self.lu = splu_nested(A[perm][:, perm])
+        self.lu = splu_nested(A.T.tocsr()[perm][:, perm])
         self.pivoted = False
         self.vortex = lin.vortex
         self._sm = None
@@ -167,10 +173,9 @@ class _ShiftFactor:
         if self.pivoted:
             Rp = R
         if self.real and np.iscomplexobj(Rp):
-            X = self.lu.solve(np.ascontiguousarray(Rp.real), trans="T") + 1j * self.lu.solve(
-                np.ascontiguousarray(Rp.imag), trans="T")
+            X = self.lu.solve(np.ascontiguousarray(Rp.real)) + 1j * self.lu.solve(np.ascontiguousarray(Rp.imag))
         else:
-            X = self.lu.solve(np.ascontiguousarray(Rp), trans="T")
+            X = self.lu.solve(np.ascontiguousarray(Rp))
         return X if self.pivoted else X[self.inv]
 
     def solve_T(self, R, rtol=1e-6):
@@ -194,50 +199,92 @@ class _ShiftFactor:
                 raise LinearError("shifted factorisation is singular to working precision; try other shifts")
             warnings.warn("unpivoted nested-dissection LU was inaccurate at a sweep shift; refactorising with "
                           "COLAMD and partial pivoting", RuntimeWarning, stacklevel=3)
-            self.lu = splu_pivoted(self.A)
+            self.lu = splu_pivoted(self.A.T)
             self.pivoted = True
             self._sm = None
             return self.solve_T(R, rtol)
         return X
 
 
-def _orthonormalise(X, Q, tol=1e-12):
-    """Block classical Gram-Schmidt, twice, against the orthonormal columns ``Q``; then QR with deflation.
+class _Columns:
+    """The columns of a growing ``(n, m)`` complex matrix, held in one Fortran-ordered buffer.
+
+    Appending copies only the new columns (the buffer doubles when full), and :attr:`cols` is a view, so
+    products with the whole basis go straight to BLAS without copying it.
+    """
+
+    def __init__(self, n, capacity):
+        self._buf = np.zeros((n, max(int(capacity), 1)), complex, order="F")
+        self.size = 0
+
+    @property
+    def cols(self):
+        return self._buf[:, :self.size]
+
+    def extend(self, X):
+        k = X.shape[1]
+        if self.size + k > self._buf.shape[1]:
+            grown = np.zeros((self._buf.shape[0], max(2 * self._buf.shape[1], self.size + k)), complex, order="F")
+            grown[:, :self.size] = self.cols
+            self._buf = grown
+        self._buf[:, self.size:self.size + k] = X
+        self.size += k
+
+
+def _coefficients(Q, X):
+    """``Q^H X`` without a conjugated copy of the tall ``Q``: ``(X^H Q)^H``, shape (m, k)."""
+    return (X.conj().T @ Q).conj().T
+
+
+def _cholesky_qr(X):
+    """``X = Q R`` for nearly orthonormal columns (after Gram-Schmidt): two BLAS-3 products instead of
+    Householder's column sweeps (``R`` upper triangular, shape (k, k))."""
+    R = sla.cholesky(X.conj().T @ X, lower=False)
+    return X @ sla.solve_triangular(R, np.eye(R.shape[0]), lower=False), R
+
+
+def _orthonormalise(X, Q=None, tol=1e-12):
+    """Orthonormalise the columns of ``X`` against the orthonormal columns ``Q`` and among themselves.
+
+    Block classical Gram-Schmidt twice (a third pass when a kept column lost more than 90 % of its norm to
+    ``Q``), then a rank-revealing QR that drops the directions already in the span.
 
     Parameters
     ----------
     X : ndarray, shape (n, k)
-    Q : ndarray, shape (n, m) or None
+    Q : ndarray, shape (n, m), optional
     tol : float
-        Columns whose norm falls below ``tol`` times their original norm are dropped (already in span Q).
+        Columns whose norm falls below ``tol`` times their original norm are dropped (already in span).
 
     Returns
     -------
     Qx : ndarray, shape (n, k') with k' <= k
+        Orthonormal new columns, orthogonal to ``Q``.
     coeff : ndarray, shape (m, k)
-        ``Q^H X`` (accumulated over both passes).
-    Rx : ndarray, shape (k', k)
         ``X = Q coeff + Qx Rx`` (to the dropped parts).
+    Rx : ndarray, shape (k', k)
     """
     norm0 = np.linalg.norm(X, axis=0)
     norm0 = np.where(norm0 > 0.0, norm0, 1.0)
-    X = np.array(X, dtype=complex) / norm0  # unit columns: the deflation test is relative to each column
+    X = np.array(X, dtype=complex) / norm0            # unit columns: the deflation test is relative to each
     m = 0 if Q is None else Q.shape[1]
     coeff = np.zeros((m, X.shape[1]), complex)
-    for _ in range(2):
-        if m:
-            c = Q.conj().T @ X
-            X -= Q @ c
-            coeff += c
-    Qx, Rx, piv = sla.qr(X, mode="economic", pivoting=True)  # rank-revealing: drop the dependent part
+
+    def project(Y):                                   # Y -= Q Q^H Y in place; returns Q^H Y
+        c = _coefficients(Q, Y)
+        Y -= Q @ c
+        return c
+
+    for _ in range(2 if m else 0):
+        coeff += project(X)
+    Qx, Rx, piv = sla.qr(X, mode="economic", pivoting=True)
     r = int(np.sum(np.abs(np.diag(Rx)) > tol))
-    Qx = Qx[:, :r]
-    Rx = Rx[:r][:, np.argsort(piv)]
-    if m and r:  # one more pass for the kept directions (they may be small)
-        c = Q.conj().T @ Qx
-        Qk, Rk = np.linalg.qr(Qx - Q @ c)
+    Qx, Rx = Qx[:, :r], Rx[:r][:, np.argsort(piv)]
+    if m and r and abs(Rx[r - 1, piv[r - 1]]) < 0.1:  # small kept directions: one more pass
+        c = project(Qx)
+        Qx, Rk = _cholesky_qr(Qx)
         coeff += c @ Rx
-        return Qk, coeff * norm0, (Rk @ Rx) * norm0
+        Rx = Rk @ Rx
     return Qx, coeff * norm0, Rx * norm0
 
 
@@ -262,10 +309,12 @@ class SweepBasis:
     shifts : list of float
         Shift frequencies (U/c units), in the order added.
     size : int
-        Number of basis vectors ``m``; memory held is about ``(3 m + p) * 16 * 4N`` bytes
-        (``W`` and an orthonormal basis of ``[C^T, J^T W, V W]``).
+        Number of basis vectors ``m``; memory held is about ``(m + u) * 16 * 4N`` bytes, ``u <= 2 m + p``
+        the size of the orthonormal basis of ``[C^T, J^T W, V W]`` (``u`` is ``m + p`` in exact arithmetic:
+        the rational Krylov property).
     timings : dict
-        Seconds spent in factorisations, back-substitutions and orthogonalisation.
+        Seconds spent in factorisations, back-substitutions, orthogonalisation and the reduced
+        (Schur-form) evaluations, and the counts of factorisations and back-substituted vectors.
     """
 
     def __init__(self, lin, outputs=("Cl", "Cm"), n_moments=16):
@@ -279,51 +328,34 @@ class SweepBasis:
         self.shifts = []
         self._perm = unknown_permutation(nested_dissection(lin.grid))
         Ct = np.asarray(lin.C[self.rows], dtype=float).T  # (n, p)
+        p = Ct.shape[1]
         self._c_norm = np.linalg.norm(Ct, axis=0)
         U, R = np.linalg.qr(Ct.astype(complex))
-        self._U = U                                    # orthonormal basis of [C^T, J^T W, V W]
+        capacity = 8 * self.n_moments * p
+        self._Wc = _Columns(lin.n, capacity)          # W: orthonormal
+        self._Uc = _Columns(lin.n, 2 * capacity + p)  # U: orthonormal basis of [C^T, J^T W, V W]
+        self._Uc.extend(U)
         self._Rc = R                                   # C^T = U Rc
-        self._RJ = np.zeros((U.shape[1], 0), complex)  # J^T W = U RJ
-        self._RV = np.zeros((U.shape[1], 0), complex)  # V W = U RV
-        self._W = np.zeros((lin.n, 0), complex)
-        self._Jr = np.zeros((0, 0), complex)            # W^H J^T W
-        self._Vr = np.zeros((0, 0), complex)            # W^H V W
-        self._Cr = np.zeros((0, len(self.rows)), complex)   # W^H C^T
+        self._RJ = np.zeros((p, 0), complex)           # J^T W = U RJ
+        self._RV = np.zeros((p, 0), complex)           # V W = U RV
+        self._Jr = np.zeros((0, 0), complex)           # W^H J^T W
+        self._Vr = np.zeros((0, 0), complex)           # W^H V W
+        self._Cr = np.zeros((0, p), complex)           # W^H C^T
         self._Ct = Ct
         self._last = np.zeros(0, bool)                 # columns of the last block of their shift
         self._shift_of = np.zeros(0, int)
         self._WB = {}                                   # gust -> (W^T B) (m, n_faces)
         self._B = {}
-        self.timings = {"factorise": 0.0, "back_substitute": 0.0, "orthogonalise": 0.0, "n_factor": 0,
-                        "n_back_substitute": 0}
+        self.timings = {"factorise": 0.0, "back_substitute": 0.0, "orthogonalise": 0.0, "reduce": 0.0,
+                        "n_factor": 0, "n_back_substitute": 0}
 
     @property
     def size(self):
-        return self._W.shape[1]
+        return self._Wc.size
 
-    def _append(self, X):
-        """Add the block ``X`` (n, k) to ``W`` (orthonormalised); returns the new orthonormal columns."""
-        t0 = time.perf_counter()
-        Wn, _, _ = _orthonormalise(X, self._W if self.size else None)
-        if Wn.shape[1] == 0:
-            self.timings["orthogonalise"] += time.perf_counter() - t0
-            return Wn
-        V = self.lin.V
-        K = np.hstack([self._Jt(Wn), V[:, None] * Wn])
-        Un, coeff, Rn = _orthonormalise(K, self._U)
-        u_old, u_new = self._U.shape[1], Un.shape[1]
-        k = Wn.shape[1]
-        pad = lambda M: np.vstack([M, np.zeros((u_new, M.shape[1]), complex)])  # noqa: E731
-        newcols = np.vstack([coeff, Rn]) if u_new else coeff
-        self._U = np.hstack([self._U, Un])
-        self._Rc = pad(self._Rc)
-        self._RJ = np.hstack([pad(self._RJ), newcols[:, :k]])
-        self._RV = np.hstack([pad(self._RV), newcols[:, k:]])
-        self._extend_galerkin(Wn, K[:, :k], K[:, k:])
-        self._W = np.hstack([self._W, Wn])
-        assert self._RJ.shape == (u_old + u_new, self.size)
-        self.timings["orthogonalise"] += time.perf_counter() - t0
-        return Wn
+    @property
+    def _W(self):
+        return self._Wc.cols
 
     def _Jt(self, X, transpose=True):
         """``J^T X`` (or ``J X``), with the vortex rank-one term ``u v^T`` of ``J`` when the system has one."""
@@ -334,18 +366,42 @@ class SweepBasis:
             out = out + (np.outer(v, u @ X) if transpose else np.outer(u, v @ X))
         return out
 
-    def _extend_galerkin(self, Wn, JtWn, VWn):
-        """Border the projected matrices ``W^H J^T W``, ``W^H V W`` and ``W^H C^T`` with the new columns ``Wn``."""
+    def _append(self, m0):
+        """Account for the basis columns from ``m0`` on (one shift's): the residual basis ``U`` and the
+        projected matrices, in one block pass over the basis."""
+        t0 = time.perf_counter()
         W = self._W
-        JWn = self._Jt(Wn, transpose=False)                      # for Wn^H J^T W = (W^H J Wn)^H (J real)
-        top_J, top_V = W.conj().T @ JtWn, W.conj().T @ VWn      # (m, k)
-        left_J = (W.conj().T @ JWn).conj().T                     # (k, m)
-        self._Jr = np.block([[self._Jr, top_J], [left_J, Wn.conj().T @ JtWn]])
-        self._Vr = np.block([[self._Vr, top_V], [top_V.conj().T, Wn.conj().T @ VWn]])
-        self._Cr = np.vstack([self._Cr, Wn.conj().T @ self._Ct])
+        Wold, Wn = W[:, :m0], W[:, m0:]
+        k = Wn.shape[1]
+        JtWn = self._Jt(Wn)
+        U = self._Uc.cols
+        Un, coeff, Rn = _orthonormalise(np.hstack([JtWn, self.lin.V[:, None] * Wn]), U)
+        u_old, u_new = U.shape[1], Un.shape[1]
+        pad = lambda M: np.vstack([M, np.zeros((u_new, M.shape[1]), complex)])  # noqa: E731
+        newcols = np.vstack([coeff, Rn]) if u_new else coeff
+        self._Uc.extend(Un)
+        self._Rc = pad(self._Rc)
+        self._RJ = np.hstack([pad(self._RJ), newcols[:, :k]])
+        self._RV = np.hstack([pad(self._RV), newcols[:, k:]])
+        # border W^H J^T W (top W^H J^T Wn, left Wn^H J^T W = (W^H J Wn)^H, J real) and W^H V W
+        VWn = self.lin.V[:, None] * Wn
+        G = _coefficients(Wold, np.hstack([JtWn, self._Jt(Wn, transpose=False), VWn]))
+        top_J, left_J, top_V = G[:, :k], G[:, k:2 * k].conj().T, G[:, 2 * k:]
+        self._Jr = np.block([[self._Jr, top_J], [left_J, _coefficients(Wn, JtWn)]])
+        self._Vr = np.block([[self._Vr, top_V], [top_V.conj().T, _coefficients(Wn, VWn)]])
+        self._Cr = np.vstack([self._Cr, _coefficients(Wn, self._Ct)])
+        assert self._RJ.shape == (u_old + u_new, self.size)
+        self.timings["orthogonalise"] += time.perf_counter() - t0
 
     def add_shift(self, omega):
         """Factorise at ``omega`` (U/c units, finite, >= 0) and add its ``n_moments`` Krylov blocks.
+
+        Each block is ``A^-T V`` applied to the newest basis directions (the first: ``A^-T C^T``), made
+        orthonormal to the whole basis (``V`` inner product) before the next solve, so that the last block
+        of the shift holds the directions the sequence would add next (the error estimate leaves them out).
+        A variant that orthonormalised the shift's blocks only among themselves and against the basis at
+        the end (one block pass instead of one per block) gave an estimate that fell below the true error
+        by up to 7x on the coarse M0.8 test case (the basis kept here: 20x above it).
 
         Parameters
         ----------
@@ -360,26 +416,30 @@ class SweepBasis:
         w = float(lin.to_solver_frequency(float(omega)))
         t0 = time.perf_counter()
         fac = _ShiftFactor(lin, 1j * w, self._perm)
-        t1 = time.perf_counter()
-        self.timings["factorise"] += t1 - t0
+        self.timings["factorise"] += time.perf_counter() - t0
         self.timings["n_factor"] += 1
         m0 = self.size
         X = np.asarray(lin.C[self.rows], dtype=complex).T
-        sizes = []
+        last = 0
         for _ in range(self.n_moments):
             t0 = time.perf_counter()
             Y = fac.solve_T(X)
             self.timings["back_substitute"] += time.perf_counter() - t0
             self.timings["n_back_substitute"] += X.shape[1]
-            Q = self._append(Y)
+            t0 = time.perf_counter()
+            Q, _, _ = _orthonormalise(Y, self._W if self.size else None)
+            self.timings["orthogonalise"] += time.perf_counter() - t0
             if Q.shape[1] == 0:
                 break
-            sizes.append(Q.shape[1])
+            self._Wc.extend(Q)
+            last = Q.shape[1]
             X = lin.V[:, None] * Q  # next rational Krylov block: (A^-T V) applied to the newest directions
-        last = np.zeros(self.size - m0, bool)
-        if sizes:
-            last[-sizes[-1]:] = True
-        self._last = np.concatenate([self._last, last])
+        del fac
+        if self.size > m0:
+            self._append(m0)
+        flags = np.zeros(self.size - m0, bool)
+        flags[flags.size - last:] = True
+        self._last = np.concatenate([self._last, flags])
         self._shift_of = np.concatenate([self._shift_of, np.full(self.size - m0, len(self.shifts))])
         self.shifts.append(float(omega))
         return self.size - m0
@@ -395,18 +455,21 @@ class SweepBasis:
             self._WB[gust] = new if old is None else np.vstack([old, new])
         return self._WB[gust]
 
-    def _reduced_pencil(self, cols):
-        """QZ form of the Galerkin pencil on the basis columns ``cols``.
+    def _reduced_operator(self, cols):
+        """Schur form of the Galerkin operator on the basis columns ``cols``.
 
-        ``W^H (J + i w V)^T W Y = W^H C^T`` with ``W^H J^T W = Q S Z^H`` and ``W^H V W = Q P Z^H`` (``S``,
-        ``P`` upper triangular, ``Q``, ``Z`` unitary): at each frequency ``Y = Z (S + i w P)^-1 Q^H W^H C^T``,
-        one triangular solve of ``p`` columns, ``O(m^2 p)``. ``W^H V W`` is Hermitian positive definite
-        (``V`` holds the cell areas), so the pencil is regular.
+        ``W^H (J + i w V)^T W Y = W^H C^T``. ``W^H V W = L L^H`` is Hermitian positive definite (``V`` holds
+        the cell areas; its condition number is at most their ratio, 2.4e5 on the paper grid), so with
+        ``L^-1 W^H J^T W L^-H = Z S Z^H`` (complex Schur form) ``Y = L^-H Z (S + i w I)^-1 Z^H L^-1 W^H C^T``:
+        one triangular solve of ``p`` columns per frequency, ``O(m^2 p)``. The Schur form costs a tenth of
+        the QZ form of the pencil (0.36 s against 4.4 s at ``m = 448``, measured).
         """
-        Jr, Vr = self._Jr[np.ix_(cols, cols)], self._Vr[np.ix_(cols, cols)]
-        S, P, Q, Z = sla.qz(Jr, Vr, output="complex")
-        return dict(S=S, P=P, Z=Z, a=Q.conj().T @ self._Cr[cols], RJZ=self._RJ[:, cols] @ Z,
-                    RVZ=self._RV[:, cols] @ Z)
+        L = np.linalg.cholesky(self._Vr[np.ix_(cols, cols)])
+        Li = sla.solve_triangular(L, np.eye(L.shape[0]), lower=True)
+        S, Z = sla.schur(Li @ self._Jr[np.ix_(cols, cols)] @ Li.conj().T, output="complex")
+        Zy = Li.conj().T @ Z                                          # Y = Zy (S + i w I)^-1 a
+        return dict(S=S, Z=Zy, a=Z.conj().T @ (Li @ self._Cr[cols]), RJZ=self._RJ[:, cols] @ Zy,
+                    RVZ=self._RV[:, cols] @ Zy)
 
     def evaluate(self, omega, gust="svm", x_ref=0.0, cache=None):
         """Outputs, error estimates and dual residual norms at finite frequencies.
@@ -434,6 +497,7 @@ class SweepBasis:
         w = np.asarray(omega, dtype=float)
         if self.size == 0:
             raise LinearError("the sweep basis is empty; call add_shift first")
+        t0 = time.perf_counter()
         cache = {} if cache is None else cache
         if "G" not in cache:
             cache["G"] = np.stack([face_gust_vector(self.lin.grid, wk, x_ref) for wk in w], axis=1)  # (nf, K)
@@ -445,10 +509,11 @@ class SweepBasis:
         F = cache["F"]
         ws = self.lin.to_solver_frequency(w)
         coarse = np.flatnonzero(~self._last)
-        yf, rf, vf = _galerkin(self._reduced_pencil(np.arange(self.size)), ws, F, self._Rc)
-        yc, rc, vc = _galerkin(self._reduced_pencil(coarse), ws, F[coarse], self._Rc)
+        yf, rf, vf = _galerkin(self._reduced_operator(np.arange(self.size)), ws, F, self._Rc)
+        yc, rc, vc = _galerkin(self._reduced_operator(coarse), ws, F[coarse], self._Rc)
         dr = np.linalg.norm(vc - vf, axis=1)                       # |r_ - r|, (K, p)
         est = SAFETY * np.abs(yf - yc) * rf / np.maximum(dr.T, 1e-300)
+        self.timings["reduce"] += time.perf_counter() - t0
         return yf, est, rf / self._c_norm[:, None]
 
 
@@ -458,7 +523,7 @@ def _galerkin(red, ws, F, Rc):
     Parameters
     ----------
     red : dict
-        From ``SweepBasis._reduced_pencil``.
+        From ``SweepBasis._reduced_operator``.
     ws : ndarray, shape (K,)
         Solver-unit frequencies.
     F : ndarray, shape (m, K)
@@ -475,11 +540,12 @@ def _galerkin(red, ws, F, Rc):
     vec : ndarray, complex, shape (K, u, p)
         The residuals in the coordinates of ``U``.
     """
-    S, P, a = red["S"], red["P"], red["a"]
+    S, a = red["S"], red["a"]
     v = np.empty((ws.size,) + a.shape, complex)                      # (K, m, p)
+    eye = np.eye(S.shape[0])
     with np.errstate(all="ignore"):
         for k, wk in enumerate(ws):
-            v[k] = sla.solve_triangular(S + 1j * wk * P, a, check_finite=False)
+            v[k] = sla.solve_triangular(S + 1j * wk * eye, a, check_finite=False)
     FZ = F.T @ red["Z"]                                               # (K, m): F^T Z
     y = -np.einsum("km,kmp->pk", FZ, v)
     vec = Rc[None] - red["RJZ"] @ v - 1j * ws[:, None, None] * (red["RVZ"] @ v)
@@ -489,6 +555,7 @@ def _galerkin(red, ws, F, Rc):
         y[:, bad] = 0.0
         res[:, bad] = np.inf
     return y, res, vec
+
 
 
 def _check_tol(tol):
