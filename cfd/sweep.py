@@ -13,16 +13,16 @@ few, so the sweep is done on the dual (adjoint) side instead:
     y(omega) = -Z(omega)^T b(omega),      (J + i w V)^T Z(omega) = C^T      (Z: n x p, one column per output)
 
 whose right-hand side does not depend on ``omega``. ``Z`` is approximated in a basis ``W`` (orthonormal,
-n x m) built by rational Krylov from a few shifts ``sigma``: one sparse LU of ``J + i sigma V`` per shift
-(the same nested-dissection ordering as the direct path), then the blocks
-``Z(sigma)`` and ``((J + i sigma V)^-T V)^k Z(sigma)`` (the derivatives of ``Z`` in ``omega`` at the shift),
-orthonormalised block by block (Gram-Schmidt twice). At every frequency the small Galerkin system
-``W^H (J + i w V)^T W Y = W^H C^T`` is solved through one QZ form of the projected pencil (a triangular
-solve of ``p`` columns per frequency, ``O(m^2 p)``), and its residual ``C^T - (J + i w V)^T W Y`` is
-evaluated in the coordinates of an orthonormal basis of ``[C^T, J^T W, V W]``, so the residual norms are
-exact (no normal equations, no cancellation), and
-``y = -Y^T (W^T B) g(omega)`` costs one product with an ``m x n_faces`` matrix. Shifts are added greedily at the
-frequency with the largest estimated error until every frequency meets ``tol``.
+n x m) built by rational Krylov from a few shifts ``sigma``: one sparse LU of ``(J + i sigma V)^T`` per shift
+(the same nested-dissection ordering as the direct path), then the blocks ``Z(sigma)`` and
+``((J + i sigma V)^-T V)^k Z(sigma)`` (the derivatives of ``Z`` in ``omega`` at the shift), orthonormal among
+themselves, then orthonormalised against the basis in one block pass, block by block in their order. At
+every frequency the small Galerkin system ``W^H (J + i w V)^T W Y = W^H C^T`` is solved through one Schur
+form of the Cholesky-scaled projected operator (a triangular solve of ``p`` columns per frequency,
+``O(m^2 p)``), and its residual ``C^T - (J + i w V)^T W Y`` is evaluated in the coordinates of an
+orthonormal basis of ``[C^T, J^T W, V W]``, so the residual norms are exact (no normal equations, no
+cancellation), and ``y = -Y^T (W^T B) g(omega)`` costs one product with an ``m x n_faces`` matrix. Shifts
+are added greedily at the frequency with the largest estimated error until every frequency meets ``tol``.
 
 Error estimate
 --------------

@@ -233,9 +233,10 @@ def method_rows(results) -> list:
 def cost_rows(results) -> list:
     """Compute times per case: the LFD sweep(s), the LTD marches, identification and ROM simulation.
 
-    Keys: ``case, frf_seconds`` (sum over T), ``n_frequencies``, ``ltd_seconds`` (mean per gust), ``n_gusts``,
-    ``identify_seconds`` (median per ROM), ``rom_sim_seconds`` (median per gust history), ``speedup``
-    (``ltd_seconds / rom_sim_seconds``).
+    Keys: ``case, frf_seconds`` (sum over T), ``n_frequencies``, ``frf_error_estimate`` (the fast sweep's
+    largest estimated error relative to the response, over all T; NaN for the direct path), ``ltd_seconds``
+    (mean per gust), ``n_gusts``, ``identify_seconds`` (median per ROM), ``rom_sim_seconds`` (median per gust
+    history), ``speedup`` (``ltd_seconds / rom_sim_seconds``).
     """
     rows = []
     roms = rom_rows(results)
@@ -250,6 +251,8 @@ def cost_rows(results) -> list:
         row = dict(case=name,
                    frf_seconds=float(sum(f.seconds for f in fr)) if fr else float("nan"),
                    n_frequencies=int(fr[0].frf.H.shape[-1]) if fr else None,
+                   frf_error_estimate=float(np.nanmax([f.max_relative_error_estimate for f in fr]))
+                   if fr and any(_num(f.max_relative_error_estimate) for f in fr) else float("nan"),
                    ltd_seconds=float(np.mean(lts)) if lts else float("nan"), n_gusts=len(lt),
                    identify_seconds=float(np.median(idt)) if idt else float("nan"),
                    rom_sim_seconds=float(np.median(rs)) if rs else float("nan"))
@@ -322,6 +325,7 @@ def _method_columns() -> list:
 
 def _cost_columns() -> list:
     return [Column("case"), Column("n_frequencies", "LFD frequencies"), Column("frf_seconds", "LFD sweep [s]", ".4g"),
+            Column("frf_error_estimate", "LFD est. max rel. error", ".1e"),
             Column("n_gusts", "gusts"), Column("ltd_seconds", "LTD per gust [s]", ".4g"),
             Column("identify_seconds", "identify per ROM [s]", ".3g"),
             Column("rom_sim_seconds", "ROM per gust [s]", ".3g"), Column("speedup", "LTD / ROM time", ".3g")]

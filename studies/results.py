@@ -114,6 +114,10 @@ class FRFRecord:
         Compute time of the sweep (wall clock, s).
     method : str
         ``"direct"`` or ``"fast"`` (the LFD path that produced it; ``"auto"`` when the solver did not say).
+    lfd : dict
+        The LFD solver's own metadata as stored (``cfd.lfd_response``): for the fast sweep ``tol``,
+        ``tol_met``, ``error_estimate`` (p, K) absolute per radian, ``residual_norm``, ``shifts``,
+        ``basis_size``; empty for records made without a solver.
     """
 
     case: str
@@ -122,6 +126,25 @@ class FRFRecord:
     frf: FrequencyResponse
     seconds: float
     method: str
+    lfd: dict = field(default_factory=dict)
+
+    @property
+    def tol_met(self):
+        """The fast sweep's verdict on its tolerance (None for the direct path: exact to round-off)."""
+        return self.lfd.get("tol_met")
+
+    @property
+    def max_relative_error_estimate(self):
+        """Largest estimated error of the sweep relative to ``|H|`` over the finite frequencies (NaN when the
+        solver gave no estimate: the direct path)."""
+        est = self.lfd.get("error_estimate")
+        if est is None:
+            return float("nan")
+        est = np.asarray(est, dtype=float)
+        H = np.abs(np.asarray(self.frf.H)[:, 0])
+        fin = np.isfinite(self.frf.omega)
+        scale = np.maximum(H[:, fin], 1e-3 * H[:, fin].max(axis=1, keepdims=True))
+        return float(np.max(est[:, fin] / scale)) if np.any(fin) else float("nan")
 
 
 @dataclass(frozen=True, eq=False)
@@ -616,10 +639,10 @@ def load_results(study_or_path, *, store_dir=None) -> StudyResults:
             md = e.metadata
             frf = FrequencyResponse(e["H"], e["omega_d"], T, inputs=md.get("inputs", ["gust"]),
                                     outputs=md.get("outputs", outputs), omega=e["omega"],
-                                    metadata={"case": c.name, "method": md.get("method", "auto")})
+                                    metadata={**md.get("lfd", {}), "case": c.name, "method": md.get("method", "auto")})
             frfs[(c.name, T)] = FRFRecord(case=c.name, T=T, M=config.M_base, frf=frf,
                                           seconds=float(md.get("seconds", float("nan"))),
-                                          method=str(md.get("method", "auto")))
+                                          method=str(md.get("method", "auto")), lfd=dict(md.get("lfd", {})))
             frf_entries[(c.name, T)] = e
         for g in config.gusts:
             e = store.get("ltd", ltd_piece(c, g, config.simulation, config.cfd))

@@ -13,6 +13,12 @@ Steps (:func:`identify`):
    - feedthrough: when the data contain the ``omega_d = pi`` (``omega = inf``) sample, its value is the
      continuous model's feedthrough and is imposed as ``G(z=-1) = H(pi)`` -- never solved for.
 
+   When stabilisation changed ``A``, the subspace ``C`` no longer matches it, so by default (``refit_c=
+   "auto"``) ``C`` is refitted too: alternating B/D and C/D refits (:func:`sysid.refit.fit_alternating`,
+   each half step convex with the same equalities, the cost never increases). Measured on the paper's
+   LFD data (M = 256, DC + stability): the Cm error (max over frequency / max |H|) of T4 at N_r = 25 falls
+   from 1.79 to 0.13, of T5 from 2.53 to 0.10 (N_r = 25) and from 0.89 to 0.009 (N_r = 55).
+
 The result carries the model (``control.StateSpace`` with ``dt = T``), its errors on the data, which
 constraints were enforced, and what the stabilisation cost.
 """
@@ -93,7 +99,8 @@ class IdentificationResult:
     subspace : SubspaceResult
         ``A``, ``C`` and Hankel data before stabilisation.
     refit : object
-        The :class:`sysid.refit.BDFit` of the final model.
+        The :class:`sysid.refit.BDFit` of the final model, or the :class:`sysid.refit.AlternatingFit` when
+        ``C`` was refitted too.
     T : float
     q, r : int, int or None
         Hankel sizes.
@@ -225,6 +232,7 @@ def identify(
     stabilise_method: str = "lmi",
     fix_feedthrough: bool = True,
     solver: str = "clarabel",
+    refit_c: Any = "auto",
 ) -> IdentificationResult:
     """Identify a discrete state-space model from frequency-response data.
 
@@ -255,6 +263,10 @@ def identify(
         Impose ``G(z=-1) = H(omega_d = pi)`` when the data contain that sample (default True).
     solver : {"clarabel", "numpy"}
         Refit solver (see :func:`sysid.refit.fit_bd`).
+    refit_c : {"auto", True, False}
+        Also refit ``C`` (alternating B/D and C/D refits, :func:`sysid.refit.fit_alternating`): ``"auto"``
+        when stabilisation changed ``A`` (the paper's unconstrained path keeps the subspace ``C``), ``True``
+        always, ``False`` never.
 
     Returns
     -------
@@ -271,8 +283,10 @@ def identify(
     SolverError
         A convex solver failed.
     """
-    from .refit import fit_bd
+    from .refit import fit_alternating, fit_bd
 
+    if refit_c not in ("auto", True, False):
+        raise ValueError(f"refit_c must be 'auto', True or False; got {refit_c!r}")
     if not isinstance(frf, FrequencyResponse):
         raise TypeError(f"identify() expects a sysid.FrequencyResponse, got {type(frf).__name__}")
     if frf.T is None or frf.omega_d is None:
@@ -300,10 +314,12 @@ def identify(
     if ft is not None:
         ft = np.array(ft, dtype=float)
 
-    def refit(A):
-        fit = fit_bd(A, sub.C, z, G, weights=weights, dc_gain=dc, feedthrough=ft, solver=solver)
-        Hm = evaluate_ss(A, fit.B, sub.C, fit.D, z)
-        return fit, Hm, frf_errors(Hm, G)
+    def refit(A, with_c=False):
+        """``(fit, C, errors)``: the constrained refit of B, D (and C when ``with_c``) for this ``A``."""
+        kw = dict(weights=weights, dc_gain=dc, feedthrough=ft, solver=solver)
+        fit = fit_alternating(A, sub.C, z, G, **kw) if with_c else fit_bd(A, sub.C, z, G, **kw)
+        C = fit.C if with_c else sub.C
+        return fit, C, frf_errors(evaluate_ss(A, fit.B, C, fit.D, z), G)
 
     A = sub.A
     report = None
@@ -312,10 +328,10 @@ def identify(
 
         rho0 = spectral_radius(A)
         if rho0 >= 1.0 - margin:
-            fit0, _, err0 = refit(A) if not _has_pole_at_constraint(A, dc, ft) else (None, None, None)
+            _, _, err0 = refit(A, refit_c is True) if not _has_pole_at_constraint(A, dc, ft) else (None, None, None)
             st = stabilise(A, method=stabilise_method, margin=margin, gamma1=sub.gamma1, gamma2=sub.gamma2)
             A = np.asarray(st.A, dtype=float)
-            fit, Hm, err = refit(A)
+            fit, C, err = refit(A, refit_c in ("auto", True))
             report = StabilisationReport(
                 method=st.method, status=st.status, spectral_radius_before=st.spectral_radius_before,
                 spectral_radius_after=st.spectral_radius_after, relative_change=st.relative_change,
@@ -324,22 +340,22 @@ def identify(
                 rms_error_after=err.rms_rel, max_error_after=err.max_rel,
             )
         else:
-            fit, Hm, err = refit(A)
+            fit, C, err = refit(A, refit_c is True)
             report = StabilisationReport(
                 method="none", status="already_stable", spectral_radius_before=rho0, spectral_radius_after=rho0,
                 relative_change=0.0, rms_error_before=err.rms_rel, rms_error_after=err.rms_rel,
                 max_error_before=err.max_rel, max_error_after=err.max_rel,
             )
     else:
-        fit, Hm, err = refit(A)
+        fit, C, err = refit(A, refit_c is True)
 
     import control
 
-    model = control.ss(A, fit.B, sub.C, fit.D, T, inputs=list(frf.inputs), outputs=list(frf.outputs))
+    model = control.ss(A, fit.B, C, fit.D, T, inputs=list(frf.inputs), outputs=list(frf.outputs))
     dc_err = None
     if dc_data is not None:
         with np.errstate(all="ignore"):
-            dc_model = evaluate_ss(A, fit.B, sub.C, fit.D, np.array([1.0 + 0j]))[:, :, 0]
+            dc_model = evaluate_ss(A, fit.B, C, fit.D, np.array([1.0 + 0j]))[:, :, 0]
         dc_err = dc_error(dc_model.real, dc_data) if np.isfinite(dc_model).all() else float("inf")
     enforced = {"dc_gain": dc is not None, "feedthrough": ft is not None, "stable": bool(stable)}
     return IdentificationResult(

@@ -247,3 +247,23 @@ def test_metric_code_enters_the_rom_and_sim_keys(piece, has_results):
 
     deps = store_dependencies()[piece]
     assert ("studies.results" in deps) == has_results and ("cfd" in deps)
+
+
+def test_fast_sweep_metadata_survives_the_store(config):
+    """The fast sweep's own metadata (error estimate, tol_met, shifts) is stored and read back with the FRF."""
+    store = open_store(config)
+    write_case(store, config, "T2")
+    c = config.cases[0].case
+    frf = fake_frf(2.0, config.M_base)
+    est = 1e-9 * np.abs(frf.H[:, 0])
+    est[:, -1] = 0.0
+    frf = frf.replace(metadata={"method": "fast", "tol": 1e-8, "tol_met": True, "error_estimate": est.tolist(),
+                                "shifts": [0.0, 1.5], "basis_size": 64})
+    store.put("frf", frf_piece(c, 2.0, config.M_base, config.cfd), *frf_payload(frf, config.M_base, "fast", 1.5))
+    rec = load_results(config).frf[("T2", 2.0)]
+    assert rec.method == "fast" and rec.tol_met is True and rec.lfd["shifts"] == [0.0, 1.5]
+    assert rec.max_relative_error_estimate == pytest.approx(1e-9, rel=1e-12)
+    assert rec.frf.metadata["basis_size"] == 64 and rec.frf.metadata["case"] == "T2"
+    write_case(store, config, "T4")  # the direct path: no estimate, nothing to meet
+    direct = load_results(config).frf[("T4", 2.0)]
+    assert direct.tol_met is None and np.isnan(direct.max_relative_error_estimate)
