@@ -2,9 +2,12 @@
 
 BDF2 at the validation time step dt = 0.02 (estimated phase-rate error (2 pi dt / L)^2 / 3 = 0.5 %) to
 s = 20: prints the wall time of the march, the time of its one factorisation and of one step, and the total
-as factorisations plus back-substitutions.
+as factorisations plus back-substitutions. Then gusts marched together (``cfd.ltd_responses``: one
+factorisation, one block solve per step) against separate marches, side by side: G3 + G6 (the demo's
+pair) and G1-G6 (a paper case's six), with the largest difference of their Cl histories.
 
-Run: ``.venv/bin/python bench/ltd_bench.py``.
+Run: ``.venv/bin/python bench/ltd_bench.py [--lin FILE.pkl]`` (``--lin`` stores / reuses the T2 linear
+system).
 """
 
 import sys
@@ -18,7 +21,7 @@ import scipy.sparse as sp
 
 import cfd
 from cfd.linear import factorise
-from cfd.ltd import ltd_response
+from cfd.ltd import ltd_response, ltd_responses
 from cfd.ordering import nested_dissection, unknown_permutation
 
 
@@ -28,10 +31,39 @@ def timed(f):
     return time.perf_counter() - t, out
 
 
-def main(dt=0.02, t_end=20.0):
+def paper_gusts(names):
+    from studies.cases import gust_case, to_gust
+
+    return [to_gust(gust_case(n), x0=-2.0) for n in names]
+
+
+def together_vs_separate(lin, names, dt, t_end):
+    gusts = paper_gusts(names)
+    t_sep, sep = timed(lambda: [ltd_response(lin, g, dt, t_end) for g in gusts])
+    t_tog, tog = timed(lambda: ltd_responses(lin, gusts, dt, t_end))
+    diff = max(np.abs(a.cl - b.cl).max() / np.abs(a.cl).max() for a, b in zip(sep, tog))
+    print(f"  {'+'.join(names):18s} separate {t_sep:8.1f} s   together {t_tog:8.1f} s   "
+          f"ratio {t_sep / t_tog:.2f}   max Cl difference {diff:.1e} (relative to the peak)")
+
+
+def load_lin(path):
+    import os
+    import pickle
+
+    if path and os.path.exists(path):
+        with open(path, "rb") as f:
+            return pickle.load(f)
     grid = cfd.c_grid(cfd.naca("0010"))
-    sol = cfd.solve_steady(grid, 0.735, 0.0)
-    lin = cfd.linearise(sol)
+    lin = cfd.linearise(cfd.solve_steady(grid, 0.735, 0.0))
+    if path:
+        with open(path, "wb") as f:
+            pickle.dump(lin, f)
+    return lin
+
+
+def main(dt=0.02, t_end=20.0, lin_path=None):
+    lin = load_lin(lin_path)
+    grid = lin.grid
     gust = cfd.OneMinusCosine(length=1.0, angle_deg=5.0, x0=-2.0)
     h = lin.to_solver_time(dt)
     A = lin.J + sp.diags(1.5 * lin.V / h)
@@ -50,7 +82,14 @@ def main(dt=0.02, t_end=20.0):
     print(f"  whole march               {t_all:8.2f} s  = 1 factorisation + {n} steps "
           f"= {t_all / t_fac:.1f} factorisations")
     print(f"  peak Cl perturbation      {hist.cl.max():.4f} at s = {hist.t[np.argmax(hist.cl)]:.2f}")
+    print(f"gusts marched together (cfd.ltd_responses) against separate marches, {n} steps each:")
+    together_vs_separate(lin, ["G3", "G6"], dt, t_end)
+    together_vs_separate(lin, ["G1", "G2", "G3", "G4", "G5", "G6"], dt, t_end)
 
 
 if __name__ == "__main__":
-    main()
+    import argparse
+
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--lin", default=None, help="pickle file to store / reuse the T2 linear system")
+    main(lin_path=ap.parse_args().lin)

@@ -15,4 +15,4 @@ from .analytic import kussner, sears, sears_compressible, wagner
 from .gust import GustError, GustPositionError, OneMinusCosine, SharpEdged, SineGust
 from .linear import LinearError, LinearSystem, linearise
 from .lfd import lfd_response
-from .ltd import LTDHistory, ltd_response
+from .ltd import LTDHistory, ltd_response, ltd_responses

@@ -252,7 +252,7 @@ class LinearSystem:
         Returns
         -------
         callable
-            ``solve(b)`` for ``b`` of shape (4N,).
+            ``solve(b)`` for ``b`` of shape (4N,) or (4N, k).
         """
         A = self.J + sp.diags(diagonal)
         solve0, _ = factorise(A, grid_permutation(self.grid) if perm is None else perm)
@@ -264,7 +264,7 @@ class LinearSystem:
 
         def solve(b):
             y = solve0(b)
-            return y - z * ((v @ y) / denom)
+            return y - np.multiply.outer(z, (v @ y) / denom)
 
         return solve
 

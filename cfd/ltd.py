@@ -6,7 +6,9 @@ The linearised equations (``cfd.linear``) ``V dq/dt + J q + b(t) = 0`` in solver
     (3 V / (2 dt) + J) q^{n+1} = V (4 q^n - q^{n-1}) / (2 dt) - b(t^{n+1})
 
 whose matrix does not change: it is factorised once and every step is one back-substitution (plus
-the forcing: face averages of the gust and two sparse products). Start-up: the system is at rest
+the forcing: face averages of the gust and two sparse products). :func:`ltd_responses` marches several
+gusts at once: one factorisation, and one back-substitution of a block of right-hand sides per step
+(cheaper than one solve per gust: SuperLU reads its factors once per block). Start-up: the system is at rest
 before ``s = 0`` (``q^{-1} = q^0 = 0``), so BDF2 applies from the first step and no second matrix
 (BDF1) is needed. BDF2 is A-stable; its error for a harmonic of frequency ``omega`` is mainly a
 phase error: the discrete derivative is ``i omega (1 + (omega dt)^2 / 3 + ...)``. ``ltd_response``
@@ -24,7 +26,7 @@ import numpy as np
 from .gust import OneMinusCosine, SharpEdged, SineGust, face_gust
 from .linear import LinearError, _check_method
 
-__all__ = ["LTDHistory", "ltd_response", "phase_error_estimate"]
+__all__ = ["LTDHistory", "ltd_response", "ltd_responses", "phase_error_estimate"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -68,6 +70,102 @@ def phase_error_estimate(gust, dt):
     return (wg * dt) ** 2 / 3.0
 
 
+def _check_gust(gust):
+    if not isinstance(gust, (SineGust, OneMinusCosine, SharpEdged)):
+        raise LinearError(f"gust must be a cfd.SineGust, OneMinusCosine or SharpEdged; got {type(gust).__name__}")
+
+
+def _check_times(dt, t_end):
+    try:
+        dt = float(dt)
+        t_end = float(t_end)
+    except (TypeError, ValueError):
+        raise LinearError("dt and t_end must be real numbers (convective time)") from None
+    if not (math.isfinite(dt) and dt > 0.0):
+        raise LinearError(f"dt = {dt} must be positive and finite (convective time, e.g. 0.02)")
+    if not (math.isfinite(t_end) and t_end >= dt):
+        raise LinearError(f"t_end = {t_end} must be finite and at least one time step (dt = {dt})")
+    return dt, t_end
+
+
+def _warn_phase(gust, dt, max_phase_error):
+    err = phase_error_estimate(gust, dt)
+    if err > max_phase_error:
+        warnings.warn(
+            f"dt = {dt} gives an estimated BDF2 phase-rate error of {100 * err:.2g} % at the gust's frequency "
+            f"scale (limit {100 * max_phase_error:.2g} %); reduce dt by {math.sqrt(err / max_phase_error):.2g}x",
+            RuntimeWarning,
+            stacklevel=3,
+        )
+
+
+def _march(lin, gusts, dt, t_end, method, x_ref, initial):
+    """BDF2 for a list of gusts at once; returns a list of :class:`LTDHistory`."""
+    n = int(round(t_end / dt))
+    t = dt * np.arange(n + 1)
+    h = lin.to_solver_time(dt)
+    V = lin.V[:, None]
+    solve = lin.solver(1.5 * lin.V / h)
+    g = len(gusts)
+    if initial is None:
+        q_prev = np.zeros((lin.n, g))
+        q = np.zeros((lin.n, g))
+    else:
+        q_prev, q = (np.asarray(a, dtype=float).reshape(lin.n, 1).copy() for a in initial)
+    Y = np.zeros((n + 1, 3, g))
+    Y[0] = lin.C @ q
+    for k in range(1, n + 1):  # time steps: each one back-substitution of g right-hand sides
+        faces = [face_gust(lin.grid, gust, t[k]) for gust in gusts]
+        b = lin.forcing(np.stack([f[0] for f in faces]), np.stack([f[1] for f in faces]), method)  # (g, 4N)
+        q_prev, q = q, solve(V * (4.0 * q - q_prev) / (2.0 * h) - b.T)
+        Y[k] = lin.C @ q
+    out = []
+    for j, gust in enumerate(gusts):
+        arrays = [np.ascontiguousarray(a) for a in (t, gust.input(t, x_ref), Y[:, 0, j], Y[:, 1, j], Y[:, 2, j],
+                                                    q[:, j])]
+        for a in arrays:
+            a.setflags(write=False)
+        out.append(LTDHistory(t=arrays[0], u=arrays[1], cl=arrays[2], cm=arrays[3], cd=arrays[4], method=method,
+                              dt=dt, q=arrays[5]))
+    return out
+
+
+def ltd_responses(lin, gusts, dt, t_end, method="svm", x_ref=0.0, max_phase_error=0.01):
+    """Linear responses to several gusts, marched together (one factorisation, one block solve per step).
+
+    The same as ``[ltd_response(lin, g, dt, t_end, ...) for g in gusts]`` (to round-off), from the rest state,
+    for about the cost of one march and a half for two gusts (see ``bench/ltd_bench.py``).
+
+    Parameters
+    ----------
+    lin : LinearSystem
+    gusts : sequence of SineGust, OneMinusCosine or SharpEdged
+        At least one.
+    dt, t_end, method, x_ref, max_phase_error
+        As :func:`ltd_response` (shared by all gusts).
+
+    Returns
+    -------
+    list of LTDHistory
+        One per gust, in order.
+
+    Raises
+    ------
+    LinearError
+        As :func:`ltd_response`, or an empty list of gusts.
+    """
+    _check_method(method)
+    gusts = list(gusts)
+    if not gusts:
+        raise LinearError("gusts is empty: give at least one cfd.SineGust, OneMinusCosine or SharpEdged")
+    for gust in gusts:
+        _check_gust(gust)
+    dt, t_end = _check_times(dt, t_end)
+    for gust in gusts:
+        _warn_phase(gust, dt, max_phase_error)
+    return _march(lin, gusts, dt, t_end, method, x_ref, None)
+
+
 def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, max_phase_error=0.01):
     """Linear response to a gust by BDF2 time marching (one factorisation).
 
@@ -98,44 +196,7 @@ def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, ma
         Non-positive or non-finite ``dt``, ``t_end < dt``, unknown method, not a gust.
     """
     _check_method(method)
-    if not isinstance(gust, (SineGust, OneMinusCosine, SharpEdged)):
-        raise LinearError(f"gust must be a cfd.SineGust, OneMinusCosine or SharpEdged; got {type(gust).__name__}")
-    try:
-        dt = float(dt)
-        t_end = float(t_end)
-    except (TypeError, ValueError):
-        raise LinearError("dt and t_end must be real numbers (convective time)") from None
-    if not (math.isfinite(dt) and dt > 0.0):
-        raise LinearError(f"dt = {dt} must be positive and finite (convective time, e.g. 0.02)")
-    if not (math.isfinite(t_end) and t_end >= dt):
-        raise LinearError(f"t_end = {t_end} must be finite and at least one time step (dt = {dt})")
-    err = phase_error_estimate(gust, dt)
-    if err > max_phase_error:
-        warnings.warn(
-            f"dt = {dt} gives an estimated BDF2 phase-rate error of {100 * err:.2g} % at the gust's frequency "
-            f"scale (limit {100 * max_phase_error:.2g} %); reduce dt by {math.sqrt(err / max_phase_error):.2g}x",
-            RuntimeWarning,
-            stacklevel=2,
-        )
-    n = int(round(t_end / dt))
-    t = dt * np.arange(n + 1)
-    h = lin.to_solver_time(dt)
-    V = lin.V
-    solve = lin.solver(1.5 * V / h)
-    if initial is None:
-        q_prev = np.zeros(lin.n)
-        q = np.zeros(lin.n)
-    else:
-        q_prev, q = (np.asarray(a, dtype=float).copy() for a in initial)
-    Y = np.zeros((n + 1, 3))
-    Y[0] = lin.C @ q
-    for k in range(1, n + 1):  # time steps: each one back-substitution
-        gi, gj = face_gust(lin.grid, gust, t[k])
-        rhs = V * (4.0 * q - q_prev) / (2.0 * h) - lin.forcing(gi, gj, method)
-        q_prev, q = q, solve(rhs)
-        Y[k] = lin.C @ q
-    u = gust.input(t, x_ref)
-    out = [np.ascontiguousarray(a) for a in (t, u, Y[:, 0], Y[:, 1], Y[:, 2], q)]
-    for a in out:
-        a.setflags(write=False)
-    return LTDHistory(t=out[0], u=out[1], cl=out[2], cm=out[3], cd=out[4], method=method, dt=dt, q=out[5])
+    _check_gust(gust)
+    dt, t_end = _check_times(dt, t_end)
+    _warn_phase(gust, dt, max_phase_error)
+    return _march(lin, [gust], dt, t_end, method, x_ref, initial)[0]

@@ -151,10 +151,12 @@ def _gust(gust_case, x0):
     return to_gust(gust_case, x0=x0)
 
 
-def _ltd(lin, gust_case, sim, cfd_opts):
+def _ltds(lin, gust_cases, sim, cfd_opts):
+    """The LTD histories of several gusts of one case, marched together (one factorisation)."""
     import cfd
 
-    return cfd.ltd_response(lin, _gust(gust_case, sim.x0), sim.dt, sim.t_end, method=cfd_opts.gust_method)
+    return cfd.ltd_responses(lin, [_gust(g, sim.x0) for g in gust_cases], sim.dt, sim.t_end,
+                             method=cfd_opts.gust_method)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -225,20 +227,39 @@ def _task_frf(config: StudyConfig, case_name: str, T: float, root: str, codes: d
     return [_report("frf", label, entry, s)]
 
 
-def _task_ltd(config: StudyConfig, case_name: str, gust_name: str, root: str, codes: dict) -> list:
+def _task_ltd(config: StudyConfig, case_name: str, gust_names: list, root: str, codes: dict) -> list:
+    """The LTD histories of one case for the gusts ``gust_names``, marched together, one piece per gust.
+
+    Each piece records its share of the march (``seconds``: the march's wall time over the number of gusts)
+    and ``marched_with`` (that number).
+    """
     store = _store(root, codes)
     case = config.case(case_name).case
-    gust = next(g for g in config.gusts if g.name == gust_name)
-
-    def compute():
-        lin = _load_lin(store, case)
-        t0 = time.perf_counter()
-        hist = _ltd(lin, gust, config.simulation, config.cfd)
-        return ltd_payload(hist, time.perf_counter() - t0, config.cfd.gust_method)
-
-    entry, s = _compute_piece(store, "ltd", ltd_piece(case, gust, config.simulation, config.cfd), compute)
+    gusts = [g for g in config.gusts if g.name in gust_names]
+    t0 = time.perf_counter()
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            hists = _ltds(_load_lin(store, case), gusts, config.simulation, config.cfd)
+        error = None
+    except Exception as e:  # noqa: BLE001 - stored as the failure of every piece of the march
+        hists, error = [None] * len(gusts), e
+    share = (time.perf_counter() - t0) / len(gusts)
     n = int(round(config.simulation.t_end / config.simulation.dt))
-    return [_report("ltd", f"ltd {case.name} {gust.name} ({n} steps)", entry, s)]
+    reports = []
+    for gust, hist in zip(gusts, hists):
+        def compute(hist=hist):
+            for w in caught:  # the march's warnings, recorded with every piece by _compute_piece
+                warnings.warn(w.message, w.category)
+            if error is not None:
+                raise error
+            arrays, metadata = ltd_payload(hist, share, config.cfd.gust_method)
+            return arrays, dict(metadata, marched_with=len(gusts))
+
+        entry, _ = _compute_piece(store, "ltd", ltd_piece(case, gust, config.simulation, config.cfd), compute)
+        reports.append(_report("ltd", f"ltd {case.name} {gust.name} ({n} steps, {len(gusts)} gusts marched "
+                                      "together)", entry, share))
+    return reports
 
 
 def _needs(store, piece, cfg, force) -> bool:
@@ -664,8 +685,8 @@ def _run(config: StudyConfig, pool, progress: bool, force: bool) -> StudyResults
         for T in p["frf"]:
             submit("frf", name, _task_frf, config, name, T, root, codes)
             cfd_left[name] += 1
-        for g in p["ltd"]:
-            submit("ltd", name, _task_ltd, config, name, g, root, codes)
+        if p["ltd"]:  # all the case's gusts in one march: one factorisation, block solves
+            submit("ltd", name, _task_ltd, config, name, list(p["ltd"]), root, codes)
             cfd_left[name] += 1
         if cfd_left[name] == 0:
             start_roms(name)

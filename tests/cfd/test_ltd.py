@@ -15,7 +15,7 @@ from cfd import solve_steady  # noqa: E402
 from cfd.gust import OneMinusCosine, SharpEdged, SineGust  # noqa: E402
 from cfd.lfd import lfd_response, lfd_state  # noqa: E402
 from cfd.linear import LinearError, linearise  # noqa: E402
-from cfd.ltd import ltd_response, phase_error_estimate  # noqa: E402
+from cfd.ltd import ltd_response, ltd_responses, phase_error_estimate  # noqa: E402
 
 
 @pytest.fixture(scope="module")
@@ -89,6 +89,32 @@ def test_one_minus_cosine_history(lin):
     assert h.t[np.argmax(h.cl)] > 4.0
     with pytest.raises(ValueError):
         h.cl[0] = 1.0  # frozen
+
+
+@pytest.mark.filterwarnings("ignore:dt = 0.05 gives an estimated BDF2 phase-rate error:RuntimeWarning")
+@pytest.mark.parametrize("method", ["svm", "fvm"])
+def test_gusts_marched_together_equal_separate_marches(lin, method):
+    gusts = [OneMinusCosine(length=2.0, angle_deg=1.0, x0=-3.0), SharpEdged(angle_deg=2.0, x0=-1.0),
+             SineGust(omega=1.5, angle_deg=0.5)]
+    together = ltd_responses(lin, gusts, 0.05, 6.0, method=method, x_ref=0.25)
+    assert len(together) == 3
+    for g, h in zip(gusts, together):
+        alone = ltd_response(lin, g, 0.05, 6.0, method=method, x_ref=0.25)
+        np.testing.assert_array_equal(h.t, alone.t)
+        np.testing.assert_array_equal(h.u, alone.u)
+        for name in ("cl", "cm", "cd"):
+            a, b = getattr(h, name), getattr(alone, name)
+            np.testing.assert_allclose(a, b, rtol=0, atol=1e-12 * np.abs(b).max())
+        assert h.method == method and h.dt == 0.05
+
+
+def test_gusts_marched_together_bad_input(lin):
+    with pytest.raises(LinearError, match="gusts is empty"):
+        ltd_responses(lin, [], 0.05, 1.0)
+    with pytest.raises(LinearError, match="gust must be"):
+        ltd_responses(lin, [SharpEdged(angle_deg=1.0, x0=-1.0), 3.0], 0.05, 1.0)
+    with pytest.warns(RuntimeWarning, match="phase"):
+        ltd_responses(lin, [OneMinusCosine(length=1.0, angle_deg=1.0, x0=-2.0)], 0.2, 0.4)
 
 
 def test_bad_input_and_phase_warning(lin):

@@ -74,7 +74,7 @@ def counts(monkeypatch):
 
         monkeypatch.setattr(runner, name, counted)
 
-    for name in ("_steady", "_linear_system", "_lfd", "_ltd", "_identify", "rom_simulation"):
+    for name in ("_steady", "_linear_system", "_lfd", "_ltds", "_identify", "rom_simulation"):
         wrap(name)
     return calls
 
@@ -148,7 +148,7 @@ def test_failing_point_is_recorded_and_retried(computed, counts, tmp_path, monke
     assert all(r.error == "OrderError: order 4 refused for the test" and r.A is None for r in failed)
     assert sum(r.ok for r in res.roms) == 4 and {s.order for s in res.sims} == {2}
     assert res.complete  # failures count as done
-    assert "_steady" not in counts and "_lfd" not in counts and "_ltd" not in counts
+    assert "_steady" not in counts and "_lfd" not in counts and "_ltds" not in counts
     rows = res.table("rom")
     assert [r["status"] for r in rows].count("failed") == 4
     # the next run retries the failed points only
@@ -180,7 +180,7 @@ def test_interrupted_run_keeps_finished_pieces(computed, counts, tmp_path, monke
     monkeypatch.setattr(runner, "_identify", real)
     counts.clear()
     res = run_study(study, progress=False)
-    assert "_ltd" not in counts and "_lfd" not in counts and counts["_identify"] == N_POINTS - 2
+    assert "_ltds" not in counts and "_lfd" not in counts and counts["_identify"] == N_POINTS - 2
     assert res.complete and len(res.sims) == N_POINTS
     for a in first.sims:  # same numbers as the uninterrupted run
         b = next(s for s in res.sims if (s.M, s.order, s.method) == (a.M, a.order, a.method))
