@@ -43,7 +43,7 @@ from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor
 from concurrent.futures import wait as cf_wait
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any, Callable, Optional
+from typing import Callable, Optional
 
 import numpy as np
 
@@ -498,7 +498,8 @@ class _ProcessPool:
 
     Without the limit every worker's BLAS starts one thread per core: on two cores the demo's fast LFD sweep
     (dense Gram-Schmidt) and its LTD march (block solves) beside it took 262 s and 129 s and the study 341 s;
-    with one BLAS thread per worker 172 s and 99 s, the study 258 s (measured side by side, same machine).
+    with one BLAS thread per worker 176 s and 98 s, the study 263 s (measured one after the other, same
+    machine, empty store each time).
     """
 
     def __init__(self, workers: int):
