@@ -22,11 +22,14 @@ Metrics (all computed by the runner with the functions of this module and stored
 - ``dc_err_X``: ``|G_rom(z = 1) - H(omega = 0)|`` (absolute, per radian);
 - ``spectral_radius`` (discrete ROM at ``T``), ``stable`` (``spectral_radius < 1``), ``seconds``.
 
-``SimRecord.metrics``: for each output ``X`` in ``Cl``, ``Cm`` (those the study computes), with the peak of a
-history ``y`` taken as ``y[argmax |y|]`` at time ``t_peak``:
+``SimRecord.metrics``: for each output ``X`` in ``Cl``, ``Cm`` (those the study computes), errors of the load
+envelope (the largest positive and the largest negative load of a history, as loads engineers read them):
 
-- ``peak_err_X = |peak_rom - peak_ltd| / |peak_ltd|``;
-- ``t_peak_err_X = |t_peak_rom - t_peak_ltd|`` (convective time);
+- ``peak_err_X = max(|max y_rom - max y_ltd|, |min y_rom - min y_ltd|) / max |y_ltd|``: the larger error of
+  the two extremes, relative to the LTD's largest magnitude (so a history whose positive and negative extremes
+  have nearly equal magnitudes is not judged by which of the two happens to be larger);
+- ``t_peak_err_X = |t_peak_rom - t_peak_ltd|`` (convective time): ``t_peak_ltd`` is the time of the LTD's
+  largest magnitude (:func:`peak`), ``t_peak_rom`` the time of the ROM's extreme of the same sign;
 - ``rms_err_X = rms(y_rom - y_ltd) / rms(y_ltd)``;
 - ``seconds_rom`` (re-discretisation and simulation) and ``seconds_ltd`` (the LTD march of that gust; when
   several gusts were marched together, their shared time divided by their number).
@@ -83,6 +86,7 @@ __all__ = [
     "rom_metrics",
     "sim_metrics",
     "peak",
+    "envelope_errors",
     "is_failed",
     "error_text",
     "SIM_OUTPUTS",
@@ -397,6 +401,34 @@ def peak(t, y) -> tuple:
     return float(y[k]), float(np.asarray(t, dtype=float)[k])
 
 
+def envelope_errors(t, y_model, y_ref) -> tuple:
+    """Errors of a history's load envelope: ``(peak_err, t_peak_err)`` (see the module docstring).
+
+    Parameters
+    ----------
+    t : array_like, shape (n,)
+        Time (convective).
+    y_model, y_ref : array_like, shape (n,)
+        The model's and the reference's history (finite).
+
+    Returns
+    -------
+    peak_err : float
+        ``max(|max y_model - max y_ref|, |min y_model - min y_ref|) / max |y_ref|``; ``inf`` when the
+        reference is identically zero and the model is not, 0 when both are.
+    t_peak_err : float
+        Time between the reference's largest magnitude and the model's extreme of the same sign.
+    """
+    t = np.asarray(t, dtype=float)
+    ym = np.asarray(y_model, dtype=float)
+    yr = np.asarray(y_ref, dtype=float)
+    err = max(abs(ym.max() - yr.max()), abs(ym.min() - yr.min()))
+    p_ref, t_ref = peak(t, yr)
+    sign = 1.0 if p_ref >= 0.0 else -1.0
+    t_model = float(t[int(np.argmax(sign * ym))])
+    return _ratio(err, abs(p_ref)), abs(t_model - t_ref)
+
+
 def rom_metrics(frf_rom, H, fit_index, outputs, dc_model, spectral_radius: float, seconds: float) -> dict:
     """Metrics of one identified ROM (see the module docstring).
 
@@ -469,10 +501,7 @@ def sim_metrics(t, rom: Mapping[str, Any], ltd: Mapping[str, Any], seconds_rom: 
             out.update({f"peak_err_{name}": float("inf"), f"t_peak_err_{name}": float("inf"),
                         f"rms_err_{name}": float("inf")})
             continue
-        pr, tr = peak(t, yr)
-        pl, tl = peak(t, yl)
-        out[f"peak_err_{name}"] = _ratio(abs(pr - pl), abs(pl))
-        out[f"t_peak_err_{name}"] = abs(tr - tl)
+        out[f"peak_err_{name}"], out[f"t_peak_err_{name}"] = envelope_errors(t, yr, yl)
         out[f"rms_err_{name}"] = _ratio(float(np.sqrt(np.mean((yr - yl) ** 2))), float(np.sqrt(np.mean(yl ** 2))))
     out["seconds_rom"] = float(seconds_rom)
     out["seconds_ltd"] = float(seconds_ltd)

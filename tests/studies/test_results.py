@@ -17,6 +17,7 @@ from studies.results import (
     load_results,
     ltd_payload,
     open_store,
+    envelope_errors,
     peak,
     rom_metrics,
     rom_payload,
@@ -226,6 +227,25 @@ def test_sim_metrics_values():
     blown[-1] = np.nan
     m1 = sim_metrics(t, {"Cl": blown}, {"Cl": ltd}, 0.0, 0.0)
     assert (m1["peak_err_Cl"], m1["t_peak_err_Cl"], m1["rms_err_Cl"]) == (np.inf, np.inf, np.inf)
+
+
+def test_envelope_error_compares_both_extremes():
+    # a history whose positive peak (0.155) and final negative value (-0.138) have nearly equal magnitudes, as
+    # the pitching moment of a low-Mach aerofoil after a sharp-edged gust: a model 10 % low on the positive
+    # peak is 10 % of the peak off, not (0.155 + 0.138) / 0.155 = 189 % as a signed-extreme comparison says
+    t = np.linspace(0.0, 40.0, 2001)
+    bump = 0.19 * np.exp(-((t - 3.0) / 0.3) ** 2)
+    ref = bump - 0.138 * (1.0 - np.exp(-np.clip(t - 2.0, 0.0, None) / 3.0))   # +0.151 at s = 3, -0.138 at the end
+    model = ref - 0.1 * bump
+    assert peak(t, model)[0] < 0.0 < peak(t, ref)[0]  # the signed extremes have opposite signs
+    err, t_err = envelope_errors(t, model, ref)
+    assert err == pytest.approx(0.019 / ref.max(), rel=1e-3) and err < 0.13
+    assert t_err == pytest.approx(0.0, abs=0.021)  # the model's positive peak, at the reference's time
+    # an error in the negative extreme counts as much, relative to the same largest magnitude
+    low = ref.copy()
+    low[-1] -= 0.02
+    assert envelope_errors(t, low, ref)[0] == pytest.approx(0.02 / np.abs(ref).max())
+    assert envelope_errors(t, ref, ref) == (0.0, 0.0)
 
 
 def test_rom_metrics_values():
