@@ -14,8 +14,7 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 demo: $(STAMP)
-	$(VENV)/bin/lfdrom run studies/demo.toml --workers 2
-	$(VENV)/bin/lfdrom report studies/demo.toml
+	$(VENV)/bin/lfdrom run studies/demo.toml
 
 test: $(STAMP)
 	$(PY) -m pytest -q

@@ -53,14 +53,19 @@ def add_subcommands(sub) -> None:
         p.add_argument("--store", type=Path, default=None, help="results store (default: the study's 'store')")
         p.add_argument("--quiet", action="store_true", help=f"no progress output while {verb}")
 
-    p = sub.add_parser("run", help="run a study: CFD, identification sweep, gust responses (resumable)",
+    p = sub.add_parser("run", help="run a study: CFD, identification sweep, gust responses (resumable), report",
                        description="Validate STUDY.toml, then compute every piece not already in the results "
                                    "store: steady flow, LFD frequency responses, ROMs for each sweep point, LTD "
-                                   "and ROM gust responses, metrics.")
+                                   "and ROM gust responses, metrics; then write the report (as 'lfdrom report': "
+                                   "the study's [report] page, or <output>/report.md).")
     study_args(p, "running")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="Dask scheduler address (tcp://host:port); default local processes")
-    p.add_argument("--workers", type=int, default=None, help="local worker processes (default: the runner's)")
+    p.add_argument("--workers", default="auto", metavar="N|auto",
+                   help="local worker processes (default auto: as many as the study has parallel tasks, at most "
+                        "the CPU count)")
+    p.add_argument("--no-report", action="store_true", help="compute only; write the report later with "
+                                                            "'lfdrom report'")
     p.add_argument("--force", action="store_true", help="recompute even what the store holds")
     p.add_argument("--dry-run", action="store_true", help="validate and list the sweep points, compute nothing")
 
@@ -227,16 +232,43 @@ def cmd_run(args) -> int:
     if config is None:
         return EXIT_UNAVAILABLE
     config = _apply_paths(config, args)
-    if args.workers is not None and args.workers < 1:
-        _err(f"--workers {args.workers}: give at least 1")
+    workers = _workers(args.workers)
+    if workers is None:
         return EXIT_UNAVAILABLE
     if args.dry_run or not args.quiet:
         print(_plan(config))
     if args.dry_run:
         return EXIT_OK
     options = dict(output_dir=config.output_dir, store_dir=config.store_dir, scheduler=args.scheduler,
-                   workers=args.workers, progress=not args.quiet, force=args.force or None)
-    return _hand_over("studies.runner", "run_study", config, options, "the study runner")
+                   workers=workers, progress=not args.quiet, force=args.force or None)
+    status = _hand_over("studies.runner", "run_study", config, options, "the study runner")
+    if status != EXIT_OK or args.no_report:
+        return status
+    return _report(config, args)
+
+
+def _workers(value):
+    """``--workers``: a positive integer or ``"auto"``; None (after saying why) when neither."""
+    if str(value).strip().casefold() == "auto":
+        return "auto"
+    try:
+        n = int(value)
+    except (TypeError, ValueError):
+        _err(f"--workers {value}: give a positive integer or auto")
+        return None
+    if n < 1:
+        _err(f"--workers {value}: give at least 1")
+        return None
+    return n
+
+
+def _report(config: StudyConfig, args) -> int:
+    """``make_report`` with the page of ``--page``, else of ``--out``/report.md, else the study's [report]."""
+    options = dict(store_dir=config.store_dir, progress=not args.quiet, page=getattr(args, "page", None),
+                   prose=getattr(args, "prose", None))
+    if getattr(args, "out", None) is not None:
+        options["output_dir"] = config.output_dir
+    return _hand_over("studies.report", "make_report", config, options, "the report")
 
 
 def cmd_report(args) -> int:
@@ -244,10 +276,7 @@ def cmd_report(args) -> int:
     config = _load(args.study)
     if config is None:
         return EXIT_UNAVAILABLE
-    config = _apply_paths(config, args)
-    options = dict(output_dir=config.output_dir, store_dir=config.store_dir, progress=not args.quiet,
-                   page=getattr(args, "page", None), prose=getattr(args, "prose", None))
-    return _hand_over("studies.report", "make_report", config, options, "the report")
+    return _report(_apply_paths(config, args), args)
 
 
 def rom_study(args) -> StudyConfig:

@@ -43,6 +43,13 @@ Schema (every key optional unless marked; see ``studies/demo.toml`` and ``studie
     gust_method = "svm"            # "svm" | "fvm"
     outputs = ["Cl", "Cm"]         # subset of Cl, Cm, Cd
 
+    [report]                       # what `lfdrom run` (at its end) and `lfdrom report` write
+    page = "../docs/study.md"      # the Markdown page (relative to the study file; ends in .md); its tables and
+                                   # figures go to the folder of the same name (docs/study/); default
+                                   # <output>/report.md with <output>/tables, <output>/figures
+    prose = "study-prose.toml"     # texts of the page's prose slots (slot = "text"); slots in the page are kept
+    figures = true                 # false: tables and page only
+
 A case entry may override ``orders``, ``T`` and ``M`` (replacing the ``[sweep]`` axis for that case) and
 ``grid`` (on top of ``[grid]``). Axes are sorted and de-duplicated. List positions in keys are 0-based
 (``cases[1].mach``).
@@ -90,6 +97,7 @@ __all__ = [
     "MethodOptions",
     "SimulationOptions",
     "CFDOptions",
+    "ReportOptions",
     "SweepPoint",
     "load_study",
     "loads_study",
@@ -117,7 +125,7 @@ GUST_METHODS = ("svm", "fvm")
 OUTPUTS = ("Cl", "Cm", "Cd")
 
 TOP_KEYS = ("name", "description", "output", "store", "cases", "gusts", "grid", "sweep", "method", "methods",
-            "simulation", "cfd")
+            "simulation", "cfd", "report")
 GRID_KEYS = ("ni", "nj", "n_surface", "farfield")
 SWEEP_KEYS = ("orders", "T", "M_base", "M")
 CASE_KEYS = ("name", "naca", "mach", "alpha_deg", "grid", "orders", "T", "M")
@@ -125,6 +133,7 @@ GUST_KEYS = ("name", "kind", "length", "angle_deg")
 METHOD_KEYS = ("dc_gain", "stable", "margin", "weights", "algorithm")
 SIMULATION_KEYS = ("discretisation", "dt", "t_end", "x0")
 CFD_KEYS = ("gust_method", "outputs")
+REPORT_KEYS = ("page", "prose", "figures")
 
 # names people reach for, mapped to ours (used for "did you mean" only)
 _ALIASES = {
@@ -356,6 +365,24 @@ class CFDOptions:
 
 
 @dataclass(frozen=True)
+class ReportOptions:
+    """Where the study's report goes (not part of any hash: it changes no result).
+
+    Attributes
+    ----------
+    page : pathlib.Path or None
+        The Markdown page; None: ``<output>/report.md``.
+    prose : pathlib.Path or None
+        TOML file of prose-slot texts.
+    figures : bool
+    """
+
+    page: Optional[Path] = None
+    prose: Optional[Path] = None
+    figures: bool = True
+
+
+@dataclass(frozen=True)
 class CaseSweep:
     """A test case with its sweep axes (sorted, unique)."""
 
@@ -397,6 +424,7 @@ class StudyConfig:
     methods : tuple of MethodOptions
     simulation : SimulationOptions
     cfd : CFDOptions
+    report : ReportOptions
     """
 
     name: str
@@ -410,6 +438,7 @@ class StudyConfig:
     methods: tuple
     simulation: SimulationOptions = field(default_factory=SimulationOptions)
     cfd: CFDOptions = field(default_factory=CFDOptions)
+    report: ReportOptions = field(default_factory=ReportOptions)
 
     def case(self, name: str) -> CaseSweep:
         """The case sweep named ``name`` (case-insensitive)."""
@@ -838,9 +867,31 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
     output_dir = ((base / P.string(out, "output")) if out is not None else base / "results" / name).resolve()
     store = data.get("store")
     store_dir = (base / P.string(store, "store")).resolve() if store is not None else output_dir / "store"
+    report = _parse_report(P, data.get("report", {}), base)
     return StudyConfig(name=name, description=description, source=source, output_dir=output_dir,
                        store_dir=store_dir, cases=tuple(sweeps), gusts=tuple(gusts), M_base=M_base,
-                       methods=tuple(methods), simulation=sim, cfd=cfd)
+                       methods=tuple(methods), simulation=sim, cfd=cfd, report=report)
+
+
+def _parse_report(P: _Parser, table, base: Path) -> ReportOptions:
+    rep = P.table(table, "report")
+    P.check_keys(rep, REPORT_KEYS, "report")
+    page = rep.get("page")
+    if page is not None:
+        page = (base / P.string(page, "report.page")).resolve()
+        if page.suffix != ".md":
+            raise P.err("report.page", f"{page.name!r} is not a Markdown file; give a path ending in .md (its "
+                        "tables and figures go to the folder of the same name)")
+        if page.exists() and not page.is_file():
+            raise P.err("report.page", f"{page} exists and is not a file")
+    prose = rep.get("prose")
+    if prose is not None:
+        prose = (base / P.string(prose, "report.prose")).resolve()
+        if not prose.is_file():
+            raise P.err("report.prose", f"no such file {prose}; give a TOML file of slot = \"text\" lines, or "
+                        "leave the key out")
+    figures = P.boolean(rep.get("figures", True), "report.figures")
+    return ReportOptions(page=page, prose=prose, figures=figures)
 
 
 def _parse_case(P: _Parser, entry, key, base_grid, g_orders, g_T, g_M, parse_order, parse_T, parse_M) -> CaseSweep:

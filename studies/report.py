@@ -922,7 +922,7 @@ def write_report(results, out_dir, *, page=None, prose=None, progress: bool = Fa
 
 def make_report(study_or_path, output_dir=None, *, store_dir=None, page=None, prose=None, progress: bool = False,
                 out_dir=None, dpi: int = 120, title: Optional[str] = None, paper: Optional[bool] = None,
-                figures: bool = True) -> Path:
+                figures: Optional[bool] = None) -> Path:
     """Tables, figures and a Markdown page of a study, from its results store only.
 
     Parameters
@@ -930,14 +930,16 @@ def make_report(study_or_path, output_dir=None, *, store_dir=None, page=None, pr
     study_or_path : StudyConfig, path-like or StudyResults
         A validated study, the path of its TOML file, or results already loaded.
     output_dir : path-like, optional
-        Where ``report.md``, ``tables/`` and ``figures/`` go; default the study's ``output`` folder (or, with
-        ``page``, the folder next to the page named after it: ``docs/paper-reproduction/``).
+        Where ``report.md``, ``tables/`` and ``figures/`` go. Default: with a page (``page``, or the study's
+        ``[report] page`` when ``output_dir`` is not given either), the folder next to the page named after it
+        (``docs/paper-reproduction/``); otherwise the study's ``output`` folder.
     store_dir : path-like, optional
         Overrides the study's results store.
     page : path-like, optional
         Write the page there (e.g. ``docs/paper-reproduction.md``) instead of ``output_dir/report.md``.
+        Default: the study's ``[report] page`` unless ``output_dir`` is given.
     prose : mapping or path-like, optional
-        Text of the prose slots (see the module docstring).
+        Text of the prose slots (see the module docstring); default the study's ``[report] prose``.
     progress : bool
         Print the files written (stderr).
     out_dir : path-like, optional
@@ -946,8 +948,8 @@ def make_report(study_or_path, output_dir=None, *, store_dir=None, page=None, pr
     title : str, optional
     paper : bool, optional
         See :func:`write_report`.
-    figures : bool
-        See :func:`write_report`.
+    figures : bool, optional
+        See :func:`write_report`; default the study's ``[report] figures`` (true).
 
     Returns
     -------
@@ -984,6 +986,15 @@ def make_report(study_or_path, output_dir=None, *, store_dir=None, page=None, pr
         if loader is None:
             raise ReportError("studies.results.load_results is not available in this version")
         results = loader(config)
+    rep = getattr(results.config, "report", None)
+    if rep is not None:
+        if page is None and out is None:
+            page = rep.page
+        if prose is None:
+            prose = rep.prose
+        if figures is None:
+            figures = rep.figures
+    figures = True if figures is None else bool(figures)
     if out is None:
         out = Path(page).with_suffix("") if page is not None else results.config.output_dir
     return write_report(results, out, page=page, prose=prose, progress=progress, dpi=dpi, title=title, paper=paper,

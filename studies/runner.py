@@ -66,7 +66,7 @@ from .results import (
     store_dependencies,
 )
 
-__all__ = ["run_study", "rom_simulation", "simulate_discrete", "markov_parameters", "RunnerError", "PIECES"]
+__all__ = ["run_study", "auto_workers", "rom_simulation", "simulate_discrete", "markov_parameters", "RunnerError", "PIECES"]
 
 PIECES = ("steady", "frf", "ltd", "rom", "sim")
 
@@ -556,6 +556,29 @@ class _DaskPool:
             self.cluster.close()
 
 
+def auto_workers(config: StudyConfig, cpus: Optional[int] = None) -> int:
+    """Worker processes for ``workers="auto"``: the study's widest stage, at most the CPU count.
+
+    The widest stage is the CFD one: for each case one task per sampling period ``T`` (its LFD sweep) and
+    one for its gusts (a single LTD march), at least one per case. Each worker then gets
+    ``cpus // workers`` BLAS threads. Memory: a worker on the paper grid (181 x 60) holds about 1.5 GB at its
+    peak (the fast sweep's basis and one factorisation).
+
+    Parameters
+    ----------
+    config : StudyConfig
+    cpus : int, optional
+        Default ``os.cpu_count()``.
+
+    Returns
+    -------
+    int
+    """
+    cpus = cpus if cpus is not None else (os.cpu_count() or 1)
+    width = sum(max(1, len(cs.T) + (1 if config.gusts else 0)) for cs in config.cases)
+    return max(1, min(int(cpus), width))
+
+
 def _pool(scheduler, workers):
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         raise RunnerError(f"workers must be a positive integer, got {workers!r}")
@@ -609,7 +632,7 @@ def _as_config(study) -> StudyConfig:
 
 
 def run_study(study, *, output_dir=None, store_dir=None, scheduler: Optional[str] = None,
-              workers: Optional[int] = None, progress: bool = True, force: bool = False) -> StudyResults:
+              workers=None, progress: bool = True, force: bool = False) -> StudyResults:
     """Compute every piece of a study that the results store lacks, then read the results back.
 
     Parameters
@@ -623,9 +646,10 @@ def run_study(study, *, output_dir=None, store_dir=None, scheduler: Optional[str
     scheduler : str, optional
         ``"tcp://host:port"`` of a Dask scheduler, or ``"local"`` for a Dask LocalCluster of ``workers``
         processes. Default: no Dask.
-    workers : int, optional
-        Local worker processes (default 1: everything in this process). Tasks are parallel over cases, FRFs
-        and gusts.
+    workers : int or "auto", optional
+        Local worker processes (default 1: everything in this process). Tasks are parallel over cases and
+        FRFs (a case's gusts are marched together, beside its FRFs). ``"auto"`` (the command line's default):
+        :func:`auto_workers`.
     progress : bool
         Print one line per finished piece: elapsed time, piece time, counts.
     force : bool
@@ -653,6 +677,8 @@ def run_study(study, *, output_dir=None, store_dir=None, scheduler: Optional[str
         changes["store_dir"] = Path(store_dir).resolve()
     if changes:
         config = replace(config, **changes)
+    if isinstance(workers, str) and workers == "auto":
+        workers = auto_workers(config)
     pool = _pool(scheduler, workers)
     try:
         return _run(config, pool, progress, bool(force))

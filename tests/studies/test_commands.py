@@ -77,13 +77,43 @@ def test_bad_study_is_rejected_before_the_runner(tmp_path, capsys, fake_modules)
 
 def test_run_hands_over_with_accepted_options(tmp_path, fake_modules, capsys):
     fake_modules("studies.runner", "run_study")
+    fake_modules("studies.report", "make_report", params="config, **kw")
     assert run(["run", str(STUDIES / "demo.toml"), "--out", str(tmp_path / "o"), "--quiet"]) == 0
-    (name, config, kw), = fake_modules.calls
+    (name, config, kw), (rname, rconfig, rkw) = fake_modules.calls
     assert name == "run_study" and config.name == "demo"
     assert kw["output_dir"] == (tmp_path / "o").resolve() and kw["store_dir"] == (tmp_path / "o" / "store").resolve()
+    # then the report, into --out (the study's own page only without --out)
+    assert rname == "make_report" and rkw["kw"]["output_dir"] == (tmp_path / "o").resolve()
+    assert rkw["kw"]["store_dir"] == kw["store_dir"]
     # --scheduler is not in this runner's signature: a note, not a failure
-    assert run(["run", str(STUDIES / "demo.toml"), "--scheduler", "tcp://x:1", "--quiet"]) == 0
+    assert run(["run", str(STUDIES / "demo.toml"), "--scheduler", "tcp://x:1", "--quiet", "--no-report"]) == 0
     assert "does not take scheduler" in capsys.readouterr().err
+    assert [c[0] for c in fake_modules.calls] == ["run_study", "make_report", "run_study"]
+
+
+def test_run_writes_the_study_page(fake_modules):
+    fake_modules("studies.runner", "run_study", params="config, workers=None, **kw")
+    fake_modules("studies.report", "make_report", params="config, **kw")
+    assert run(["run", str(STUDIES / "paper.toml"), "--quiet"]) == 0
+    (_, config, kw), (_, rconfig, rkw) = fake_modules.calls
+    assert kw["workers"] == "auto"  # the default: the runner sizes the pool
+    assert config.report.page == (STUDIES.parent / "docs" / "paper-reproduction.md").resolve()
+    assert "output_dir" not in rkw["kw"] and "page" not in rkw["kw"]  # make_report takes the study's page
+
+
+def test_run_failure_writes_no_report(fake_modules, capsys):
+    fake_modules("studies.runner", "run_study", fail=True)
+    fake_modules("studies.report", "make_report", params="config, **kw")
+    assert run(["run", str(STUDIES / "demo.toml"), "--quiet"]) == 1
+    assert [c[0] for c in fake_modules.calls] == ["run_study"]
+    assert "the study runner failed: RuntimeError: boom" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("value, message", [("0", "give at least 1"), ("two", "a positive integer or auto")])
+def test_run_bad_workers(value, message, fake_modules, capsys):
+    fake_modules("studies.runner", "run_study")
+    assert run(["run", str(STUDIES / "demo.toml"), "--workers", value, "--quiet"]) == 2
+    assert message in capsys.readouterr().err and fake_modules.calls == []
 
 
 def test_failures_and_report(fake_modules, capsys):

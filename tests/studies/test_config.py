@@ -66,6 +66,19 @@ def test_paper_toml():
     assert any(p.case.name == "T2" and p.order == 9 and p.n_omega == 33 for p in c.points())
     assert [g.name for g in c.gusts] == [f"G{i}" for i in range(1, 7)]
     assert c.M_base == 256 and c.simulation.discretisation == "tustin"
+    assert c.report.page == (STUDIES.parent / "docs" / "paper-reproduction.md").resolve() and c.report.figures
+
+
+def test_report_paths_are_relative_to_the_study_file(tmp_path):
+    (tmp_path / "prose.toml").write_text('summary = "x"\n')
+    study = tmp_path / "s" / "study.toml"
+    study.parent.mkdir()
+    study.write_text(BASE + "[report]\npage = '../docs/s.md'\nprose = '../prose.toml'\nfigures = false\n")
+    c = load_study(study)
+    assert c.report.page == (tmp_path / "docs" / "s.md").resolve()
+    assert c.report.prose == (tmp_path / "prose.toml").resolve() and c.report.figures is False
+    assert c.hash() == loads_study(BASE).hash()  # where the report goes changes no result
+    assert load_study(STUDIES / "demo.toml").report.page is None  # the default: <output>/report.md
 
 
 def test_good_study_with_user_case():
@@ -125,6 +138,10 @@ def test_good_study_with_user_case():
     (BASE + "[simulation]\nx0 = 0.0\n", "simulation.x0", "region of influence"),
     (BASE + "[simulation]\nt_end = 1.5\n", "simulation.t_end", "before the gust reaches"),
     (BASE + "[cfd]\noutputs = ['Cl', 'Cx']\n", r"cfd.outputs\[1\]", "'Cl', 'Cm', 'Cd'"),
+    (BASE + "[report]\npages = 'a.md'\n", "report.pages", "did you mean 'page'"),
+    (BASE + "[report]\npage = 'report.html'\n", "report.page", "not a Markdown file"),
+    (BASE + "[report]\nprose = 'no-such-prose.toml'\n", "report.prose", "no such file"),
+    (BASE + "[report]\nfigures = 'yes'\n", "report.figures", "true or false"),
     ('[sweep]\norders = [9]\n', "cases", "missing"),
     ('cases = ["T2"]\n', "sweep.orders", "missing"),
     # impossible sweep points: order too large for N_omega (the subspace limit)

@@ -193,6 +193,17 @@ def test_make_report_from_a_study_file_with_an_empty_store(tmp_path):
     assert "_(no ROM identified yet)_" in text
 
 
+def test_make_report_writes_the_study_page(tmp_path):
+    study = tmp_path / "s.toml"
+    text = STUDY.format(out=(tmp_path / "out").as_posix())
+    study.write_text(text + '\n[report]\npage = "docs/s.md"\nfigures = false\n')
+    page = make_report(study)
+    assert page == (tmp_path / "docs" / "s.md").resolve() and page.is_file()
+    assert (tmp_path / "docs" / "s" / "tables").is_dir() and not (tmp_path / "out" / "report.md").exists()
+    # an explicit output folder wins over the study's page
+    assert make_report(study, output_dir=tmp_path / "elsewhere") == tmp_path / "elsewhere" / "report.md"
+
+
 def test_make_report_loads_with_the_store_override(small, tmp_path, monkeypatch):
     seen = {}
 

@@ -5,6 +5,8 @@ import importlib.util
 import json
 import shutil
 import time
+from dataclasses import replace
+from pathlib import Path
 
 import control
 import numpy as np
@@ -14,7 +16,7 @@ import sysid
 from studies import commands, runner
 from studies.config import load_study
 from studies.results import load_results
-from studies.runner import RunnerError, rom_simulation, run_study
+from studies.runner import RunnerError, auto_workers, rom_simulation, run_study
 
 # T2 (NACA0010, M0.735) on a 61 x 16 grid, far field 10 chords (3600 unknowns): CFD in seconds.
 # G4 (1-cosine, 10 chords) has its energy below omega ~ 1.3, inside the band of McKelvey's M = 16 grid at
@@ -228,6 +230,18 @@ def test_dask_local_cluster(computed, tmp_path):
 def test_bad_options(computed, kw, match):
     with pytest.raises(RunnerError, match=match):
         run_study(computed[0], progress=False, **kw)
+
+
+@pytest.mark.parametrize("study, cpus, expected", [
+    ("paper.toml", 2, 2),     # six cases, one sweep and one gust march each: 12 tasks, two CPUs
+    ("paper.toml", 64, 12),
+    ("demo.toml", 16, 2),     # one case: its LFD sweep beside its gust march
+    ("demo.toml", 1, 1),
+])
+def test_auto_workers(study, cpus, expected):
+    config = load_study(Path(__file__).resolve().parents[2] / "studies" / study)
+    assert auto_workers(config, cpus=cpus) == expected
+    assert auto_workers(replace(config, gusts=()), cpus=cpus) == min(cpus, len(config.cases))
 
 
 def test_bad_study_argument():
