@@ -629,7 +629,8 @@ def heatmap_plot(values, row_labels: Sequence[str], col_labels: Sequence[str], *
     Parameters
     ----------
     values : array_like, shape (n_rows, n_cols)
-        Non-negative errors; NaN marks a missing cell (drawn hatched, annotated "-").
+        Non-negative errors; NaN marks a missing cell (drawn hatched, annotated "-"), ``inf`` a diverged one
+        (e.g. an unstable ROM whose history overflowed: drawn in the top colour, annotated "inf").
     row_labels, col_labels : sequence of str
     log : bool
         Logarithmic colour scale (zeros are clipped to the smallest positive value).
@@ -637,7 +638,9 @@ def heatmap_plot(values, row_labels: Sequence[str], col_labels: Sequence[str], *
         Annotate cells as percentages (``0.012`` -> ``1.2%``), else in e-notation.
     cbar_label : str
     vmin, vmax : float, optional
-        Colour limits (share them between panels to compare them).
+        Colour limits (share them between panels to compare them). Cells above ``vmax`` are drawn in the top
+        colour and annotated ``>vmax`` (so that an unstable ROM's 1e80 error does not flatten the scale or
+        overflow its cell).
     annotate : bool
     colorbar : bool
         Draw a colour bar next to ``ax`` (leave it out on all but one of several panels sharing limits).
@@ -676,24 +679,27 @@ def heatmap_plot(values, row_labels: Sequence[str], col_labels: Sequence[str], *
     hi = vmax if vmax is not None else (float(v[fin].max()) if fin.any() else 1.0)
     hi = max(hi, lo * 10 if log else lo + 1e-12)
     norm = LogNorm(lo, hi) if log else Normalize(lo if vmin is not None else 0.0, hi)
-    shown = np.where(fin, np.maximum(v, lo) if log else v, np.nan)
+    diverged = np.isposinf(v)
+    shown = np.where(fin, np.clip(v, lo, hi) if log else np.minimum(v, hi), np.where(diverged, hi, np.nan))
     cm = plt.get_cmap(cmap).with_extremes(bad="0.93")
     im = ax.imshow(np.ma.masked_invalid(shown), cmap=cm, norm=norm, aspect="auto")
-    if (~fin).any():
-        ys, xs = np.nonzero(~fin)
+    missing = ~fin & ~diverged
+    if missing.any():
+        ys, xs = np.nonzero(missing)
         for yy, xx in zip(ys, xs):
             ax.add_patch(plt.Rectangle((xx - 0.5, yy - 0.5), 1, 1, fill=False, hatch="//", ec="0.6", lw=0))
     ax.set_xticks(range(len(col_labels)), labels=list(col_labels))
     ax.set_yticks(range(len(row_labels)), labels=list(row_labels), fontsize=8)
     ax.tick_params(axis="x", labelsize=8, top=True, labeltop=True, bottom=False, labelbottom=False)
     if annotate:
+        fmt = _percent_text if percent else (lambda x: f"{x:.1e}")
         for (yy, xx), val in np.ndenumerate(v):
-            if not np.isfinite(val):
-                txt, colour = "-", "0.4"
-            else:
-                txt = _percent_text(val) if percent else f"{val:.1e}"
-                rgba = im.cmap(im.norm(max(val, lo) if log else val))
-                colour = "k" if (0.299 * rgba[0] + 0.587 * rgba[1] + 0.114 * rgba[2]) > 0.5 else "w"
+            if missing[yy, xx]:
+                ax.text(xx, yy, "-", ha="center", va="center", fontsize=7.5, color="0.4")
+                continue
+            txt = "inf" if diverged[yy, xx] else (f">{fmt(hi)}" if val > hi else fmt(val))
+            rgba = im.cmap(im.norm(shown[yy, xx]))
+            colour = "k" if (0.299 * rgba[0] + 0.587 * rgba[1] + 0.114 * rgba[2]) > 0.5 else "w"
             ax.text(xx, yy, txt, ha="center", va="center", fontsize=7.5, color=colour)
     if colorbar:
         cb = fig.colorbar(im, ax=ax, fraction=0.046, pad=0.03)

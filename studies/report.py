@@ -568,6 +568,10 @@ def _case_ltd_figures(results, fig_dir: Path, dpi: int, say, paper: bool = False
     return figs
 
 
+HEATMAP_RANGE = (1e-4, 10.0)
+"""Colour range of the peak-error heat maps (0.01 % to 1000 %): larger errors (unstable ROMs) share the top colour."""
+
+
 def _heatmap_figures(results, fig_dir: Path, dpi: int, say, paper: bool = False) -> list:
     figs = []
     sims = sim_rows(results)
@@ -586,22 +590,23 @@ def _heatmap_figures(results, fig_dir: Path, dpi: int, say, paper: bool = False)
         vals = np.full((len(methods), len(pts), len(gusts)), np.nan)
         for s in sims:
             v = s.get(f"peak_err_{o}")
-            if _num(v) and s["gust"] in gusts:
+            if (_num(v) or v == float("inf")) and s["gust"] in gusts:  # inf: an unstable ROM's history overflowed
                 vals[methods.index(s["method"]), pts.index((s["case"], _tkey(s["T"]), s["M"], s["order"])),
                      gusts.index(s["gust"])] = v
         fin = vals[np.isfinite(vals)]
         if not fin.size:
             continue
         pos = fin[fin > 0]
-        vmin = float(pos.min()) if pos.size else 1e-6
-        vmax = max(float(fin.max()), vmin * 10)
+        vmin = max(float(pos.min()), HEATMAP_RANGE[0]) if pos.size else HEATMAP_RANGE[0]
+        vmax = min(max(float(fin.max()), vmin * 10), HEATMAP_RANGE[1])
         plt = plots._plt()
         heights = [len(pts) + 1.5 for _ in methods]
         fig, axes = plt.subplots(len(methods), 1, figsize=(0.95 * len(gusts) + 4.2, 0.36 * sum(heights) + 0.8),
                                  squeeze=False, layout="constrained", gridspec_kw=dict(height_ratios=heights))
         for ax, m, v in zip(axes[:, 0], methods, vals):
             plots.heatmap_plot(v, labels, gusts, ax=ax, vmin=vmin, vmax=vmax, colorbar=False, title=f"method {m}")
-        title = f"Relative peak error of {o}, ROM against LTD:\n|peak_ROM - peak_LTD| / |peak_LTD|"
+        title = (f"Peak error of {o}, ROM against LTD (load envelope):\n"
+                 f"max(|max ROM - max LTD|, |min ROM - min LTD|) / max |LTD|")
         fig.suptitle(title, fontsize=10)
         cb = fig.colorbar(axes[0, 0].images[0], ax=list(axes[:, 0]), fraction=0.05, pad=0.02, shrink=0.8)
         cb.set_label(f"peak error {o}", fontsize=9)
@@ -609,7 +614,9 @@ def _heatmap_figures(results, fig_dir: Path, dpi: int, say, paper: bool = False)
         path = plots.save_figure(fig, fig_dir / (_slug("heatmap", "peak", o) + ".png"), dpi=dpi,
                                  palette=False)  # a palette would band the continuous colour bar
         figs.append(_Figure("heatmaps", path, f"{title.replace(chr(10), ' ')}; rows: sweep points, columns: gusts, "
-                                              f"one panel per method (common log colour scale; hatched: no history)."))
+                                              f"one panel per method (common log colour scale, clipped at "
+                                              f"{HEATMAP_RANGE[1]:.0%}; inf: the ROM's history overflowed; hatched: no "
+                                              f"history)."))
         say(f"  {path}")
     return figs
 

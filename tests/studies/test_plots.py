@@ -176,6 +176,16 @@ def test_heatmap_annotations_and_missing_cells():
     assert ax.images[0].norm.vmin == pytest.approx(2e-6) and ax.images[0].norm.vmax == pytest.approx(0.5)
 
 
+def test_heatmap_clips_large_errors_and_marks_diverged_ones():
+    # an unstable ROM: 1e80 (finite) or an overflowed history (inf); neither may flatten the colour scale
+    v = np.array([[0.02, 1e80], [np.inf, 3.0]])
+    fig, ax = plots.heatmap_plot(v, ["a", "b"], ["G1", "G3"], vmin=1e-3, vmax=10.0)
+    assert sorted(t.get_text() for t in ax.texts) == sorted(["2%", ">1000%", "inf", "300%"])
+    shown = ax.images[0].get_array()
+    assert shown[0, 1] == shown[1, 0] == 10.0 and not np.ma.is_masked(shown[1, 0])
+    assert ax.images[0].norm.vmax == 10.0
+
+
 @pytest.mark.parametrize("values, match", [(np.ones((2, 3)), "there are 2 row and 2 column labels"),
                                            (-np.ones((2, 2)), "non-negative")])
 def test_heatmap_rejects_bad_values(values, match):
