@@ -384,7 +384,7 @@ def _group_label(key: tuple, names: Sequence[str]) -> str:
 
 def error_vs_order_plot(rows: Sequence[Mapping[str, Any]], metrics: Sequence[str] | Mapping[str, str],
                         *, x: str = "order", group_by: Sequence[str] = ("T", "M", "method"), ncols: int = 2,
-                        title: str | None = None, fig=None):
+                        title: str | None = None, clip: float | None = None, fig=None):
     """Error metrics against the model order, one panel per metric, one line per group.
 
     Rows whose ``status`` is not ``"ok"`` or whose metric is missing are skipped. A row with ``stable`` false is
@@ -402,6 +402,9 @@ def error_vs_order_plot(rows: Sequence[Mapping[str, Any]], metrics: Sequence[str
         Keys that make one line; ``"M"`` is shown as ``N_omega = M + 1``.
     ncols : int
     title : str, optional
+    clip : float, optional
+        Values above it (e.g. an unstable ROM's 1e48 gust error) are drawn at ``clip`` with an upward triangle,
+        so that they do not flatten the axis; the legend says "off scale".
     fig : Figure, optional
 
     Returns
@@ -443,6 +446,7 @@ def error_vs_order_plot(rows: Sequence[Mapping[str, Any]], metrics: Sequence[str
     cnames = [g for i, g in enumerate(group_by) if i != mi]
     keys = sorted(groups, key=lambda k: (ckeys.index(tuple(v for i, v in enumerate(k) if i != mi)),
                                          methods.index(k[mi]) if mi is not None else 0))
+    any_clipped = False
     for ax, (metric, mlabel) in zip(axes, labels.items()):
         for key in keys:
             pts = sorted((r[x], r.get(metric), r.get("stable", True)) for r in groups[key] if _finite(r.get(metric)))
@@ -450,13 +454,18 @@ def error_vs_order_plot(rows: Sequence[Mapping[str, Any]], metrics: Sequence[str
                 continue
             xs = np.array([p[0] for p in pts], float)
             ys = np.maximum(np.array([p[1] for p in pts], float), 1e-17)
+            off = ys > clip if clip is not None else np.zeros(len(ys), bool)
+            ys = np.minimum(ys, clip) if clip is not None else ys
             st = np.array([bool(p[2]) if p[2] is not None else True for p in pts])
             ls = LINESTYLES[methods.index(key[mi]) % len(LINESTYLES)] if mi is not None else "-"
             c = colours[ckeys.index(tuple(v for i, v in enumerate(key) if i != mi)) % len(colours)]
             ax.semilogy(xs, ys, ls=ls, color=c, lw=1.3)
-            ax.semilogy(xs[st], ys[st], "o", color=c, ms=4)
-            if (~st).any():
-                ax.semilogy(xs[~st], ys[~st], "x", color=c, ms=8, mew=2)
+            ax.semilogy(xs[st & ~off], ys[st & ~off], "o", color=c, ms=4)
+            if (~st & ~off).any():
+                ax.semilogy(xs[~st & ~off], ys[~st & ~off], "x", color=c, ms=8, mew=2)
+            if off.any():
+                any_clipped = True
+                ax.semilogy(xs[off], ys[off], "^", color=c, ms=8, mfc="none", mew=1.6)
         ax.set_xlabel(r"model order $N_r$" if x == "order" else x)
         ax.set_ylabel(mlabel)
         ax.grid(True, which="major", color="0.85")
@@ -472,11 +481,16 @@ def error_vs_order_plot(rows: Sequence[Mapping[str, Any]], metrics: Sequence[str
     cl = {(_group_label(ck, cnames) if cnames else "ROMs"): colours[i % len(colours)] for i, ck in enumerate(ckeys)}
     sl = {str(m): LINESTYLES[i % len(LINESTYLES)] for i, m in enumerate(methods)} if len(methods) > 1 else {}
     leg = key_legend(axes[0], cl, sl, loc="best", fontsize=7.5)
+    extra = []
     if any(r.get("stable", True) is False for r in ok):
+        extra.append((dict(marker="x", ms=8, mew=2), "unstable ROM"))
+    if any_clipped:
+        extra.append((dict(marker="^", ms=8, mfc="none", mew=1.6), f"off scale (> {_percent_text(clip)})"))
+    if extra:
         from matplotlib.lines import Line2D
 
-        handles = list(leg.legend_handles) + [Line2D([], [], ls="none", marker="x", color="k", ms=8, mew=2)]
-        texts = [t.get_text() for t in leg.get_texts()] + ["unstable ROM"]
+        handles = list(leg.legend_handles) + [Line2D([], [], ls="none", color="k", **kw) for kw, _ in extra]
+        texts = [t.get_text() for t in leg.get_texts()] + [t for _, t in extra]
         axes[0].legend(handles, texts, fontsize=7.5, loc="best")
     if title:
         fig.suptitle(title, fontsize=11)

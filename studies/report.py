@@ -460,6 +460,11 @@ def _hankel_figures(results, fig_dir: Path, dpi: int, say, paper: bool = False) 
     return figs
 
 
+ERROR_RANGE = (1e-4, 10.0)
+"""Range of relative errors drawn to scale (0.01 % to 1000 %) in the heat maps and the error-against-order
+figures: larger errors (unstable ROMs) are drawn at the top and marked."""
+
+
 def _error_figures(results, fig_dir: Path, dpi: int, say, paper: bool = False) -> list:
     figs = []
     rows = rom_rows(results)
@@ -489,11 +494,12 @@ def _error_figures(results, fig_dir: Path, dpi: int, say, paper: bool = False) -
             continue
         group_by = ("T", "M", "method") if _case_T_count(results, case) > 1 else ("M", "method")
         title = f"{case}: errors against the model order"
-        fig, _ = plots.error_vs_order_plot(cr, metrics, group_by=group_by, title=title)
+        fig, _ = plots.error_vs_order_plot(cr, metrics, group_by=group_by, title=title, clip=ERROR_RANGE[1])
         path = plots.save_figure(fig, fig_dir / (_slug("errors", case) + ".png"), dpi=dpi)
         figs.append(_Figure("orders", path, f"{title} for each N_ω (colour) and method (line style): FRF error over "
                                             f"the full LFD grid (peak-normalised, sysid.metrics) and the largest "
-                                            f"relative peak error over the gusts; crosses mark unstable ROMs."))
+                                            f"relative peak error over the gusts; crosses mark unstable ROMs, "
+                                            f"triangles errors above {ERROR_RANGE[1]:.0%} (drawn there)."))
         say(f"  {path}")
     return figs
 
@@ -568,10 +574,6 @@ def _case_ltd_figures(results, fig_dir: Path, dpi: int, say, paper: bool = False
     return figs
 
 
-HEATMAP_RANGE = (1e-4, 10.0)
-"""Colour range of the peak-error heat maps (0.01 % to 1000 %): larger errors (unstable ROMs) share the top colour."""
-
-
 def _heatmap_figures(results, fig_dir: Path, dpi: int, say, paper: bool = False) -> list:
     figs = []
     sims = sim_rows(results)
@@ -597,8 +599,8 @@ def _heatmap_figures(results, fig_dir: Path, dpi: int, say, paper: bool = False)
         if not fin.size:
             continue
         pos = fin[fin > 0]
-        vmin = max(float(pos.min()), HEATMAP_RANGE[0]) if pos.size else HEATMAP_RANGE[0]
-        vmax = min(max(float(fin.max()), vmin * 10), HEATMAP_RANGE[1])
+        vmin = max(float(pos.min()), ERROR_RANGE[0]) if pos.size else ERROR_RANGE[0]
+        vmax = min(max(float(fin.max()), vmin * 10), ERROR_RANGE[1])
         plt = plots._plt()
         heights = [len(pts) + 1.5 for _ in methods]
         fig, axes = plt.subplots(len(methods), 1, figsize=(0.95 * len(gusts) + 4.2, 0.36 * sum(heights) + 0.8),
@@ -615,7 +617,7 @@ def _heatmap_figures(results, fig_dir: Path, dpi: int, say, paper: bool = False)
                                  palette=False)  # a palette would band the continuous colour bar
         figs.append(_Figure("heatmaps", path, f"{title.replace(chr(10), ' ')}; rows: sweep points, columns: gusts, "
                                               f"one panel per method (common log colour scale, clipped at "
-                                              f"{HEATMAP_RANGE[1]:.0%}; inf: the ROM's history overflowed; hatched: no "
+                                              f"{ERROR_RANGE[1]:.0%}; inf: the ROM's history overflowed; hatched: no "
                                               f"history)."))
         say(f"  {path}")
     return figs

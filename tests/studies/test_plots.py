@@ -135,6 +135,18 @@ def test_error_vs_order_plot_groups_and_marks_unstable():
     assert len({c for c, _ in colours}) == 2 and len({s for _, s in colours}) == 2
 
 
+def test_error_vs_order_plot_clips_off_scale_values():
+    rows = [dict(order=n, M=256, method="plain", stable=n < 25, err=e) for n, e in [(9, 0.05), (15, 0.01), (25, 1e48)]]
+    fig, axes = plots.error_vs_order_plot(rows, {"err": "worst gust peak error"}, group_by=("M", "method"), clip=10.0)
+    ax = axes[0]
+    (curve,) = [ln for ln in ax.get_lines() if ln.get_marker() in ("None", "", None)]
+    assert list(curve.get_ydata()) == [0.05, 0.01, 10.0]  # 1e48 drawn at the clip
+    (tri,) = [ln for ln in ax.get_lines() if ln.get_marker() == "^"]
+    assert list(tri.get_xdata()) == [25] and not [ln for ln in ax.get_lines() if ln.get_marker() == "x"]
+    assert "off scale (> 1000%)" in [t.get_text() for t in ax.get_legend().get_texts()]
+    assert ax.get_ylim()[1] < 100.0
+
+
 @pytest.mark.parametrize("metrics, match", [({}, "at least one metric"), (["rms_err_Cl"], "no row has a value")])
 def test_error_vs_order_plot_needs_data(metrics, match):
     with pytest.raises(PlotDataError, match=match):
