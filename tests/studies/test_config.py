@@ -67,6 +67,7 @@ def test_paper_toml():
     assert [g.name for g in c.gusts] == [f"G{i}" for i in range(1, 7)]
     assert c.M_base == 256 and c.simulation.discretisation == "tustin"
     assert c.report.page == (STUDIES.parent / "docs" / "paper-reproduction.md").resolve() and c.report.figures
+    assert c.report.prose == STUDIES / "paper-prose.toml"
 
 
 def test_report_paths_are_relative_to_the_study_file(tmp_path):

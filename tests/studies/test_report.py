@@ -2,6 +2,7 @@
 
 import re
 import sys
+from pathlib import Path
 
 import matplotlib
 
@@ -191,6 +192,14 @@ def test_make_report_from_a_study_file_with_an_empty_store(tmp_path):
     text = page.read_text()
     assert "0 of 8 identifications done" in text and "- steady synth" in text and "- frf synth T=11.1408" in text
     assert "_(no ROM identified yet)_" in text
+
+
+def test_paper_prose_fills_every_slot():
+    from studies.config import load_study
+
+    prose = load_study(Path(__file__).resolve().parents[2] / "studies" / "paper.toml").report.prose
+    slots = report._read_prose(prose, Path("/nonexistent/page.md"))
+    assert set(slots) == set(report.SLOTS) and all(len(text) > 200 for text in slots.values())
 
 
 def test_make_report_writes_the_study_page(tmp_path):
