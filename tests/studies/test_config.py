@@ -70,6 +70,18 @@ def test_paper_toml():
     assert c.report.prose == STUDIES / "paper-prose.toml"
 
 
+def test_sweep_T_toml_shares_the_paper_store():
+    c, paper = load_study(STUDIES / "sweep-T.toml"), load_study(STUDIES / "paper.toml")
+    assert c.store_dir == paper.store_dir and [cs.case.name for cs in c.cases] == ["T4", "T5"]
+    assert c.case("T4").T == (2.0, 4.0, pytest.approx(T_PAPER, rel=1e-11))
+    # the pieces it shares with the paper study have the same keys: steady flows, LTD histories, FRF at T_PAPER
+    for name in ("T4", "T5"):
+        case = c.case(name).case
+        assert steady_piece(case) == steady_piece(paper.case(name).case)
+        assert frf_piece(case, T_PAPER, c.M_base, c.cfd) == frf_piece(case, T_PAPER, paper.M_base, paper.cfd)
+    assert c.simulation == paper.simulation and c.cfd == paper.cfd
+
+
 def test_report_paths_are_relative_to_the_study_file(tmp_path):
     (tmp_path / "prose.toml").write_text('summary = "x"\n')
     study = tmp_path / "s" / "study.toml"
