@@ -49,6 +49,9 @@ Schema (every key optional unless marked; see ``studies/demo.toml`` and ``studie
                                    # <output>/report.md with <output>/tables, <output>/figures
     prose = "study-prose.toml"     # texts of the page's prose slots (slot = "text"); slots in the page are kept
     figures = true                 # false: tables and page only
+    title = "..."                  # the page's title (default from the study's name)
+    paper = true                   # paper mode: captions name the paper's figures, slots quote its claims
+                                   # (default: on when a case is one of T1-T6)
 
 A case entry may override ``orders``, ``T`` and ``M`` (replacing the ``[sweep]`` axis for that case) and
 ``grid`` (on top of ``[grid]``). Axes are sorted and de-duplicated. List positions in keys are 0-based
@@ -133,7 +136,7 @@ GUST_KEYS = ("name", "kind", "length", "angle_deg")
 METHOD_KEYS = ("dc_gain", "stable", "margin", "weights", "algorithm")
 SIMULATION_KEYS = ("discretisation", "dt", "t_end", "x0")
 CFD_KEYS = ("gust_method", "outputs")
-REPORT_KEYS = ("page", "prose", "figures")
+REPORT_KEYS = ("page", "prose", "figures", "title", "paper")
 
 # names people reach for, mapped to ours (used for "did you mean" only)
 _ALIASES = {
@@ -375,11 +378,16 @@ class ReportOptions:
     prose : pathlib.Path or None
         TOML file of prose-slot texts.
     figures : bool
+    title : str or None
+    paper : bool or None
+        None: the report decides (on for the paper's cases).
     """
 
     page: Optional[Path] = None
     prose: Optional[Path] = None
     figures: bool = True
+    title: Optional[str] = None
+    paper: Optional[bool] = None
 
 
 @dataclass(frozen=True)
@@ -891,7 +899,11 @@ def _parse_report(P: _Parser, table, base: Path) -> ReportOptions:
             raise P.err("report.prose", f"no such file {prose}; give a TOML file of slot = \"text\" lines, or "
                         "leave the key out")
     figures = P.boolean(rep.get("figures", True), "report.figures")
-    return ReportOptions(page=page, prose=prose, figures=figures)
+    title = P.string(rep["title"], "report.title") if "title" in rep else None
+    if title is not None and not title.strip():
+        raise P.err("report.title", "must not be empty; leave the key out for the default title")
+    paper = P.boolean(rep["paper"], "report.paper") if "paper" in rep else None
+    return ReportOptions(page=page, prose=prose, figures=figures, title=title, paper=paper)
 
 
 def _parse_case(P: _Parser, entry, key, base_grid, g_orders, g_T, g_M, parse_order, parse_T, parse_M) -> CaseSweep:

@@ -1003,6 +1003,10 @@ def make_report(study_or_path, output_dir=None, *, store_dir=None, page=None, pr
             prose = rep.prose
         if figures is None:
             figures = rep.figures
+        if title is None:
+            title = rep.title
+        if paper is None:
+            paper = rep.paper
     figures = True if figures is None else bool(figures)
     if out is None:
         out = Path(page).with_suffix("") if page is not None else results.config.output_dir

@@ -155,6 +155,8 @@ def test_good_study_with_user_case():
     (BASE + "[report]\npage = 'report.html'\n", "report.page", "not a Markdown file"),
     (BASE + "[report]\nprose = 'no-such-prose.toml'\n", "report.prose", "no such file"),
     (BASE + "[report]\nfigures = 'yes'\n", "report.figures", "true or false"),
+    (BASE + "[report]\ntitle = ' '\n", "report.title", "must not be empty"),
+    (BASE + "[report]\npaper = 1\n", "report.paper", "true or false"),
     ('[sweep]\norders = [9]\n', "cases", "missing"),
     ('cases = ["T2"]\n', "sweep.orders", "missing"),
     # impossible sweep points: order too large for N_omega (the subspace limit)

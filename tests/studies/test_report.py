@@ -205,9 +205,10 @@ def test_paper_prose_fills_every_slot():
 def test_make_report_writes_the_study_page(tmp_path):
     study = tmp_path / "s.toml"
     text = STUDY.format(out=(tmp_path / "out").as_posix())
-    study.write_text(text + '\n[report]\npage = "docs/s.md"\nfigures = false\n')
+    study.write_text(text + '\n[report]\npage = "docs/s.md"\nfigures = false\ntitle = "My sweep"\npaper = false\n')
     page = make_report(study)
     assert page == (tmp_path / "docs" / "s.md").resolve() and page.is_file()
+    assert page.read_text().startswith("# My sweep\n") and "The paper:" not in page.read_text()
     assert (tmp_path / "docs" / "s" / "tables").is_dir() and not (tmp_path / "out" / "report.md").exists()
     # an explicit output folder wins over the study's page
     assert make_report(study, output_dir=tmp_path / "elsewhere") == tmp_path / "elsewhere" / "report.md"
