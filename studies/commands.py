@@ -78,6 +78,8 @@ def add_subcommands(sub) -> None:
                         "to a folder of the same name) instead of <output>/report.md")
     p.add_argument("--prose", default=None, metavar="FILE.toml",
                    help="TOML file of prose-slot texts (slot = \"text\"); slots already in the page are kept")
+    p.add_argument("--redraw", action="store_true",
+                   help="draw every figure even when figures/manifest.json says they are up to date")
 
     p = sub.add_parser("rom", help="identify and save one ROM (npz and MATLAB .mat)",
                        description="One ROM of a paper case (T1-T6) or of your own aerofoil (--naca, --mach): "
@@ -265,7 +267,7 @@ def _workers(value):
 def _report(config: StudyConfig, args) -> int:
     """``make_report`` with the page of ``--page``, else of ``--out``/report.md, else the study's [report]."""
     options = dict(store_dir=config.store_dir, progress=not args.quiet, page=getattr(args, "page", None),
-                   prose=getattr(args, "prose", None))
+                   prose=getattr(args, "prose", None), redraw=getattr(args, "redraw", False) or None)
     if getattr(args, "out", None) is not None:
         options["output_dir"] = config.output_dir
     return _hand_over("studies.report", "make_report", config, options, "the report")

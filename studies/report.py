@@ -23,6 +23,8 @@ The figures and tables are built by :mod:`studies.plots` and :mod:`studies.table
 from __future__ import annotations
 
 import datetime as _dt
+import hashlib
+import json
 import math
 import re
 import sys
@@ -346,6 +348,43 @@ class _Figure:
     section: str
     path: Path
     caption: str
+
+
+FIGURE_MANIFEST = "manifest.json"
+"""File in ``figures/`` naming the figures of the last report and the fingerprint of what they were drawn from."""
+
+
+def _figure_fingerprint(config, tables: dict, dpi: int, paper: bool) -> str:
+    """sha256 of everything the figures depend on: the study, the tables' rows (every metric and every piece's
+    compute time, so that any recomputed piece changes it), the resolution, paper mode, and the plotting code."""
+    import matplotlib
+
+    code = "".join(Path(__file__).with_name(name).read_text(encoding="utf-8") for name in ("plots.py", "report.py"))
+    blob = json.dumps(dict(study=config.canonical_json(), rows={k: v[0] for k, v in tables.items()}, dpi=dpi,
+                           paper=bool(paper), code=hashlib.sha256(code.encode()).hexdigest(),
+                           matplotlib=matplotlib.__version__), sort_keys=True, default=repr)
+    return hashlib.sha256(blob.encode()).hexdigest()
+
+
+def _cached_figures(fig_dir: Path, fingerprint: str) -> Optional[list]:
+    """The figures listed by the manifest when it has this fingerprint and every file still exists, else None."""
+    try:
+        data = json.loads((fig_dir / FIGURE_MANIFEST).read_text(encoding="utf-8"))
+        if data.get("fingerprint") != fingerprint:
+            return None
+        figs = [_Figure(f["section"], fig_dir / f["file"], f["caption"]) for f in data["figures"]]
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+    return figs if all(f.path.is_file() for f in figs) else None
+
+
+def _write_manifest(fig_dir: Path, fingerprint: str, figs: list) -> None:
+    fig_dir.mkdir(parents=True, exist_ok=True)
+    data = dict(fingerprint=fingerprint, figures=[dict(section=f.section, file=f.path.name, caption=f.caption)
+                                                  for f in figs])
+    tmp = fig_dir / (FIGURE_MANIFEST + ".tmp")
+    tmp.write_text(json.dumps(data, indent=1) + "\n", encoding="utf-8")
+    tmp.replace(fig_dir / FIGURE_MANIFEST)
 
 
 def _slug(*parts) -> str:
@@ -750,7 +789,7 @@ def _figs_md(figs, page_dir: Path, section: str) -> str:
 
 def write_report(results, out_dir, *, page=None, prose=None, progress: bool = False, dpi: int = 120,
                  title: Optional[str] = None, paper: Optional[bool] = None, figures: bool = True,
-                 formats: Sequence[str] = ("csv", "markdown", "latex")) -> Path:
+                 formats: Sequence[str] = ("csv", "markdown", "latex"), redraw: bool = False) -> Path:
     """Write the tables, figures and Markdown page of a :class:`studies.results.StudyResults`.
 
     Parameters
@@ -778,6 +817,11 @@ def write_report(results, out_dir, *, page=None, prose=None, progress: bool = Fa
         page saying where the figures were left out.
     formats : sequence of str
         Table formats to write.
+    redraw : bool
+        Draw the figures even when ``figures/manifest.json`` says that they are up to date. By default a
+        report whose inputs (study, every table row including each piece's compute time, resolution, paper
+        mode, plotting code) are those of the last one keeps its figures, so that a warm ``lfdrom run``
+        rewrites the page in seconds.
 
     Returns
     -------
@@ -829,9 +873,16 @@ def write_report(results, out_dir, *, page=None, prose=None, progress: bool = Fa
         paper = any(_paper_case(config, cs.case.name) for cs in config.cases)
     figs = []
     if figures:
-        for fn in (_frf_figures, _hankel_figures, _error_figures, _history_figures, _case_ltd_figures,
-                   _heatmap_figures):
-            figs += fn(results, fig_dir, dpi, say, paper)
+        fingerprint = _figure_fingerprint(config, tables, dpi, paper)
+        cached = None if redraw else _cached_figures(fig_dir, fingerprint)
+        if cached is not None:
+            figs = cached
+            say(f"report {config.name}: {len(figs)} figures up to date ({fig_dir / FIGURE_MANIFEST}), not redrawn")
+        else:
+            for fn in (_frf_figures, _hankel_figures, _error_figures, _history_figures, _case_ltd_figures,
+                       _heatmap_figures):
+                figs += fn(results, fig_dir, dpi, say, paper)
+            _write_manifest(fig_dir, fingerprint, figs)
     else:
         say(f"report {config.name}: figures not drawn (figures=False)")
 
@@ -931,7 +982,7 @@ def write_report(results, out_dir, *, page=None, prose=None, progress: bool = Fa
 
 def make_report(study_or_path, output_dir=None, *, store_dir=None, page=None, prose=None, progress: bool = False,
                 out_dir=None, dpi: int = 120, title: Optional[str] = None, paper: Optional[bool] = None,
-                figures: Optional[bool] = None) -> Path:
+                figures: Optional[bool] = None, redraw: bool = False) -> Path:
     """Tables, figures and a Markdown page of a study, from its results store only.
 
     Parameters
@@ -959,6 +1010,8 @@ def make_report(study_or_path, output_dir=None, *, store_dir=None, page=None, pr
         See :func:`write_report`.
     figures : bool, optional
         See :func:`write_report`; default the study's ``[report] figures`` (true).
+    redraw : bool
+        See :func:`write_report`.
 
     Returns
     -------
@@ -1011,4 +1064,4 @@ def make_report(study_or_path, output_dir=None, *, store_dir=None, page=None, pr
     if out is None:
         out = Path(page).with_suffix("") if page is not None else results.config.output_dir
     return write_report(results, out, page=page, prose=prose, progress=progress, dpi=dpi, title=title, paper=paper,
-                        figures=figures)
+                        figures=figures, redraw=redraw)

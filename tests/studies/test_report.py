@@ -1,5 +1,6 @@
 """studies.report: tables, figures and the Markdown page from a synthetic StudyResults (no runner, no CFD)."""
 
+import json
 import re
 import sys
 from pathlib import Path
@@ -72,7 +73,7 @@ def page_links(page):
 def test_report_writes_page_tables_and_figures(written):
     page, out = written
     assert page == out / "report.md"
-    names = {p.name for p in (out / "figures").iterdir()}
+    names = {p.name for p in (out / "figures").iterdir() if p.suffix == ".png"}  # and manifest.json
     assert {"frf-synth-N33-r2.png", "frf-synth-N17-r6.png", "hankel-synth.png", "errors-synth.png",
             "history-synth-G3.png", "history-synth-G6.png", "heatmap-peak-Cl.png", "heatmap-peak-Cm.png"} <= names
     assert "history-synth-G4.png" not in names  # no LTD reference for G4
@@ -259,3 +260,36 @@ def test_synthetic_results_are_consistent(small):
     assert r.metrics["frf_max_err_Cl"] == pytest.approx(
         np.abs(r.frf_rom[0] - fr.frf.H[0]).max() / np.abs(fr.frf.H[0]).max())
     assert sys.modules["studies.report"] is report
+
+
+def test_figures_are_kept_when_nothing_changed(small, tmp_path, monkeypatch):
+    page = make_report(small, tmp_path, dpi=40)
+    manifest = tmp_path / "figures" / report.FIGURE_MANIFEST
+    listed = json.loads(manifest.read_text())["figures"]
+    assert listed and all((tmp_path / "figures" / f["file"]).is_file() for f in listed)
+    first = page.read_text()
+    drawn = []
+    import matplotlib.pyplot as plt
+
+    def fake_save(fig, path, **kw):
+        plt.close(fig)
+        drawn.append(path)
+        return path
+
+    monkeypatch.setattr(report.plots, "save_figure", fake_save)
+    again = make_report(small, tmp_path, dpi=40).read_text()
+    assert drawn == []  # same inputs: no figure drawn, the page lists the same figures
+    assert _figure_lines(again) == _figure_lines(first)
+    make_report(small, tmp_path, dpi=40, redraw=True)
+    assert len(drawn) == len(listed)
+    drawn.clear()
+    make_report(small, tmp_path, dpi=41)  # another input (the resolution): drawn again
+    assert len(drawn) == len(listed)
+    drawn.clear()
+    (tmp_path / "figures" / listed[0]["file"]).unlink()  # a figure file lost: drawn again
+    make_report(small, tmp_path, dpi=41)
+    assert len(drawn) == len(listed)
+
+
+def _figure_lines(text):
+    return [line for line in text.splitlines() if line.startswith("![")]
