@@ -137,6 +137,11 @@ def _lmi_sdp(A, rho, G1, G2, delta, solver_opts):
     n = A.shape[0]
     if G1 is not None:
         R = np.linalg.qr(np.hstack([G1, -G2]), mode="r")  # ||[G1, -G2] X||_F = ||R X||_F
+        # ||R X||_F = ||S V^T X||_F; rows with s < 1e-10 s_max (a rank-deficient [G1, -G2], e.g. when the
+        # outputs are scaled alike) change the objective by < 1e-10 relative but made Clarabel fail
+        _, S, Vt = np.linalg.svd(R, full_matrices=False)
+        keep = S > 1e-10 * max(S[0], 1e-300)
+        R = S[keep, None] * Vt[keep]
         R = R / max(np.linalg.norm(R), 1e-300)
         R1, R2 = R[:, :n], R[:, n:]
     P = cp.Variable((n, n), symmetric=True)

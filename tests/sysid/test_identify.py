@@ -191,6 +191,24 @@ def test_output_matrix_refit_on_aerofoil_data():
     assert both.stabilisation.method == "lmi" and both.spectral_radius < 1 - 1e-3 and both.dc_error < 1e-9
 
 
+def test_stability_sdp_with_a_rank_deficient_objective():
+    """T5 LFD data with each output scaled to unit peak, N_r = 55: the shift-equation matrices [G1, -G2] on the
+    unstable subspace are rank-deficient (singular values down to 1e-14 of the largest) and Clarabel failed on
+    the SDP until the negligible directions were dropped from its objective."""
+    path = Path(__file__).resolve().parents[2] / "docs" / "data" / "frf-T5.npz"
+    frf = FrequencyResponse.load(path)
+    H = np.asarray(frf.H)
+    scaled = FrequencyResponse(H / np.abs(H).max(axis=(1, 2))[:, None, None], frf.omega_d, frf.T)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        res = identify(scaled, 55, dc_gain="match", stable=True)
+    assert res.subspace.spectral_radius > 1.5  # the subspace model is far from stable
+    assert res.stabilisation.method == "lmi" and res.spectral_radius < 1 - 1e-3 and res.dc_error < 1e-9
+    G = np.asarray(scaled.H)[:, 0]
+    err = np.abs(res.evaluate(scaled.omega_d)[:, 0] - G).max(axis=-1) / np.abs(G).max(axis=-1)
+    assert np.all(err < 0.1)
+
+
 def test_refit_c_bad_value():
     frf, _ = data(seed=2)
     with pytest.raises(ValueError, match="refit_c must be 'auto', True or False"):
