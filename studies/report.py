@@ -359,9 +359,10 @@ def _figure_fingerprint(config, tables: dict, dpi: int, paper: bool) -> str:
     compute time, so that any recomputed piece changes it), the resolution, paper mode, and the plotting code."""
     import matplotlib
 
-    code = "".join(Path(__file__).with_name(name).read_text(encoding="utf-8") for name in ("plots.py", "report.py"))
+    from .provenance import source_hash
+
     blob = json.dumps(dict(study=config.canonical_json(), rows={k: v[0] for k, v in tables.items()}, dpi=dpi,
-                           paper=bool(paper), code=hashlib.sha256(code.encode()).hexdigest(),
+                           paper=bool(paper), code=source_hash(("studies.plots", "studies.report")),
                            matplotlib=matplotlib.__version__), sort_keys=True, default=repr)
     return hashlib.sha256(blob.encode()).hexdigest()
 
@@ -379,12 +380,11 @@ def _cached_figures(fig_dir: Path, fingerprint: str) -> Optional[list]:
 
 
 def _write_manifest(fig_dir: Path, fingerprint: str, figs: list) -> None:
-    fig_dir.mkdir(parents=True, exist_ok=True)
+    from .cache import atomic_write_bytes
+
     data = dict(fingerprint=fingerprint, figures=[dict(section=f.section, file=f.path.name, caption=f.caption)
                                                   for f in figs])
-    tmp = fig_dir / (FIGURE_MANIFEST + ".tmp")
-    tmp.write_text(json.dumps(data, indent=1) + "\n", encoding="utf-8")
-    tmp.replace(fig_dir / FIGURE_MANIFEST)
+    atomic_write_bytes(fig_dir / FIGURE_MANIFEST, (json.dumps(data, indent=1) + "\n").encode("utf-8"))
 
 
 def _slug(*parts) -> str:

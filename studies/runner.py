@@ -677,7 +677,7 @@ def run_study(study, *, output_dir=None, store_dir=None, scheduler: Optional[str
         changes["store_dir"] = Path(store_dir).resolve()
     if changes:
         config = replace(config, **changes)
-    if isinstance(workers, str) and workers == "auto":
+    if workers == "auto":
         workers = auto_workers(config)
     pool = _pool(scheduler, workers)
     try:
