@@ -21,6 +21,7 @@ from .transforms import c2d_bilinear, c2d_zoh, d2c_bilinear
 from .metrics import FitErrors, dc_error, frf_errors, max_relative_error, rms_relative_error, spectral_radius
 from .order import OrderSweep, order_sweep
 from .identify import IdentificationResult, StabilisationReport, identify
+from .diagnostics import DataDiagnostics, diagnose
 from .refit import BDFit, CDFit, fit_alternating, fit_bd, fit_cd
 from .stability import StabiliseResult, stabilise
 
@@ -63,6 +64,8 @@ __all__ = [
     "identify",
     "IdentificationResult",
     "StabilisationReport",
+    "diagnose",
+    "DataDiagnostics",
     # convex refits and stability (sysid.refit, sysid.stability)
     "BDFit",
     "CDFit",
