@@ -36,10 +36,7 @@ import hashlib
 import io
 import json
 import logging
-import numbers
-import os
 import re
-import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -48,6 +45,7 @@ from typing import Any, Callable, Iterator, Mapping, Optional
 import numpy as np
 
 from .config import canonical_json
+from .files import TEMP_PREFIX, atomic_write_bytes, jsonable
 from .provenance import code_version, provenance
 
 __all__ = [
@@ -126,65 +124,12 @@ class Entry:
         return self.arrays[name]
 
 
-def _fsync_dir(folder: Path) -> None:
-    try:
-        fd = os.open(folder, os.O_RDONLY)
-    except OSError:  # pragma: no cover - platforms without directory fds
-        return
-    try:
-        os.fsync(fd)
-    except OSError:  # pragma: no cover
-        pass
-    finally:
-        os.close(fd)
-
-
-def atomic_write_bytes(path, data: bytes) -> None:
-    """Write ``data`` to ``path`` atomically: hidden temporary file in the same folder, fsync, ``os.replace``.
-
-    Readers see the old file or the new one, never a partial one. The temporary file is removed if the
-    write fails.
-    """
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".tmp-{path.name}.")
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
-    _fsync_dir(path.parent)
-
-
 def _jsonable(obj):
-    """Metadata to plain JSON types (NumPy scalars and small arrays included)."""
-    if obj is None or isinstance(obj, (bool, str)):
-        return obj
-    if isinstance(obj, np.bool_):
-        return bool(obj)
-    if isinstance(obj, numbers.Integral):
-        return int(obj)
-    if isinstance(obj, numbers.Real):
-        return float(obj)
-    if isinstance(obj, numbers.Complex):
-        return {"real": float(obj.real), "imag": float(obj.imag)}
-    if isinstance(obj, Mapping):
-        return {str(k): _jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_jsonable(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return _jsonable(obj.tolist())
-    if isinstance(obj, Path):
-        return str(obj)
-    raise CacheError(f"metadata value of type {type(obj).__name__} is not JSON-serialisable; store arrays as "
-                     "arrays and metadata as numbers, strings, lists and dicts")
+    """Metadata to plain JSON types (:func:`studies.files.jsonable`); CacheError for values without one."""
+    try:
+        return jsonable(obj)
+    except TypeError as e:
+        raise CacheError(str(e)) from None
 
 
 def _body_checksum(body: dict) -> str:
@@ -419,7 +364,7 @@ class ResultStore:
         for f in self.root.glob("*/*/*"):
             if not f.is_file() or now - f.stat().st_mtime < max_age:
                 continue
-            if f.name.startswith(".tmp-"):
+            if f.name.startswith(TEMP_PREFIX):
                 orphan = True
             elif f.suffix == ".npz":
                 key = f.name.split(".")[0]

@@ -16,6 +16,8 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
+from .files import atomic_path
+
 __all__ = [
     "PlotDataError",
     "frf_plot",
@@ -744,7 +746,10 @@ def _percent_text(v: float) -> str:
 
 
 def save_figure(fig, path, *, dpi: int = 120, palette: bool = True) -> Path:
-    """Save ``fig`` to ``path`` (parent folders created) and close it.
+    """Save ``fig`` to ``path`` atomically (parent folders created) and close it.
+
+    The figure is drawn to a temporary file beside ``path`` and renamed over it
+    (:func:`studies.files.atomic_path`): a failure while drawing or writing leaves an existing file as it was.
 
     Parameters
     ----------
@@ -761,13 +766,17 @@ def save_figure(fig, path, *, dpi: int = 120, palette: bool = True) -> Path:
     pathlib.Path
     """
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=dpi)
-    _plt().close(fig)
-    if palette and path.suffix.lower() == ".png":
-        from PIL import Image
+    fmt = path.suffix[1:].lower() or None
+    try:
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, dpi=dpi, format=fmt)
+            if palette and fmt == "png":
+                from PIL import Image
 
-        with Image.open(path) as im:
-            q = im.convert("RGB").quantize(colors=256, method=Image.Quantize.FASTOCTREE, dither=Image.Dither.NONE)
-        q.save(path, optimize=True)
+                with Image.open(tmp) as im:
+                    q = im.convert("RGB").quantize(colors=256, method=Image.Quantize.FASTOCTREE,
+                                                   dither=Image.Dither.NONE)
+                q.save(tmp, format="PNG", optimize=True)
+    finally:
+        _plt().close(fig)
     return path

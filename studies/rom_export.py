@@ -3,7 +3,8 @@
 ``T`` is the sampling period of a discrete model (convective time units, ``s = t U / c``) and 0 for a
 continuous one, as MATLAB's ``ss(A, B, C, D, T)`` expects. Input and output names go as ``InputName`` and
 ``OutputName`` (cell arrays of strings in MATLAB), the metadata as a JSON string ``metadata``. Files are
-written atomically (``studies.cache.atomic_write_bytes``). Also available from ``studies.cache``.
+written atomically (:func:`studies.files.atomic_write_bytes`: an existing file is replaced whole or left as
+it was). Also available from ``studies.cache``; this module does not import it.
 """
 
 from __future__ import annotations
@@ -14,6 +15,8 @@ from pathlib import Path
 from typing import Mapping, Optional
 
 import numpy as np
+
+from .files import atomic_write_bytes, jsonable
 
 __all__ = ["export_rom_npz", "export_rom_mat", "load_rom_npz"]
 
@@ -31,9 +34,10 @@ def _parts(model):
 
 
 def _meta_json(metadata: Optional[Mapping]) -> str:
-    from .cache import _jsonable
-
-    return json.dumps(_jsonable(dict(metadata or {})), sort_keys=True)
+    try:
+        return json.dumps(jsonable(dict(metadata or {})), sort_keys=True)
+    except TypeError as e:
+        raise TypeError(f"ROM metadata: {e}") from None
 
 
 def export_rom_npz(path, model, metadata: Optional[Mapping] = None) -> Path:
@@ -50,9 +54,14 @@ def export_rom_npz(path, model, metadata: Optional[Mapping] = None) -> Path:
     Returns
     -------
     pathlib.Path
-    """
-    from .cache import atomic_write_bytes
 
+    Raises
+    ------
+    TypeError
+        ``model`` is not a state-space model, or a metadata value has no JSON form.
+    OSError
+        The file cannot be written; an existing file at ``path`` is left as it was.
+    """
     A, B, C, D, T, inputs, outputs = _parts(model)
     buf = io.BytesIO()
     np.savez(buf, A=A, B=B, C=C, D=D, T=np.float64(T), inputs=np.array(inputs, dtype=str),
@@ -96,10 +105,15 @@ def export_rom_mat(path, model, metadata: Optional[Mapping] = None) -> Path:
     Returns
     -------
     pathlib.Path
+
+    Raises
+    ------
+    TypeError
+        ``model`` is not a state-space model, or a metadata value has no JSON form.
+    OSError
+        The file cannot be written; an existing file at ``path`` is left as it was.
     """
     import scipy.io
-
-    from .cache import atomic_write_bytes
 
     A, B, C, D, T, inputs, outputs = _parts(model)
     cell = lambda names: np.array([[n] for n in names], dtype=object)  # noqa: E731 - column cell array

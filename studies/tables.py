@@ -27,6 +27,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Iterable, Mapping, Sequence, Union
 
+from .files import atomic_write_text
+
 __all__ = ["Column", "TableError", "format_table", "write_table", "write_tables", "FORMATS", "SUFFIXES"]
 
 FORMATS = ("csv", "markdown", "latex")
@@ -231,6 +233,9 @@ def write_table(rows: Sequence[Mapping[str, Any]], path, columns: Sequence[Colum
                 fmt: str | None = None, **kwargs) -> Path:
     """Write :func:`format_table` to ``path``; the format defaults to the suffix (.csv, .md, .tex).
 
+    The file is replaced atomically (:func:`studies.files.atomic_write_text`): a failed write leaves an
+    existing file as it was.
+
     Returns
     -------
     pathlib.Path
@@ -240,6 +245,8 @@ def write_table(rows: Sequence[Mapping[str, Any]], path, columns: Sequence[Colum
     ------
     TableError
         As :func:`format_table`, or a suffix that names no format when ``fmt`` is not given.
+    OSError
+        The file cannot be written (the old one, if any, is unchanged).
     """
     path = Path(path)
     if fmt is None:
@@ -248,8 +255,7 @@ def write_table(rows: Sequence[Mapping[str, Any]], path, columns: Sequence[Colum
             raise TableError(f"{path}: cannot tell the table format from the suffix {path.suffix!r}; use .csv, .md "
                              f"or .tex, or give fmt")
     text = format_table(rows, columns, fmt, **kwargs)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(text, encoding="utf-8")
+    atomic_write_text(path, text)
     return path
 
 

@@ -130,7 +130,7 @@ def test_corruption_is_detected_and_recomputed(tmp_path, caplog, damage):
 
 def _crash_on(step, root, value):
     """Child process: write an entry and die (os._exit) at ``step`` of the atomic write."""
-    import studies.cache as cache
+    import studies.files as files  # the store's atomic writer
 
     real_replace, real_fsync = os.replace, os.fsync
     calls = {"fsync": 0}
@@ -146,9 +146,9 @@ def _crash_on(step, root, value):
             os._exit(3)
         return real_fsync(fd)
 
-    cache.os.replace = replace
-    cache.os.fsync = fsync
-    cache.ResultStore(root, code=CODE).put("frf", CONFIG, {"H": np.full(1000, value)})
+    files.os.replace = replace
+    files.os.fsync = fsync
+    ResultStore(root, code=CODE).put("frf", CONFIG, {"H": np.full(1000, value)})
     os._exit(0)
 
 
