@@ -1,0 +1,86 @@
+"""Moving the pitch pivot and the moment axis of motion/gust frequency-response data.
+
+Derivation (small motion, lengths in chords from the leading edge, ``h`` up, ``alpha`` nose up). A rigid motion
+with plunge ``h_e`` at the elastic axis ``x_e`` and pitch ``alpha`` displaces the point ``x`` by
+``z(x) = h_e - (x - x_e) alpha`` (nose up moves points aft of the axis down). The same motion described about
+another pivot ``x_p`` has the same ``alpha`` and the plunge of the pivot point::
+
+    h_p = h_e - (x_p - x_e) alpha          =>   [h_p, alpha]^T = T_in [h_e, alpha]^T,
+                                                 T_in = [[1, -(x_p - x_e)], [0, 1]]
+
+so pitch about ``x_e`` is pitch about ``x_p`` plus a plunge ``-(x_p - x_e) alpha`` of the pivot: changing the
+pivot changes the plunge seen, not only the moment. A lift ``L`` (up) acting at ``x`` gives the nose-up
+moment ``-L (x - x_0)`` about ``x_0``; summing, the moment about ``x_e`` from that about ``x_m``::
+
+    Cm_e = Cm_m + (x_e - x_m) Cl           =>   [Cl, Cm_e]^T = T_out [Cl, Cm_m]^T,
+                                                 T_out = [[1, 0], [x_e - x_m, 1]]
+
+(e.g. lift at the quarter chord with ``Cm_{1/4} = 0`` gives ``Cm_e = (x_e - 1/4) Cl``, nose up when the axis is
+aft of the quarter chord). Hence ``H_e = T_out H_p T_in`` for the motion columns and ``T_out H`` for a gust
+column (the gust input does not depend on the pivot).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from .errors import AeroModelError
+from .fit import LOAD_OUTPUTS, MOTION_INPUTS, _indices
+
+__all__ = ["change_axes", "to_elastic_axis"]
+
+
+def _x(name: str, v: Any) -> float:
+    try:
+        f = float(v)
+    except (TypeError, ValueError):
+        raise AeroModelError(f"{name} must be a position in chords from the leading edge, got {v!r}") from None
+    if not np.isfinite(f):
+        raise AeroModelError(f"{name} must be finite, got {v!r}")
+    return f
+
+
+def change_axes(frf, *, pivot: float, moment_axis: float, new_axis: float):
+    """Re-express motion (and gust) data about a new pitch pivot and moment axis.
+
+    Parameters
+    ----------
+    frf : sysid.FrequencyResponse
+        Outputs containing ``"Cl"``, ``"Cm"`` (``Cm`` about ``moment_axis``); inputs containing ``"plunge"``
+        (``h / c`` of the point ``pivot``, up) and ``"pitch"`` (about ``pivot``), optionally ``"gust"`` and
+        others (only ``Cm`` changes for those).
+    pivot : float
+        Pitch pivot of the data, chords from the leading edge (e.g. 0.25).
+    moment_axis : float
+        Moment reference of the data's ``Cm``, chords from the leading edge (the project's CFD uses 0.25).
+    new_axis : float
+        The new pivot and moment axis (e.g. the section's ``elastic_axis = (1 + a) / 2``).
+
+    Returns
+    -------
+    sysid.FrequencyResponse
+        Same grid, names and order; ``metadata`` gains ``"axis": new_axis``.
+    """
+    import sysid
+
+    if not isinstance(frf, sysid.FrequencyResponse):
+        raise AeroModelError(f"change_axes() expects a sysid.FrequencyResponse, got {type(frf).__name__}")
+    xp, xm, xe = _x("pivot", pivot), _x("moment_axis", moment_axis), _x("new_axis", new_axis)
+    oi = _indices(frf.outputs, LOAD_OUTPUTS, "outputs")
+    H = np.array(frf.H, copy=True)
+    # outputs: Cm_e = Cm_m + (x_e - x_m) Cl
+    H[oi[1]] = H[oi[1]] + (xe - xm) * H[oi[0]]
+    if all(n in frf.inputs for n in MOTION_INPUTS):
+        ih, ia = (frf.inputs.index(n) for n in MOTION_INPUTS)
+        # inputs: response to alpha about x_e = response to alpha about x_p + (-(x_p - x_e)) * response to plunge
+        H[:, ia] = H[:, ia] - (xp - xe) * H[:, ih]
+    md = dict(frf.metadata)
+    md["axis"] = xe
+    return frf.replace(H=H, metadata=md)
+
+
+def to_elastic_axis(frf, section, *, pivot: float = 0.25, moment_axis: float = 0.25):
+    """:func:`change_axes` to ``section.elastic_axis`` (quarter-chord pivot and moment by default)."""
+    return change_axes(frf, pivot=pivot, moment_axis=moment_axis, new_axis=section.elastic_axis)

@@ -1,0 +1,130 @@
+"""Gust response of the flexible typical section (time histories from the coupled state-space model)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .coupling import _check_speed, as_motion_model, coupled_model
+from .errors import AeroModelError
+from .section import TypicalSection
+
+__all__ = ["GustResponse", "gust_response", "simulate"]
+
+
+@dataclass(frozen=True)
+class GustResponse:
+    """Time histories of the flexible section in a gust (all arrays shape (N,), read-only).
+
+    Attributes
+    ----------
+    t : ndarray
+        Convective time ``s = t U / c`` (the gust's time base).
+    tau : ndarray
+        Structural time ``omega_alpha t = 2 s / V``.
+    u : ndarray
+        Gust angle at the leading edge, ``v_g / U`` (rad).
+    plunge : ndarray
+        ``h / c``, positive up.
+    pitch : ndarray
+        ``alpha`` (rad), nose up about the elastic axis.
+    Cl, Cm : ndarray
+        Lift and moment coefficients (``Cm`` about the elastic axis, nose up), perturbations about the steady state.
+    speed : float
+        Speed index ``U / (b omega_alpha)``.
+    """
+
+    t: np.ndarray = field(repr=False)
+    tau: np.ndarray = field(repr=False)
+    u: np.ndarray = field(repr=False)
+    plunge: np.ndarray = field(repr=False)
+    pitch: np.ndarray = field(repr=False)
+    Cl: np.ndarray = field(repr=False)
+    Cm: np.ndarray = field(repr=False)
+    speed: float = float("nan")
+
+
+def _ro(a):
+    a = np.array(a, dtype=float, copy=True)
+    a.setflags(write=False)
+    return a
+
+
+def _gust_history(gust: Any, t: Any):
+    if t is None:
+        if isinstance(gust, tuple) and len(gust) == 2:
+            t, u = gust
+        elif hasattr(gust, "t") and hasattr(gust, "u"):
+            t, u = gust.t, gust.u
+        else:
+            raise AeroModelError(
+                "give the gust history as (t, u), an object with .t and .u (e.g. a cfd.ltd_response history), or "
+                "u with t= (convective time s = t U / c, gust angle in rad)"
+            )
+    else:
+        u = gust
+    t = np.asarray(t, dtype=float).reshape(-1)
+    u = np.asarray(u, dtype=float).reshape(-1)
+    if t.size != u.size or t.size < 2:
+        raise AeroModelError(f"t and u must be 1-D of the same length >= 2, got {t.size} and {u.size}")
+    if np.any(~np.isfinite(t)) or np.any(~np.isfinite(u)) or np.any(np.diff(t) <= 0):
+        raise AeroModelError("t must be finite and strictly increasing, u finite")
+    return t, u
+
+
+def simulate(sys, section: TypicalSection, speed: float, t: np.ndarray, u: np.ndarray) -> GustResponse:
+    """Simulate a coupled model in ``tau`` (input ``gust``, outputs containing plunge, pitch, Cl, Cm) on convective ``t``.
+
+    Zero initial state; the input is linear between samples (python-control's ``forced_response``).
+    """
+    import control
+
+    V = _check_speed(speed)
+    tau = 2.0 * (t - t[0]) / V
+    r = control.forced_response(sys, T=tau, U=u[None, :])
+    names = list(sys.output_labels)
+    y = np.asarray(r.outputs).reshape(len(names), -1)
+    get = {n: y[names.index(n)] for n in ("plunge", "pitch", "Cl", "Cm")}
+    return GustResponse(_ro(t), _ro(tau + 2.0 * t[0] / V), _ro(u), _ro(get["plunge"]), _ro(get["pitch"]),
+                        _ro(get["Cl"]), _ro(get["Cm"]), float(V))
+
+
+def gust_response(aero: Any, section: TypicalSection, speed: float, gust: Any, t: Any = None, *, order: int = 4,
+                  **fit_kw) -> GustResponse:
+    """Plunge, pitch, Cl and Cm histories of the flexible section in a gust.
+
+    Parameters
+    ----------
+    aero : sysid.FrequencyResponse or MotionModel
+        Inputs ``["gust", "plunge", "pitch"]``, outputs ``["Cl", "Cm"]`` (``Cm`` about the elastic axis), as for
+        :func:`aeroelastic.flutter`; data are fitted with :func:`aeroelastic.fit_motion`.
+    section : TypicalSection
+    speed : float
+        Speed index ``U / (b omega_alpha)`` (below flutter for a bounded response).
+    gust : (t, u), object with ``.t`` and ``.u``, or array ``u``
+        Gust angle ``u = v_g(x = 0) / U`` (rad) at convective times ``t`` (``s = t U / c``), increasing; the
+        section starts at rest in its steady state at ``t[0]``.
+    t : array_like, optional
+        Times when ``gust`` is the array ``u``.
+    order : int
+        Lag roots of the motion fit when ``aero`` is data.
+
+    Returns
+    -------
+    GustResponse
+
+    Raises
+    ------
+    AeroModelError
+        The model has no gust input, or the history is malformed.
+    SpeedError
+        ``speed`` not positive and finite.
+    """
+    model = as_motion_model(aero, order, **fit_kw)
+    if not model.has_gust:
+        raise AeroModelError("the aerodynamic model has no 'gust' input; give data with inputs ['gust', 'plunge', 'pitch']")
+    tt, u = _gust_history(gust, t)
+    sys = coupled_model(model, section, speed, gust=True)
+    return simulate(sys, section, speed, tt, u)

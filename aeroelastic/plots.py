@@ -1,0 +1,128 @@
+"""Figures in python-control's style: the ``*_response`` / analysis functions return data, ``*_plot`` draws.
+
+All functions take an optional matplotlib axes (or pair of axes) and return it; they never call ``show``.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+__all__ = ["root_locus_plot", "vg_plot", "flutter_plot", "gust_response_plot"]
+
+_MODE_COLOURS = ("tab:blue", "tab:red")
+_MODE_NAMES = ("plunge branch", "pitch branch")
+
+
+def _plt():
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def root_locus_plot(result, ax: Any = None, *, show_lags: bool = True):
+    """Root locus against speed: eigenvalues in the ``(Re, Im)`` plane (``omega_alpha`` units).
+
+    The two structural branches are drawn as coloured lines from the lowest speed (circle) to the highest
+    (triangle); the other roots (aerodynamic lags, always real and stable here) as grey points. The flutter
+    point, when found, is marked with a star.
+    """
+    plt = _plt()
+    if ax is None:
+        _, ax = plt.subplots(figsize=(6.0, 4.5))
+    E = result.eigenvalues
+    if show_lags:
+        others = [j for j in range(E.shape[1]) if j not in set(result.modes)]
+        lag = E[:, others]
+        lag = lag[lag.imag >= -1e-12]
+        ax.plot(lag.real, lag.imag, ".", color="0.6", ms=2, label="other roots (aerodynamic lags)")
+    for c, name, j in zip(_MODE_COLOURS, _MODE_NAMES, result.modes):
+        lam = E[:, j]
+        lam = np.where(lam.imag < 0, lam.conj(), lam)
+        ax.plot(lam.real, lam.imag, "-", color=c, lw=1.6, label=name)
+        ax.plot(lam.real[0], lam.imag[0], "o", color=c, ms=5)
+        ax.plot(lam.real[-1], lam.imag[-1], "^", color=c, ms=6)
+    if result.found:
+        ax.plot([0.0], [result.frequency_ratio], "*", color="k", ms=12,
+                label=f"{result.kind}: V = {result.speed_index:.3f}")
+    ax.axvline(0.0, color="k", lw=0.8)
+    ax.set_xlabel(r"Re $\lambda$ / $\omega_\alpha$")
+    ax.set_ylabel(r"Im $\lambda$ / $\omega_\alpha$")
+    ax.set_title(f"Root locus, V = U/(b$\\omega_\\alpha$) from {result.speeds[0]:.2g} to {result.speeds[-1]:.3g}")
+    ax.set_ylim(bottom=-0.05)
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="best", fontsize=8)
+    return ax
+
+
+def vg_plot(result, axs: Any = None):
+    """V-g plot: damping ``g = 2 Re(lambda) / Im(lambda)`` and frequency ``Im(lambda) / omega_alpha`` against speed.
+
+    Returns the two axes ``(ax_g, ax_f)``.
+    """
+    plt = _plt()
+    if axs is None:
+        _, axs = plt.subplots(2, 1, sharex=True, figsize=(6.0, 5.5))
+    ax_g, ax_f = axs
+    V = result.speeds
+    g = result.g
+    for c, name, j in zip(_MODE_COLOURS, _MODE_NAMES, result.modes):
+        ax_g.plot(V, g[:, j], color=c, lw=1.6, label=name)
+        ax_f.plot(V, np.abs(result.eigenvalues[:, j].imag), color=c, lw=1.6, label=name)
+    ax_g.axhline(0.0, color="k", lw=0.8)
+    if result.found:
+        for ax in axs:
+            ax.axvline(result.speed_index, color="k", ls="--", lw=0.8)
+        ax_f.plot([result.speed_index], [result.frequency_ratio], "*", color="k", ms=10,
+                  label=f"{result.kind}: V = {result.speed_index:.3f}, $\\omega/\\omega_\\alpha$ = {result.frequency_ratio:.3f}")
+    ax_g.set_ylabel(r"g = 2 Re$\lambda$ / Im$\lambda$")
+    ax_f.set_ylabel(r"$\omega / \omega_\alpha$")
+    ax_f.set_xlabel(r"speed index V = U / (b $\omega_\alpha$)")
+    ax_g.set_title("V-g plot")
+    gl = g[:, result.modes]
+    gl = gl[np.isfinite(gl)]
+    if gl.size:
+        ax_g.set_ylim(max(gl.min(), -1.0) * 1.1, max(gl.max(), 0.05) * 1.1)
+    for ax in axs:
+        ax.grid(True, alpha=0.3)
+    ax_f.legend(loc="best", fontsize=8)
+    return ax_g, ax_f
+
+
+def flutter_plot(result, fig: Any = None):
+    """Root locus (left) and V-g plot (right) in one figure; returns the figure."""
+    plt = _plt()
+    if fig is None:
+        fig = plt.figure(figsize=(12.0, 5.5))
+    gs = fig.add_gridspec(2, 2)
+    ax_rl = fig.add_subplot(gs[:, 0])
+    ax_g = fig.add_subplot(gs[0, 1])
+    ax_f = fig.add_subplot(gs[1, 1], sharex=ax_g)
+    root_locus_plot(result, ax_rl)
+    vg_plot(result, (ax_g, ax_f))
+    fig.tight_layout()
+    return fig
+
+
+def gust_response_plot(response, reference: Any = None, axs: Any = None, *, label: str = "coupled ROM",
+                       reference_label: str = "reference"):
+    """Gust angle, plunge, pitch, Cl and Cm against convective time; optional reference histories (dashed).
+
+    Returns the five axes.
+    """
+    plt = _plt()
+    if axs is None:
+        _, axs = plt.subplots(5, 1, sharex=True, figsize=(7.0, 9.0))
+    rows = [("u", "gust angle u (rad)"), ("plunge", "h / c (up)"), ("pitch", r"$\alpha$ (rad)"),
+            ("Cl", "Cl"), ("Cm", "Cm (elastic axis)")]
+    for ax, (key, lab) in zip(axs, rows):
+        ax.plot(response.t, getattr(response, key), color="tab:blue", lw=1.5, label=label if key != "u" else None)
+        if reference is not None and key != "u":
+            ax.plot(reference.t, getattr(reference, key), "--", color="tab:orange", lw=1.3, label=reference_label)
+        ax.set_ylabel(lab)
+        ax.grid(True, alpha=0.3)
+    axs[1].legend(loc="best", fontsize=8)
+    axs[-1].set_xlabel("convective time s = t U / c")
+    axs[0].set_title(f"Flexible section in a gust, speed index V = {response.speed:.3g}")
+    return axs

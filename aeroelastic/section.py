@@ -1,0 +1,127 @@
+"""The typical section (pitch and plunge on springs) in Theodorsen's notation.
+
+Equations of motion (``h`` plunge UP in chords, ``alpha`` nose up about the elastic axis, centre of mass
+``x_alpha b`` aft of it), from Lagrange's equations with the centre of mass moving ``h c - x_alpha b alpha``::
+
+    m (c h'' - b x_alpha alpha'') + k_h c h = L = q c Cl
+    I_ea alpha'' - m b x_alpha c h'' + k_alpha alpha = M = q c^2 Cm
+
+With ``b = c / 2``, ``m = mu pi rho b^2``, ``I_ea = m b^2 r_alpha2``, ``omega_h^2 = k_h / m``,
+``omega_alpha^2 = k_alpha / I_ea``, time ``tau = omega_alpha t`` and the speed index ``V = U / (b omega_alpha)``
+they read, for ``q = [h, alpha]`` (``'`` = d/d tau)::
+
+    Ms q'' + Ks q = (V^2 / (pi mu)) diag(1, 2) [Cl, Cm]
+    Ms = [[2, -x_alpha], [-2 x_alpha, r_alpha2]],   Ks = diag(2 omega_ratio^2, r_alpha2)
+
+(the first row divided by ``m b omega_alpha^2``, the second by ``m b^2 omega_alpha^2``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import SectionError
+
+__all__ = ["TypicalSection"]
+
+
+def _num(name: str, v, *, positive: bool = False) -> float:
+    if isinstance(v, bool):
+        raise SectionError(f"{name} must be a real number, got {v!r}")
+    try:
+        f = float(v)
+    except (TypeError, ValueError):
+        raise SectionError(f"{name} must be a real number, got {v!r}") from None
+    if not math.isfinite(f):
+        raise SectionError(f"{name} must be finite, got {v!r}")
+    if positive and f <= 0:
+        raise SectionError(f"{name} must be > 0, got {v!r}")
+    return f
+
+
+@dataclass(frozen=True)
+class TypicalSection:
+    """Two-degree-of-freedom typical section (Theodorsen's notation).
+
+    Parameters
+    ----------
+    mu : float
+        Mass ratio ``m / (pi rho b^2)`` (> 0).
+    a : float
+        Elastic axis aft of mid-chord, in semichords (``-1 <= a <= 1`` on the chord; values off the chord are
+        allowed, e.g. Isogai's ``a = -2``, but must be finite).
+    x_alpha : float
+        Centre of mass aft of the elastic axis, in semichords.
+    r_alpha2 : float
+        Radius of gyration squared about the elastic axis, in semichords squared; must exceed ``x_alpha^2``
+        (the moment of inertia about the centre of mass is positive).
+    omega_ratio : float
+        ``omega_h / omega_alpha`` (uncoupled plunge over pitch frequency, > 0).
+
+    Raises
+    ------
+    SectionError
+        A parameter is not a finite number, ``mu``, ``r_alpha2`` or ``omega_ratio`` is not positive, or
+        ``r_alpha2 <= x_alpha^2``.
+
+    Examples
+    --------
+    Hodges & Pierce's example section:
+
+    >>> sec = TypicalSection(mu=20, a=-0.2, x_alpha=0.1, r_alpha2=0.24, omega_ratio=0.4)
+    >>> round(sec.elastic_axis, 3)
+    0.4
+    """
+
+    mu: float
+    a: float
+    x_alpha: float
+    r_alpha2: float
+    omega_ratio: float
+
+    def __post_init__(self) -> None:
+        sa = object.__setattr__
+        sa(self, "mu", _num("mu", self.mu, positive=True))
+        sa(self, "a", _num("a", self.a))
+        sa(self, "x_alpha", _num("x_alpha", self.x_alpha))
+        sa(self, "r_alpha2", _num("r_alpha2", self.r_alpha2, positive=True))
+        sa(self, "omega_ratio", _num("omega_ratio", self.omega_ratio, positive=True))
+        if self.r_alpha2 <= self.x_alpha**2:
+            raise SectionError(
+                f"r_alpha2 = {self.r_alpha2} must exceed x_alpha^2 = {self.x_alpha**2} (the inertia about the centre "
+                "of mass, m b^2 (r_alpha2 - x_alpha^2), must be positive); check the radius of gyration is about the "
+                "elastic axis and squared"
+            )
+
+    @property
+    def elastic_axis(self) -> float:
+        """Elastic axis in chords from the leading edge, ``(1 + a) / 2``."""
+        return 0.5 * (1.0 + self.a)
+
+    @property
+    def mass_matrix(self) -> np.ndarray:
+        """``Ms``, shape (2, 2), for ``q = [h/c, alpha]`` in ``tau = omega_alpha t`` (see the module notes)."""
+        return np.array([[2.0, -self.x_alpha], [-2.0 * self.x_alpha, self.r_alpha2]])
+
+    @property
+    def stiffness_matrix(self) -> np.ndarray:
+        """``Ks = diag(2 omega_ratio^2, r_alpha2)``, shape (2, 2)."""
+        return np.diag([2.0 * self.omega_ratio**2, self.r_alpha2])
+
+    @property
+    def load_matrix(self) -> np.ndarray:
+        """``diag(1, 2) / (pi mu)``: generalised forces per ``V^2 [Cl, Cm]``, shape (2, 2)."""
+        return np.diag([1.0, 2.0]) / (np.pi * self.mu)
+
+    def natural_frequencies(self) -> np.ndarray:
+        """In-vacuo coupled frequencies ``omega / omega_alpha`` (ascending), shape (2,).
+
+        Roots of ``det(Ks - w^2 Ms) = 0``:
+        ``(r2 - x_a^2) w^4 - r2 (1 + s^2) w^2 + r2 s^2 = 0`` with ``s = omega_ratio`` (Hodges & Pierce Eq. 5.x).
+        """
+        r2, xa, s2 = self.r_alpha2, self.x_alpha, self.omega_ratio**2
+        w2 = np.roots([r2 - xa**2, -r2 * (1 + s2), r2 * s2])
+        return np.sort(np.sqrt(w2.real))
