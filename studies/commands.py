@@ -27,7 +27,7 @@ __all__ = ["add_subcommands", "dispatch", "cmd_cases", "cmd_run", "cmd_report", 
            "EXIT_OK", "EXIT_FAILED", "EXIT_UNAVAILABLE"]
 
 EXIT_OK, EXIT_FAILED, EXIT_UNAVAILABLE = 0, 1, 2
-COMMANDS = ("cases", "run", "report", "rom")
+COMMANDS = ("cases", "run", "report", "rom", "fit")
 
 
 def _err(msg: str) -> None:
@@ -100,6 +100,9 @@ def add_subcommands(sub) -> None:
     p.add_argument("--store", type=Path, default=None,
                    help="results store (default OUT/store, or store/ next to an OUT file)")
     p.add_argument("--quiet", action="store_true")
+    from .fit import add_parser as add_fit_parser  # lfdrom fit DATA: anyone's frequency responses
+
+    add_fit_parser(sub)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -379,6 +382,10 @@ def _export_rom(results, args) -> int:
 
 def dispatch(args) -> int:
     """Run the subcommand of parsed ``args``; returns the exit status."""
+    if args.command == "fit":
+        from .fit import cmd_fit
+
+        return cmd_fit(args)
     return {"cases": cmd_cases, "run": cmd_run, "report": cmd_report, "rom": cmd_rom}[args.command](args)
 
 

@@ -408,8 +408,9 @@ def diagnose(
         msgs.append(
             f"{_names(ch, frf)}: {neg[worst]:.2g} of the impulse response's energy is at negative time (threshold "
             f"{neg_time_tol:g}), so no causal model whose impulse response decays within the grid's {K - 1} samples "
-            f"fits these data better than about {np.sqrt(neg[worst]):.1%} RMS, and accurate fits need poles outside "
-            "the unit circle (a stable fit trades accuracy for stability). If the output responds before the input "
+            f"fits these data better than about {np.sqrt(neg[worst]):.1%} RMS: accurate fits need poles outside the "
+            "unit circle, or stable poles so close to it (|z|^M not small, often near z = -1) that the impulse response "
+            "wraps around the grid: artefacts of the fit. If the output responds before the input "
             "reaches its reference point (e.g. loads that feel a gust ahead of the leading edge while the gust is "
             "referenced at x_ref = 0), move the reference upstream by d: the response is then later, H exp(-i omega "
             "d) (sysid.diagnostics.delayed(frf, d)), the ROM is driven by the input at the new reference, and "

@@ -1,0 +1,758 @@
+"""``lfdrom fit DATA``: a stable, DC-exact ROM from anyone's frequency-response data.
+
+The front door for frequency responses that did not come from lfdrom's CFD (a loads team's own CFD, a
+wind-tunnel test). It reads the data (:func:`load_data`), checks them (:func:`sysid.diagnose`), chooses the
+order (a number, or ``auto``: :func:`holdout_order`), fits with :func:`sysid.identify` and writes the ROM
+(``rom.npz`` and ``rom.mat``, :mod:`studies.rom_export`), a Markdown summary (``summary.md``) and figures
+(:mod:`studies.fit_plots`) to ``--out``.
+
+File formats
+------------
+All frequencies are angular frequencies in convective units ``omega`` (``U_inf / c``; the reduced frequency is
+``k = omega c / (2 U_inf) = omega / 2``), or discrete frequencies ``omega_d`` in ``[0, pi]`` with a sampling
+period ``T`` (bilinear map ``omega = (2/T) tan(omega_d / 2)``). ``omega = inf`` is allowed: its value is the
+continuous feedthrough (0 for an aerofoil's gust response) and is imposed, never fitted. Responses are per
+unit input with time dependence ``exp(+i omega t)``.
+
+``.npz``
+    lfdrom's own format (:meth:`sysid.FrequencyResponse.save`), or a plain ``.npz`` with the ``.mat``
+    variables below.
+``.mat`` (MATLAB, v5 or v7; not v7.3/HDF5)
+    ``H``: complex ``(p, m, K)`` (outputs, inputs, frequencies, as MATLAB's ``frd`` ``ResponseData``); a
+    ``(p, K)`` or ``(1, K)``/``(K, 1)`` array is read as single-input. Or ``H_re`` and ``H_im``, real arrays of
+    the same shape. Frequencies: exactly one of ``omega`` (``U/c``; ``Inf`` allowed), ``k`` (reduced
+    frequency, ``omega = 2 k``) or ``omega_d`` (rad/sample, then ``T`` is required). Optional: ``T``
+    (sampling period), ``inputs`` and ``outputs`` (cell arrays or char rows of names).
+    In MATLAB: ``save('data.mat', 'H', 'omega', 'outputs', 'inputs')``.
+CSV
+    Lines starting with ``#`` are comments; a comment ``# key: value`` sets ``frequency`` (the unit of the
+    frequency column: ``omega``, ``k`` or ``omega_d``), ``T`` or ``input`` (the input's name). The first other
+    line is the header: the frequency column first, named ``omega``, ``k`` or ``omega_d`` (any other name
+    needs ``# frequency: ...`` or ``--freq-unit``), then a ``NAME_re`` and a ``NAME_im`` column per output
+    (``NAME/INPUT_re`` for several inputs). Values are plain numbers (``inf`` for ``omega = inf``)::
+
+        # frequency: k
+        # input: gust
+        k,Cl_re,Cl_im,Cm_re,Cm_im
+        0.0,6.28,0.0,-0.11,0.0
+        ...
+
+Options and rules
+-----------------
+- ``--T``: needed for data on continuous frequencies. Default: the file's ``T``, else ``T = 2 /
+  sqrt(omega_lo omega_hi)`` (smallest positive, largest finite ``omega``; :func:`sysid.diagnostics.default_T`),
+  which puts the geometric mean of the band at ``omega_d = pi / 2``.
+- ``--order auto`` (hold-out selection, :func:`holdout_order`): the frequencies sorted by ``omega`` are split
+  into even-indexed ones (fitted; the ``omega = 0`` and ``omega = inf`` samples always belong to them) and
+  odd-indexed ones (held out). Every order ``1..--max-order`` is fitted to the first set with the same
+  options as the final fit; its hold-out error is the largest over outputs of the RMS error on the held-out
+  frequencies relative to the RMS of the data there. The order chosen is the *smallest* whose hold-out error
+  is at most ``1.1 x`` the best plus ``1e-6`` (differences below that are solver round-off). The final model
+  is then fitted to all the data.
+- ``--dc-gain match|none`` (default ``match`` when the data have an ``omega = 0`` sample, else ``none``),
+  ``--stable/--no-stable`` (default stable).
+
+Exit status: 0 written; 1 the identification failed; 2 bad input (file, options), reported with the file and
+the line (CSV) or key (``.npz``/``.mat``) and what to do.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import io
+import json
+import math
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+
+__all__ = ["FitInputError", "FitOutcome", "load_data", "holdout_order", "fit_data", "write_outputs",
+           "add_parser", "cmd_fit", "FREQ_UNITS"]
+
+EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT = 0, 1, 2  # as studies.commands: EXIT_OK, EXIT_FAILED, EXIT_UNAVAILABLE
+FREQ_UNITS = ("omega", "k", "omega_d")
+HOLDOUT_RTOL, HOLDOUT_ATOL = 0.1, 1e-6
+
+
+class FitInputError(ValueError):
+    """A data file or an option of ``lfdrom fit`` is unusable. Names the file and where.
+
+    Attributes
+    ----------
+    file : str
+    where : str or None
+        ``"line 7"`` (CSV), ``"key 'omega'"`` (``.npz``/``.mat``), ``"--T"`` (an option), or None.
+    problem : str
+        What was wrong and what to do.
+    """
+
+    def __init__(self, file: Any, where: str | None, problem: str):
+        self.file, self.where, self.problem = str(file), where, problem
+        super().__init__(f"{self.file}: {where}: {problem}" if where else f"{self.file}: {problem}")
+
+
+# ---------------------------------------------------------------------------------------------
+# Reading
+# ---------------------------------------------------------------------------------------------
+
+def _frequencies(file, where, values, unit: str, T: float | None):
+    """``(omega, omega_d)``: one of them from ``values`` in ``unit``; the other None."""
+    v = np.asarray(values, dtype=float).reshape(-1)
+    if np.isnan(v).any():
+        raise FitInputError(file, where, f"frequency {int(np.flatnonzero(np.isnan(v))[0]) + 1} is NaN; remove it")
+    if (v < 0).any():
+        raise FitInputError(file, where, f"negative frequency {v[v < 0][0]!r}; give omega >= 0 (the response at "
+                                         "-omega is the complex conjugate)")
+    if unit == "omega":
+        return v, None
+    if unit == "k":
+        return 2.0 * v, None
+    if T is None:
+        raise FitInputError(file, where, "discrete frequencies omega_d need the sampling period T: give a 'T' "
+                                         "entry (or '# T: ...' in a CSV) or --T")
+    if (v > np.pi * (1 + 1e-9)).any():
+        raise FitInputError(file, where, f"omega_d must lie in [0, pi] rad/sample, found {v.max()!r}")
+    return None, v
+
+
+def _build(file, where_H, where_w, H, omega, omega_d, T, inputs, outputs):
+    import sysid
+
+    H = np.asarray(H, dtype=complex)
+    K = (omega if omega is not None else omega_d).size
+    if H.ndim == 2 and H.shape[1] == 1 and H.shape[0] == K:  # a MATLAB column vector
+        H = H.T
+    if H.ndim == 1:
+        H = H.reshape(1, 1, -1)
+    elif H.ndim == 2:
+        H = H.reshape(H.shape[0], 1, H.shape[1])
+    if H.ndim != 3:
+        raise FitInputError(file, where_H, f"has {H.ndim} dimensions (shape {H.shape}); give (p, m, K) = "
+                                           "(outputs, inputs, frequencies), or (p, K) for one input")
+    if H.shape[2] != K:
+        raise FitInputError(file, where_H, f"has {H.shape[2]} frequencies (last axis of shape {H.shape}) but "
+                                           f"{where_w} has {K}; give one response per frequency (H is (p, m, K))")
+    bad = ~np.isfinite(H)
+    if bad.any():
+        i, j, k = np.argwhere(bad)[0]
+        raise FitInputError(file, where_H, f"H[{i}, {j}, {k}] is NaN or inf; recompute or drop that frequency (the "
+                                           "omega = inf sample holds the finite feedthrough, usually 0)")
+    for what, names, n in (("outputs", outputs, H.shape[0]), ("inputs", inputs, H.shape[1])):
+        if names is not None and len(names) != n:
+            raise FitInputError(file, f"key '{what}'", f"has {len(names)} names {list(names)} but H has {n} {what}")
+    w = omega if omega is not None else omega_d
+    order = np.argsort(w, kind="stable")
+    if np.unique(w).size != w.size:
+        dup = w[order][np.flatnonzero(np.diff(w[order]) == 0)[0]]
+        raise FitInputError(file, where_w, f"frequency {dup!r} appears twice; average or drop the repeated samples")
+    H = H[:, :, order]
+    try:
+        if omega is not None:
+            return sysid.FrequencyResponse.from_continuous(H, omega[order], T, inputs=inputs, outputs=outputs,
+                                                           metadata={"source": Path(file).name})
+        return sysid.FrequencyResponse(H, omega_d[order], T, inputs=inputs, outputs=outputs,
+                                       metadata={"source": Path(file).name})
+    except ValueError as e:
+        raise FitInputError(file, None, str(e)) from None
+
+
+def _names(v) -> list[str] | None:
+    """Names from a MATLAB cell array / char matrix / NumPy string array."""
+    if v is None:
+        return None
+    a = np.asarray(v, dtype=object)
+    out = []
+    for x in a.reshape(-1):
+        if isinstance(x, np.ndarray):
+            x = "".join(str(c) for c in x.reshape(-1)) if x.dtype.kind in "US" else str(x.reshape(-1)[0])
+        out.append(str(x).strip())
+    return out
+
+
+def _read_arrays(path: Path, d: dict, T_opt: float | None):
+    """The ``.mat``-style variables of a dict (``.mat`` or plain ``.npz``)."""
+    keys = [k for k in d if not k.startswith("__")]
+    if "H" in d:
+        H, where_H = d["H"], "key 'H'"
+        if not np.issubdtype(np.asarray(H).dtype, np.number):
+            raise FitInputError(path, where_H, f"is not numeric (dtype {np.asarray(H).dtype}); store a complex array")
+    elif "H_re" in d and "H_im" in d:
+        re, im = np.asarray(d["H_re"], dtype=float), np.asarray(d["H_im"], dtype=float)
+        if re.shape != im.shape:
+            raise FitInputError(path, "key 'H_im'", f"has shape {im.shape} but H_re has {re.shape}; they must match")
+        H, where_H = re + 1j * im, "key 'H_re'"
+    else:
+        raise FitInputError(path, "key 'H'", f"missing: found keys {keys}; store the response as H (complex, "
+                                             "(p, m, K)) or as H_re and H_im")
+    given = [k for k in ("omega", "k", "omega_d") if k in d]
+    if len(given) != 1:
+        raise FitInputError(path, "key 'omega'", ("missing" if not given else f"ambiguous: found {given}") +
+                            "; give exactly one frequency vector: omega (U/c), k (reduced, omega = 2k) or omega_d "
+                            "(rad/sample, with T)")
+    T = T_opt
+    if T is None and "T" in d:
+        try:
+            T = float(np.asarray(d["T"], dtype=float).reshape(-1)[0])
+        except (TypeError, ValueError, IndexError):
+            raise FitInputError(path, "key 'T'", f"is not a number: {d['T']!r}") from None
+        if not (math.isfinite(T) and T > 0):
+            raise FitInputError(path, "key 'T'", f"must be positive and finite, got {T!r}")
+    unit = given[0]
+    omega, omega_d = _frequencies(path, f"key '{unit}'", d[unit], unit, T)
+    return _build(path, where_H, f"key '{unit}'", H, omega, omega_d, T, _names(d.get("inputs")),
+                  _names(d.get("outputs")))
+
+
+def _load_npz(path: Path, T_opt):
+    import sysid
+
+    try:
+        z = np.load(path, allow_pickle=False)
+    except (ValueError, OSError) as e:
+        raise FitInputError(path, None, f"not a readable .npz file ({e}); write it with numpy.savez or "
+                                        "FrequencyResponse.save") from None
+    with z:
+        d = {k: z[k] for k in z.files}
+    if "header" in d:
+        try:
+            frf = sysid.FrequencyResponse.load(path)
+        except (ValueError, KeyError) as e:
+            raise FitInputError(path, "key 'header'", f"an lfdrom FrequencyResponse file that does not load: {e}")
+        if T_opt is not None and frf.omega is not None:
+            frf = frf.with_T(T_opt)
+        return frf
+    return _read_arrays(path, d, T_opt)
+
+
+def _load_mat(path: Path, T_opt):
+    import scipy.io
+
+    try:
+        d = scipy.io.loadmat(path, squeeze_me=False)
+    except NotImplementedError:
+        raise FitInputError(path, None, "MATLAB v7.3 (HDF5) files are not supported; save with "
+                                        "save('file.mat', ..., '-v7')") from None
+    except (ValueError, OSError, TypeError) as e:
+        raise FitInputError(path, None, f"not a readable MATLAB .mat file ({e})") from None
+    d = {k: (np.squeeze(v) if k in ("omega", "k", "omega_d", "T") else v) for k, v in d.items()}
+    return _read_arrays(path, d, T_opt)
+
+
+def _load_csv(path: Path, T_opt, freq_unit: str | None, input_name: str | None):
+    text = path.read_text(encoding="utf-8-sig")
+    meta: dict[str, tuple[str, int]] = {}
+    rows: list[tuple[int, list[str]]] = []
+    for n, row in enumerate(csv.reader(io.StringIO(text)), start=1):
+        if not row or all(not c.strip() for c in row):
+            continue
+        first = row[0].strip()
+        if first.startswith("#"):
+            body = ",".join(row).lstrip("#").strip()
+            if ":" in body:
+                key, val = body.split(":", 1)
+                meta[key.strip().lower()] = (val.strip(), n)
+            continue
+        rows.append((n, [c.strip() for c in row]))
+    if not rows:
+        raise FitInputError(path, None, "no header line and no data: give a header such as 'omega,Cl_re,Cl_im' "
+                                        "and one line per frequency")
+    hline, header = rows[0]
+    data = rows[1:]
+    if not data:
+        raise FitInputError(path, f"line {hline}", "a header but no data lines; add one line per frequency")
+    unit = freq_unit
+    if unit is None and "frequency" in meta:
+        unit, ln = meta["frequency"]
+        if unit not in FREQ_UNITS:
+            raise FitInputError(path, f"line {ln}", f"'# frequency: {unit}' is not one of {FREQ_UNITS} (omega in U/c, "
+                                                    "k = omega/2, omega_d in rad/sample)")
+    fname = header[0]
+    if unit is None:
+        if fname not in FREQ_UNITS:
+            raise FitInputError(path, f"line {hline}", f"the first column {fname!r} is not a frequency column I "
+                                                       f"know: name it one of {FREQ_UNITS} (omega in U/c, k = "
+                                                       "omega/2), or declare '# frequency: k' or use --freq-unit")
+        unit = fname
+    T = T_opt
+    if T is None and "t" in meta:
+        val, ln = meta["t"]
+        try:
+            T = float(val)
+        except ValueError:
+            raise FitInputError(path, f"line {ln}", f"'# T: {val}' is not a number") from None
+        if not (math.isfinite(T) and T > 0):
+            raise FitInputError(path, f"line {ln}", f"T must be positive and finite, got {val}")
+    # response columns: NAME_re / NAME_im, NAME = output or output/input
+    cols: dict[tuple[str, str], dict[str, int]] = {}
+    default_in = input_name or (meta["input"][0] if "input" in meta else "u[0]")
+    for c, name in enumerate(header[1:], start=1):
+        low = name.lower()
+        part = next((s for s in ("_re", "_im", "_real", "_imag") if low.endswith(s)), None)
+        if part is None or len(name) == len(part):
+            raise FitInputError(path, f"line {hline}", f"column {c + 1} {name!r}: response columns are named "
+                                                       "NAME_re and NAME_im (e.g. Cl_re, Cl_im), one pair per output")
+        base = name[: -len(part)]
+        out, _, inp = base.partition("/")
+        key = (out, inp or default_in)
+        kind = "re" if part in ("_re", "_real") else "im"
+        if kind in cols.setdefault(key, {}):
+            raise FitInputError(path, f"line {hline}", f"column {name!r} appears twice")
+        cols[key][kind] = c
+    if not cols:
+        raise FitInputError(path, f"line {hline}", "no response columns: add NAME_re and NAME_im columns")
+    for (o, i), parts in cols.items():
+        for kind in ("re", "im"):
+            if kind not in parts:
+                label = o if i == default_in else f"{o}/{i}"
+                raise FitInputError(path, f"line {hline}", f"{label}_{kind} is missing: every output needs both "
+                                                           f"{label}_re and {label}_im")
+    outputs = list(dict.fromkeys(o for o, _ in cols))
+    inputs = list(dict.fromkeys(i for _, i in cols))
+    for o in outputs:
+        for i in inputs:
+            if (o, i) not in cols:
+                raise FitInputError(path, f"line {hline}", f"no columns for output {o!r} and input {i!r}: give every "
+                                                           "output/input pair (NAME/INPUT_re, NAME/INPUT_im)")
+    K = len(data)
+    vals = np.empty((K, len(header)))
+    for r, (n, row) in enumerate(data):
+        if len(row) != len(header):
+            raise FitInputError(path, f"line {n}", f"{len(row)} values but the header (line {hline}) has "
+                                                   f"{len(header)} columns")
+        for c, cell in enumerate(row):
+            try:
+                vals[r, c] = float(cell)
+            except ValueError:
+                raise FitInputError(path, f"line {n}", f"column {header[c]!r}: {cell!r} is not a number") from None
+            if math.isnan(vals[r, c]) or (c > 0 and math.isinf(vals[r, c])):
+                raise FitInputError(path, f"line {n}", f"column {header[c]!r}: {cell!r}; responses must be finite "
+                                                       "numbers (only the frequency may be inf)")
+            if c == 0 and vals[r, c] < 0:
+                raise FitInputError(path, f"line {n}", f"negative frequency {cell}; give frequencies >= 0")
+    H = np.empty((len(outputs), len(inputs), K), dtype=complex)
+    for (o, i), parts in cols.items():
+        H[outputs.index(o), inputs.index(i)] = vals[:, parts["re"]] + 1j * vals[:, parts["im"]]
+    omega, omega_d = _frequencies(path, f"line {hline}", vals[:, 0], unit, T)
+    w = omega if omega is not None else omega_d
+    _, first = np.unique(w, return_index=True)
+    if first.size != K:
+        dup = sorted(set(range(K)) - set(first.tolist()))[0]
+        raise FitInputError(path, f"line {data[dup][0]}", f"frequency {data[dup][1][0]} appears twice; average or "
+                                                          "drop the repeated line")
+    return _build(path, "H", f"line {hline}", H, omega, omega_d, T, inputs, outputs)
+
+
+def load_data(path, *, T: float | None = None, freq_unit: str | None = None,
+              input_name: str | None = None):
+    """Read frequency-response data from ``.npz``, ``.mat`` or ``.csv`` (formats in the module docstring).
+
+    Parameters
+    ----------
+    path : path-like
+    T : float, optional
+        Sampling period; overrides the file's. Data on continuous frequencies without any keep ``T = None``
+        (:func:`fit_data` then picks the default).
+    freq_unit : {"omega", "k", "omega_d"}, optional
+        CSV only: unit of the frequency column (overrides ``# frequency:`` and the column name).
+    input_name : str, optional
+        CSV only: the input's name for single-input files (overrides ``# input:``; default ``u[0]``).
+
+    Returns
+    -------
+    sysid.FrequencyResponse
+        Frequencies sorted increasing.
+
+    Raises
+    ------
+    FitInputError
+        Missing file, unknown suffix, or a bad entry (the message names the line or key and the fix).
+    """
+    path = Path(path)
+    if freq_unit is not None and freq_unit not in FREQ_UNITS:
+        raise FitInputError(path, "--freq-unit", f"{freq_unit!r} is not one of {FREQ_UNITS}")
+    if T is not None and not (math.isfinite(T) and T > 0):
+        raise FitInputError(path, "--T", f"must be positive and finite, got {T!r}")
+    if not path.is_file():
+        raise FitInputError(path, None, "no such file")
+    suffix = path.suffix.lower()
+    if suffix == ".npz":
+        return _load_npz(path, T)
+    if suffix == ".mat":
+        return _load_mat(path, T)
+    if suffix in (".csv", ".txt"):
+        return _load_csv(path, T, freq_unit, input_name)
+    raise FitInputError(path, None, f"unknown suffix {path.suffix!r}: give a .npz, .mat or .csv file")
+
+
+# ---------------------------------------------------------------------------------------------
+# Fitting
+# ---------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class HoldoutSelection:
+    """Result of :func:`holdout_order`: ``orders`` tried, their ``errors`` (NaN where the fit failed), the
+    ``chosen`` order and the ``rule`` in words."""
+
+    orders: np.ndarray
+    errors: np.ndarray
+    chosen: int
+    rule: str
+
+
+def _split(frf) -> tuple[np.ndarray, np.ndarray]:
+    """Indices ``(fit, held_out)``: even/odd positions by increasing omega; DC and inf always fitted."""
+    w = frf.omega if frf.omega is not None else frf.omega_d
+    order = np.argsort(w, kind="stable")
+    fit = set(order[::2].tolist())
+    for k in (0, order.size - 1):
+        v = w[order[k]]
+        if v == 0 or np.isinf(v) or (frf.omega is None and v >= np.pi):
+            fit.add(int(order[k]))
+    fit_idx = np.array(sorted(fit, key=lambda i: w[i]))
+    held = np.array([i for i in order if i not in fit])
+    return fit_idx, held
+
+
+def holdout_order(frf, *, max_order: int = 30, dc_gain=None, stable: bool = True) -> HoldoutSelection:
+    """Choose the order by hold-out (rule in the module docstring).
+
+    Parameters
+    ----------
+    frf : sysid.FrequencyResponse
+        Data with ``T``.
+    max_order : int
+        Largest order tried (fewer when the fitting half cannot support it).
+    dc_gain, stable
+        As for :func:`sysid.identify` (``dc_gain`` is None or a (p, m) array; ``"match"`` is resolved by the
+        caller so that the held-out half keeps the full data's DC value).
+
+    Returns
+    -------
+    HoldoutSelection
+    """
+    import sysid
+
+    fit_idx, held = _split(frf)
+    if held.size == 0:
+        raise FitInputError("<data>", "--order", "too few frequencies to hold any out; give --order N")
+    part, val = frf.take(fit_idx), frf.take(held)
+    Hv = np.asarray(val.H)
+    den = np.maximum(np.sqrt(np.mean(np.abs(Hv) ** 2, axis=(1, 2))), np.finfo(float).tiny)
+    orders = np.arange(1, max_order + 1)
+    errs = np.full(orders.size, np.nan)
+    for i, n in enumerate(orders):
+        try:
+            import warnings
+
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)
+                res = sysid.identify(part, int(n), dc_gain=dc_gain, stable=stable)
+            Hm = res.evaluate(val.omega_d)
+        except sysid.OrderError:
+            break
+        except (ValueError, RuntimeError, np.linalg.LinAlgError):
+            continue
+        errs[i] = float((np.sqrt(np.mean(np.abs(Hm - Hv) ** 2, axis=(1, 2))) / den).max())
+    if not np.isfinite(errs).any():
+        raise FitInputError("<data>", "--order", "no order could be fitted to the even-indexed frequencies; give "
+                                                 "--order N")
+    best = np.nanmin(errs)
+    ok = np.flatnonzero(errs <= (1 + HOLDOUT_RTOL) * best + HOLDOUT_ATOL)
+    chosen = int(orders[ok[0]])
+    rule = (f"hold-out: fitted orders 1..{int(orders[np.isfinite(errs)].max())} to {fit_idx.size} of the "
+            f"{frf.nfreq} frequencies (even-indexed, plus omega = 0 and inf), measured on the other {held.size}; "
+            f"chose the smallest order whose hold-out error is <= 1.1 x the best ({best:.3g}) + 1e-6")
+    return HoldoutSelection(orders=orders, errors=errs, chosen=chosen, rule=rule)
+
+
+@dataclass(frozen=True)
+class FitOutcome:
+    """What :func:`fit_data` did: the data (with ``T``), their diagnostics, the identification result, the
+    order selection (None for a given order), the options and the time taken."""
+
+    data: Any
+    diagnostics: Any
+    result: Any
+    selection: HoldoutSelection | None
+    T_rule: str
+    options: dict
+    elapsed: float
+
+
+def fit_data(frf, *, order: int | str = "auto", dc_gain: str = "auto", stable: bool = True, T: float | None = None,
+             max_order: int = 30) -> FitOutcome:
+    """Diagnose, choose the order and identify a ROM.
+
+    Parameters
+    ----------
+    frf : sysid.FrequencyResponse
+        From :func:`load_data`.
+    order : int or "auto"
+    dc_gain : {"auto", "match", "none"}
+        ``"auto"``: ``"match"`` when the data have an ``omega = 0`` sample.
+    stable : bool
+    T : float, optional
+        Overrides the data's sampling period; default the data's, else :func:`sysid.diagnostics.default_T`.
+    max_order : int
+        For ``order="auto"``.
+
+    Returns
+    -------
+    FitOutcome
+    """
+    import sysid
+    from sysid.diagnostics import default_T
+
+    t0 = time.perf_counter()
+    src = frf.metadata.get("source", "<data>")
+    if T is not None:
+        if frf.omega is None:
+            raise FitInputError(src, "--T", "the data are on discrete frequencies omega_d with their own T; drop --T")
+        frf, T_rule = frf.with_T(T), f"T = {T:.6g} (given)"
+    elif frf.T is not None:
+        T_rule = f"T = {frf.T:.6g} (from the data file)"
+    else:
+        Td = default_T(frf.omega)
+        frf = frf.with_T(Td)
+        w = frf.omega[np.isfinite(frf.omega) & (frf.omega > 0)]
+        T_rule = (f"T = {Td:.6g} (default 2 / sqrt(omega_lo omega_hi), omega from {w.min():.4g} to {w.max():.4g}: "
+                  "their geometric mean maps to omega_d = pi/2)")
+    diag = sysid.diagnose(frf)
+    if dc_gain == "auto":
+        dc_gain = "match" if diag.has_dc else "none"
+    if dc_gain == "match" and not diag.has_dc:
+        raise FitInputError(src, "--dc-gain", "match needs an omega = 0 sample in the data; add it or use "
+                                              "--dc-gain none")
+    dc = None
+    if dc_gain == "match":
+        import warnings
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # diagnose() reports a complex DC sample
+            dc = np.array(frf.dc_gain)
+    selection = None
+    if order == "auto":
+        selection = holdout_order(frf, max_order=max_order, dc_gain=dc, stable=stable)
+        n = selection.chosen
+    else:
+        n = int(order)
+    try:
+        res = sysid.identify(frf, n, dc_gain=dc, stable=stable)
+    except sysid.OrderError as e:
+        raise FitInputError(src, "--order", str(e)) from None
+    options = {"order": order, "dc_gain": dc_gain, "stable": bool(stable), "max_order": max_order}
+    return FitOutcome(data=frf, diagnostics=diag, result=res, selection=selection, T_rule=T_rule, options=options,
+                      elapsed=time.perf_counter() - t0)
+
+
+# ---------------------------------------------------------------------------------------------
+# Writing
+# ---------------------------------------------------------------------------------------------
+
+def _continuous_poles(res, limit: int = 12) -> str:
+    """The ROM's poles mapped to the s-plane, sorted by |s|, as text (at most ``limit``)."""
+    z = np.linalg.eigvals(np.asarray(res.model.A))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = (2.0 / res.T) * (z - 1.0) / (z + 1.0)
+    s = s[np.argsort(np.abs(s))]
+    s = s[s.imag >= -1e-12 * np.maximum(1.0, np.abs(s))]  # one of each conjugate pair
+    txt = ", ".join(f"{v.real:.4g}" if abs(v.imag) <= 1e-9 * max(1.0, abs(v)) else f"{v.real:.4g} +- {abs(v.imag):.4g}i"
+                    for v in s[:limit])
+    return txt + (f", ... ({s.size - limit} more)" if s.size > limit else "")
+
+
+def _model_dc(res) -> np.ndarray:
+    return res.evaluate(np.array([0.0]))[:, :, 0].real
+
+
+def summary_markdown(out: FitOutcome, data_path, command: str | None = None) -> str:
+    """The Markdown summary of a fit: data, diagnostics, order and why, errors, DC, stability, files."""
+    res, frf, diag = out.result, out.data, out.diagnostics
+    p, m, K = frf.shape
+    w = frf.omega
+    fin = w[np.isfinite(w)]
+    lines = [f"# ROM fitted to {Path(data_path).name}", ""]
+    if command:
+        lines += ["```", command, "```", ""]
+    lines += [
+        "## Data", "",
+        f"- {p} output(s) {list(frf.outputs)}, {m} input(s) {list(frf.inputs)}, {K} frequencies, omega from "
+        f"{fin.min():.4g} to {fin.max():.4g} (U/c; k = omega/2 from {fin.min() / 2:.4g} to {fin.max() / 2:.4g})"
+        + ("; plus omega = inf" if np.isinf(w).any() else ""),
+        f"- {out.T_rule}", "",
+        "## Data diagnostics (`sysid.diagnose`)", "", diag.markdown(), "",
+        "## Order", "",
+    ]
+    if out.selection is None:
+        lines.append(f"- order {res.order}, given (--order {res.order})")
+    else:
+        sel = out.selection
+        lines.append(f"- order **{sel.chosen}** by {sel.rule}")
+        fin_e = np.isfinite(sel.errors)
+        lines += ["", "| order | hold-out RMS error |", "| --- | --- |"]
+        lines += [f"| {n} | {e:.3e} |" for n, e in zip(sel.orders[fin_e], sel.errors[fin_e])]
+    lines += ["", "## Fit (`sysid.identify`)", ""]
+    enf = ", ".join(k for k, v in res.enforced.items() if v) or "none"
+    lines += [f"- options: dc_gain={out.options['dc_gain']}, stable={out.options['stable']}; enforced: {enf}",
+              f"- spectral radius {res.spectral_radius:.6f} ({'stable' if res.spectral_radius < 1 else 'UNSTABLE'})",
+              f"- continuous poles (s in U/c, by the inverse bilinear map s = (2/T)(z - 1)/(z + 1)): "
+              f"{_continuous_poles(res)}",
+              "", "| output | max error / peak | RMS error / RMS | DC error |", "| --- | --- | --- | --- |"]
+    dcm = _model_dc(res)
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        dcd = frf.dc_gain
+    for i, o in enumerate(frf.outputs):
+        if dcd is not None:
+            scale = max(float(np.abs(dcd[i]).max()), np.finfo(float).tiny)
+            dce = f"{float(np.abs(dcm[i] - dcd[i]).max()) / scale:.2e}"
+        else:
+            dce = "no omega = 0 sample"
+        lines.append(f"| {o} | {res.errors.max_rel_per_output[i]:.3e} | {res.errors.rms_rel_per_output[i]:.3e} "
+                     f"| {dce} |")
+    lines += ["", "Errors are over all data frequencies: max |model - data| over the output's peak |data|, RMS "
+              "error over the RMS of the data (`sysid.metrics`); DC error relative to |H(0)|.", "",
+              "## Files", "",
+              "- `rom.npz`, `rom.mat`: discrete model `A, B, C, D, T` (sampling period T, bilinear map; in MATLAB "
+              "`r = load('rom.mat'); sys = ss(r.A, r.B, r.C, r.D, r.T)`; `d2c(sys, 'tustin')` gives the continuous "
+              "model)",
+              "- `bode.png`: data and ROM; `error.png`: |model - data| / peak against frequency; `hankel.png`: "
+              "Hankel singular values; `poles.png`: poles in the z-plane", ""]
+    return "\n".join(lines)
+
+
+def write_outputs(out: FitOutcome, data_path, out_dir, *, command: str | None = None,
+                  figures: bool = True) -> dict[str, Path]:
+    """Write ``rom.npz``, ``rom.mat``, ``summary.md`` and the figures to ``out_dir``; returns their paths."""
+    from .rom_export import export_rom_mat, export_rom_npz
+
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    res = out.result
+    meta = dict(source=str(Path(data_path).name), order=int(res.order), T=float(res.T),
+                dc_gain=out.options["dc_gain"], stable=out.options["stable"],
+                max_error_per_output=dict(zip(out.data.outputs, map(float, res.errors.max_rel_per_output))),
+                spectral_radius=float(res.spectral_radius), time="convective, s = t U / c",
+                frequency="omega in U/c, k = omega / 2; discrete model with the bilinear map, dt = T")
+    paths = {"npz": export_rom_npz(out_dir / "rom.npz", res.model, meta),
+             "mat": export_rom_mat(out_dir / "rom.mat", res.model, meta)}
+    md = out_dir / "summary.md"
+    md.write_text(summary_markdown(out, data_path, command), encoding="utf-8")
+    paths["summary"] = md
+    if figures:
+        from .fit_plots import write_figures
+
+        paths.update(write_figures(out, out_dir))
+    return paths
+
+
+def print_summary(out: FitOutcome, file=None) -> None:
+    """Short plain-text summary on ``file`` (default stdout)."""
+    res = out.result
+    file = file or sys.stdout
+    print(out.diagnostics.summary(), file=file)
+    why = out.selection.rule if out.selection else "given"
+    print(f"{out.T_rule}", file=file)
+    print(f"order {res.order} ({why})", file=file)
+    per = ", ".join(f"{o} {e:.2e}" for o, e in zip(out.data.outputs, res.errors.max_rel_per_output))
+    print(f"max error / peak: {per}; DC error {res.dc_error if res.dc_error is not None else float('nan'):.1e}; "
+          f"spectral radius {res.spectral_radius:.6f}", file=file)
+
+
+# ---------------------------------------------------------------------------------------------
+# Command line
+# ---------------------------------------------------------------------------------------------
+
+def add_parser(subparsers) -> argparse.ArgumentParser:
+    """Register ``fit`` on an ``argparse`` subparsers object."""
+    p = subparsers.add_parser(
+        "fit", help="fit a stable, DC-exact ROM to your own frequency-response data (.npz, .mat, .csv)",
+        description="Read frequency-response data (.npz, MATLAB .mat or CSV; formats in docs/fit.md), check them "
+                    "for consistency with a causal, stable, real system, choose the order and write the ROM "
+                    "(rom.npz, rom.mat), summary.md and figures to --out.")
+    p.add_argument("data", type=Path, metavar="DATA", help="data file: .npz, .mat or .csv")
+    p.add_argument("--order", default="auto", metavar="N|auto",
+                   help="model order, or auto (default): hold-out selection on alternate frequencies")
+    p.add_argument("--max-order", type=int, default=30, help="largest order tried by --order auto (default 30)")
+    p.add_argument("--dc-gain", choices=("match", "none"), default=None,
+                   help="match the omega = 0 sample exactly (default: match when the data have it)")
+    p.add_argument("--stable", action=argparse.BooleanOptionalAction, default=True,
+                   help="enforce a stable model (default --stable)")
+    p.add_argument("--T", default=None, metavar="T",
+                   help="sampling period of the bilinear map (convective units; e.g. 70/(2*pi)); default the file's, "
+                        "else 2/sqrt(omega_lo omega_hi)")
+    p.add_argument("--freq-unit", choices=FREQ_UNITS, default=None,
+                   help="CSV: unit of the frequency column (omega in U/c, k = omega/2, omega_d in rad/sample)")
+    p.add_argument("--input", default=None, metavar="NAME", help="CSV: the input's name (default '# input:' or u[0])")
+    p.add_argument("--out", type=Path, default=None, help="output folder (default fit-<DATA stem>)")
+    p.add_argument("--no-figures", action="store_true", help="write the ROM and the summary only")
+    p.add_argument("--quiet", action="store_true", help="print only the files written")
+    return p
+
+
+def _parse_T(text: str | None, file) -> float | None:
+    if text is None:
+        return None
+    try:
+        v = float(eval(str(text), {"__builtins__": {}}, {"pi": math.pi}))  # noqa: S307 - numbers and pi only
+    except Exception:  # noqa: BLE001
+        raise FitInputError(file, "--T", f"{text!r} is not a number (e.g. 11.14 or 70/(2*pi))") from None
+    if not (math.isfinite(v) and v > 0):
+        raise FitInputError(file, "--T", f"must be positive and finite, got {text}")
+    return v
+
+
+def _parse_order(text, file) -> int | str:
+    if str(text).lower() == "auto":
+        return "auto"
+    try:
+        n = int(text)
+    except ValueError:
+        raise FitInputError(file, "--order", f"{text!r} is neither a positive integer nor 'auto'") from None
+    if n < 1:
+        raise FitInputError(file, "--order", f"must be >= 1, got {n}")
+    return n
+
+
+def cmd_fit(args) -> int:
+    """Run ``lfdrom fit``; returns the exit status (0 ok, 1 identification failed, 2 bad input)."""
+    import sysid
+
+    def err(msg):
+        print(f"lfdrom: error: {msg}", file=sys.stderr)
+
+    try:
+        T = _parse_T(args.T, args.data)
+        order = _parse_order(args.order, args.data)
+        if args.max_order < 1:
+            raise FitInputError(args.data, "--max-order", f"must be >= 1, got {args.max_order}")
+        frf = load_data(args.data, T=T, freq_unit=args.freq_unit, input_name=args.input)
+        out = fit_data(frf, order=order, dc_gain=args.dc_gain or "auto", stable=args.stable, T=None,
+                       max_order=args.max_order)
+    except FitInputError as e:
+        err(str(e))
+        return EXIT_BAD_INPUT
+    except (sysid.ConstraintError, sysid.FrequencyGridError, sysid.FrequencyDataError) as e:
+        err(f"{args.data}: {e}")
+        return EXIT_BAD_INPUT
+    except Exception as e:  # noqa: BLE001 - the command line reports any failure with its type
+        err(f"the identification of {args.data} failed: {type(e).__name__}: {e}")
+        return EXIT_FAILED
+    out_dir = args.out if args.out is not None else Path(f"fit-{args.data.stem}")
+    command = "lfdrom fit " + " ".join(sys.argv[2:]) if len(sys.argv) > 2 and sys.argv[1] == "fit" else None
+    try:
+        paths = write_outputs(out, args.data, out_dir, command=command, figures=not args.no_figures)
+    except OSError as e:
+        err(f"cannot write to {out_dir}: {e}")
+        return EXIT_FAILED
+    if not args.quiet:
+        print_summary(out)
+    print("wrote " + ", ".join(str(p) for p in paths.values()))
+    return EXIT_OK
