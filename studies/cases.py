@@ -119,6 +119,13 @@ def _integer(owner: str, name: str, value) -> int:
     return int(value)
 
 
+WALL_SPACING = 0.004
+"""First cell height at the wall of ``cfd.c_grid`` (its ``wall_spacing`` default, chords)."""
+
+MAX_CELLS = 2_000_000
+"""Most cells ``(ni - 1) (nj - 1)`` of a study grid (memory of the exact Jacobian's LU)."""
+
+
 @dataclass(frozen=True)
 class GridSpec:
     """Sizes of the C-grid (``cfd.c_grid`` arguments); the paper's 181 x 60 grid by default.
@@ -158,6 +165,17 @@ class GridSpec:
             raise CaseError(f"grid: nj = {self.nj} is too few; use nj >= 16 (paper: 60)")
         if self.farfield < 3.0:
             raise CaseError(f"grid: farfield = {self.farfield} chords is too close; use at least 3 (default 25)")
+        if self.farfield / (self.nj - 1) <= WALL_SPACING:
+            raise CaseError(
+                f"grid: nj = {self.nj} nodes outward over {self.farfield:g} chords leaves a uniform spacing below the "
+                f"wall spacing {WALL_SPACING} that cfd.c_grid grows from; use nj < {int(self.farfield / WALL_SPACING) + 1} "
+                "(paper: 60)")
+        cells = (self.ni - 1) * (self.nj - 1)
+        if cells > MAX_CELLS:
+            raise CaseError(
+                f"grid: {self.ni} x {self.nj} has {cells:,} cells (at most {MAX_CELLS:,}): the exact Jacobian's sparse "
+                "LU would need far more memory than one machine has (the paper grid's 10,620 cells take about 1.5 GB "
+                "per worker); use a coarser grid, e.g. 361 x 120")
 
     def kwargs(self) -> dict:
         """Keyword arguments of ``cfd.c_grid``."""

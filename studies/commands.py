@@ -1,32 +1,37 @@
 """The study subcommands of ``lfdrom``: ``cases``, ``run``, ``report`` and ``rom`` (registered by studies.cli).
 
 Each validates its inputs with :mod:`studies.cases` and :mod:`studies.config` before anything is computed,
-then hands over to ``studies.runner.run_study`` or ``studies.report.make_report``. Those receive the
-validated :class:`studies.config.StudyConfig` as first argument, plus the keyword arguments among
-``output_dir``, ``store_dir``, ``scheduler``, ``workers``, ``progress`` and ``force`` that their signature
-accepts. While a module is missing the command says so and exits with status 2. ``rom`` then writes the one
-ROM the runner identified as ``.npz`` and ``.mat`` (:mod:`studies.rom_export`).
+checks that every folder it will write accepts files and that the prose file parses, then calls
+``studies.runner.run_study`` and ``studies.report.make_report``. ``rom`` then writes the one ROM the runner
+identified as ``.npz`` and ``.mat`` (:mod:`studies.rom_export`).
 
-Exit status: 0 success, 1 the runner or report failed, 2 bad input or the runner/report not available.
+Exit status (the last line printed says which):
+
+- 0: everything asked for was computed and written;
+- 1: the runner or the report failed (an unexpected error, reported with its type);
+- 2: bad input (study file, options, prose file), found before any computation;
+- 3: incomplete: some pieces failed or are missing; what was computed is stored, a rerun retries the rest;
+- 4: nothing could be written: the store, the output folder, the page's folder or the ROM file;
+- 130: interrupted (Ctrl-C); what was stored is kept, the same command resumes.
 """
 
 from __future__ import annotations
 
 import argparse
-import importlib
-import importlib.util
-import inspect
 import json
 import sys
+import warnings
 from pathlib import Path
 
 from .cases import TEST_CASES, case_table
 from .config import StudyConfig, StudyConfigError, load_study, parse_study
 
 __all__ = ["add_subcommands", "dispatch", "cmd_cases", "cmd_run", "cmd_report", "cmd_rom", "rom_study", "COMMANDS",
-           "EXIT_OK", "EXIT_FAILED", "EXIT_UNAVAILABLE"]
+           "EXIT_OK", "EXIT_FAILED", "EXIT_UNAVAILABLE", "EXIT_INCOMPLETE", "EXIT_NOT_WRITTEN", "EXIT_INTERRUPTED",
+           "run_status", "rom_summary_line"]
 
-EXIT_OK, EXIT_FAILED, EXIT_UNAVAILABLE = 0, 1, 2
+EXIT_OK, EXIT_FAILED, EXIT_UNAVAILABLE, EXIT_INCOMPLETE, EXIT_NOT_WRITTEN = 0, 1, 2, 3, 4
+EXIT_INTERRUPTED = 130  # the shell's convention for Ctrl-C (128 + SIGINT)
 COMMANDS = ("cases", "run", "report", "rom", "fit")
 
 
@@ -67,6 +72,8 @@ def add_subcommands(sub) -> None:
     p.add_argument("--no-report", action="store_true", help="compute only; write the report later with "
                                                             "'lfdrom report'")
     p.add_argument("--force", action="store_true", help="recompute even what the store holds")
+    p.add_argument("--force-page", action="store_true",
+                   help="overwrite the report page even when it was not written by lfdrom (no generator marker)")
     p.add_argument("--dry-run", action="store_true", help="validate and list the sweep points, compute nothing")
 
     p = sub.add_parser("report", help="tables and figures of a study from its stored results",
@@ -78,6 +85,8 @@ def add_subcommands(sub) -> None:
                         "to a folder of the same name) instead of <output>/report.md")
     p.add_argument("--prose", default=None, metavar="FILE.toml",
                    help="TOML file of prose-slot texts (slot = \"text\"); slots already in the page are kept")
+    p.add_argument("--force-page", action="store_true",
+                   help="overwrite the page even when it was not written by lfdrom (no generator marker)")
     p.add_argument("--redraw", action="store_true",
                    help="draw every figure even when figures/manifest.json says they are up to date")
 
@@ -167,55 +176,90 @@ def _apply_paths(config: StudyConfig, args) -> StudyConfig:
     return replace(config, **changes) if changes else config
 
 
-def _entry_point(module: str, function: str):
-    """``module.function``, or None when the module (or the function) does not exist yet."""
-    mod = sys.modules.get(module)
-    if mod is None:
+def _preflight(config: StudyConfig, *, report: bool, page=None, prose=None, extra=()) -> int:
+    """Check, before anything is computed, what would otherwise fail late: every folder the command will write
+    (the store, the output folder, the report page's folder and ``extra`` folders) accepts files, and the
+    prose file parses. Returns EXIT_OK, or (after saying why) EXIT_UNAVAILABLE / EXIT_NOT_WRITTEN."""
+    from .files import NotWritableError, probe_writable
+
+    folders = [(config.store_dir, "results store", "give another one with --store"),
+               (config.output_dir, "output folder", "give another one with --out")]
+    page = page if page is not None else config.report.page
+    if report and page is not None:
+        folders.append((Path(page).parent, "report page's folder", "give another page with --page"))
+    folders.extend(extra)
+    for folder, what, fix in folders:
         try:
-            if importlib.util.find_spec(module) is None:
-                return None
-        except ModuleNotFoundError:
-            return None
-        mod = importlib.import_module(module)  # an ImportError inside a present module is a real failure
-    return getattr(mod, function, None)
+            probe_writable(folder, what=what, fix=fix)
+        except NotWritableError as e:
+            _err(str(e))
+            return EXIT_NOT_WRITTEN
+    prose = prose if prose is not None else config.report.prose
+    if report and prose is not None:
+        from .report import ReportError, read_prose
 
-
-def _call(fn, config, options: dict):
-    """Call ``fn(config, **options)`` with the options its signature accepts (None values dropped)."""
-    try:
-        params = inspect.signature(fn).parameters
-    except (TypeError, ValueError):  # pragma: no cover - builtins
-        params = {}
-    takes_kwargs = any(p.kind is inspect.Parameter.VAR_KEYWORD for p in params.values())
-    kw = {k: v for k, v in options.items() if v is not None and (takes_kwargs or k in params)}
-    dropped = sorted(k for k, v in options.items() if v not in (None, False) and k not in kw)
-    if dropped:
-        print(f"lfdrom: note: {fn.__module__}.{fn.__name__} does not take {', '.join(dropped)}; ignored",
-              file=sys.stderr)
-    return fn(config, **kw)
-
-
-def _hand_over(module, function, config, options, what, result=None) -> int:
-    try:
-        fn = _entry_point(module, function)
-    except ImportError as e:
-        _err(f"{module} cannot be imported: {e}")
-        return EXIT_FAILED
-    if fn is None:
-        _err(f"{what} is not available yet ({module}.{function} does not exist in this version); the inputs "
-             f"({config.source}) are valid: {len(config.points())} sweep point(s)")
-        return EXIT_UNAVAILABLE
-    try:
-        out = _call(fn, config, options)
-        if result is not None:
-            result["result"] = out
-    except StudyConfigError as e:
-        _err(str(e))
-        return EXIT_UNAVAILABLE
-    except Exception as e:  # noqa: BLE001 - the command line reports any failure with its type
-        _err(f"{what} failed: {type(e).__name__}: {e}")
-        return EXIT_FAILED
+        try:
+            read_prose(prose)
+        except ReportError as e:
+            _err(str(e))
+            return EXIT_UNAVAILABLE
     return EXIT_OK
+
+
+def _run(config: StudyConfig, args, **options):
+    """``studies.runner.run_study`` with the command line's options; ``(results, status)``."""
+    from .runner import RunInterrupted, RunnerError, run_study
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("always", RuntimeWarning)
+            warnings.showwarning = _show_warning
+            return run_study(config, **options), EXIT_OK
+    except RunInterrupted as e:
+        _err(f"interrupted: {e}")
+        return None, EXIT_INTERRUPTED
+    except (RunnerError, StudyConfigError) as e:
+        _err(str(e))
+        return None, EXIT_UNAVAILABLE
+    except OSError as e:
+        _err(f"the study runner could not write: {type(e).__name__}: {e}")
+        return None, EXIT_NOT_WRITTEN
+    except Exception as e:  # noqa: BLE001 - the command line reports any failure with its type
+        _err(f"the study runner failed: {type(e).__name__}: {e}")
+        return None, EXIT_FAILED
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None):
+    print(f"lfdrom: warning: {message}", file=sys.stderr)
+
+
+def run_status(results) -> tuple:
+    """Exit status and closing line of a finished run.
+
+    Returns
+    -------
+    (int, str)
+        EXIT_OK when every piece of the study is stored and none failed; EXIT_NOT_WRITTEN when results of
+        this run could not be written to the store; EXIT_INCOMPLETE when pieces failed or are missing
+        (identifications that failed included).
+    """
+    summary = results.run
+    if summary is not None and summary.write_failures:
+        what = "; ".join(f"{t['kind']} {t['case']}: {t['error']}" for t in summary.task_failures if t.get("write"))
+        return EXIT_NOT_WRITTEN, (f"nothing written for {summary.write_failures} task(s) ({what[:300]}): check the "
+                                  f"store {results.config.store_dir} (space, permissions)")
+    bad_roms = [r.label() for r in results.roms if not r.ok]
+    problems = len(results.failed) + len(bad_roms) + len(results.missing)
+    if problems:
+        parts = []
+        if results.failed or bad_roms:
+            parts.append(f"{len(results.failed) + len(bad_roms)} piece(s) failed")
+        if results.missing:
+            parts.append(f"{len(results.missing)} missing")
+        examples = (results.failed + bad_roms + results.missing)[:3]
+        return EXIT_INCOMPLETE, (f"incomplete: {', '.join(parts)} (e.g. {'; '.join(map(str, examples))[:400]}); "
+                                 "what was computed is stored, and running again retries the rest")
+    return EXIT_OK, "done: every piece computed and stored"
 
 
 def _plan(config: StudyConfig) -> str:
@@ -232,7 +276,7 @@ def _plan(config: StudyConfig) -> str:
 
 
 def cmd_run(args) -> int:
-    """Validate the study and call ``studies.runner.run_study``."""
+    """Validate the study, check every output location, run ``studies.runner.run_study``, write the report."""
     config = _load(args.study)
     if config is None:
         return EXIT_UNAVAILABLE
@@ -244,12 +288,21 @@ def cmd_run(args) -> int:
         print(_plan(config))
     if args.dry_run:
         return EXIT_OK
-    options = dict(output_dir=config.output_dir, store_dir=config.store_dir, scheduler=args.scheduler,
-                   workers=workers, progress=not args.quiet, force=args.force or None)
-    status = _hand_over("studies.runner", "run_study", config, options, "the study runner")
-    if status != EXIT_OK or args.no_report:
+    status = _preflight(config, report=not args.no_report, page=getattr(args, "page", None),
+                        prose=getattr(args, "prose", None))
+    if status != EXIT_OK:
         return status
-    return _report(config, args)
+    results, status = _run(config, args, output_dir=config.output_dir, store_dir=config.store_dir,
+                           scheduler=args.scheduler, workers=workers, progress=not args.quiet, force=args.force)
+    if status != EXIT_OK:
+        return status
+    status, line = run_status(results)
+    if not args.no_report:
+        report_status = _report(config, args)
+        if report_status != EXIT_OK:
+            return report_status if status == EXIT_OK else status
+    (print if status == EXIT_OK else _err)(f"lfdrom run: {line}")
+    return status
 
 
 def _workers(value):
@@ -269,19 +322,38 @@ def _workers(value):
 
 def _report(config: StudyConfig, args) -> int:
     """``make_report`` with the page of ``--page``, else of ``--out``/report.md, else the study's [report]."""
+    from .files import NotWritableError
+    from .report import ReportError, make_report
+
     options = dict(store_dir=config.store_dir, progress=not args.quiet, page=getattr(args, "page", None),
-                   prose=getattr(args, "prose", None), redraw=getattr(args, "redraw", False) or None)
+                   prose=getattr(args, "prose", None), redraw=bool(getattr(args, "redraw", False)),
+                   force_page=bool(getattr(args, "force_page", False)))
     if getattr(args, "out", None) is not None:
         options["output_dir"] = config.output_dir
-    return _hand_over("studies.report", "make_report", config, options, "the report")
+    try:
+        make_report(config, **options)
+    except (NotWritableError, OSError) as e:
+        _err(f"the report could not be written: {e}")
+        return EXIT_NOT_WRITTEN
+    except (ReportError, StudyConfigError) as e:
+        _err(str(e))
+        return EXIT_UNAVAILABLE
+    except Exception as e:  # noqa: BLE001 - the command line reports any failure with its type
+        _err(f"the report failed: {type(e).__name__}: {e}")
+        return EXIT_FAILED
+    return EXIT_OK
 
 
 def cmd_report(args) -> int:
-    """Validate the study and call ``studies.report.make_report``."""
+    """Validate the study and write its report from the store (``studies.report.make_report``)."""
     config = _load(args.study)
     if config is None:
         return EXIT_UNAVAILABLE
-    return _report(_apply_paths(config, args), args)
+    config = _apply_paths(config, args)
+    status = _preflight(config, report=True, page=args.page, prose=args.prose)
+    if status != EXIT_OK:
+        return status
+    return _report(config, args)
 
 
 def rom_study(args) -> StudyConfig:
@@ -332,13 +404,15 @@ def cmd_rom(args) -> int:
         return EXIT_UNAVAILABLE
     if not args.quiet:
         print(_plan(config))
-    options = dict(output_dir=config.output_dir, store_dir=config.store_dir, progress=not args.quiet)
-    holder = {}
-    status = _hand_over("studies.runner", "run_study", config, options, "the study runner (needed by 'rom')",
-                        result=holder)
-    if status != EXIT_OK or not hasattr(holder.get("result"), "roms"):
+    npz, _ = _rom_files(args)
+    status = _preflight(config, report=False, extra=[(npz.parent, "ROM output folder", "give another --out")])
+    if status != EXIT_OK:
         return status
-    return _export_rom(holder["result"], args)
+    results, status = _run(config, args, output_dir=config.output_dir, store_dir=config.store_dir,
+                           progress=not args.quiet)
+    if status != EXIT_OK:
+        return status
+    return _export_rom(results, args)
 
 
 def _rom_files(args):
@@ -358,10 +432,10 @@ def _export_rom(results, args) -> int:
     (rec,) = results.roms or [None]
     if rec is None:
         _err(f"no ROM was produced: {'; '.join(results.missing + results.failed) or 'nothing stored'}")
-        return EXIT_FAILED
+        return EXIT_INCOMPLETE
     if not rec.ok:
         _err(f"the identification failed: {rec.error}")
-        return EXIT_FAILED
+        return EXIT_INCOMPLETE
     point = results.config.points()[0]
     model = rec.model(outputs=results.config.cfd.outputs)
     meta = dict(case=rec.case, naca=point.case.naca, mach=point.case.mach, alpha_deg=point.case.alpha_deg,
@@ -370,14 +444,26 @@ def _export_rom(results, args) -> int:
                 input="gust angle v_g(x=0)/U, rad", outputs=list(results.config.cfd.outputs),
                 time="convective, s = t U / c", metrics=rec.metrics)
     npz, mat = _rom_files(args)
-    export_rom_npz(npz, model, meta)
-    export_rom_mat(mat, model, meta)
-    m = rec.metrics
+    try:
+        export_rom_npz(npz, model, meta)
+        export_rom_mat(mat, model, meta)
+    except OSError as e:
+        _err(f"the ROM could not be written: {e} (it is in the store {results.config.store_dir}; rerun with "
+             "another --out to export it without recomputing)")
+        return EXIT_NOT_WRITTEN
     if not args.quiet:
-        print(f"ROM {rec.label()}: FRF max error Cl {m.get('frf_max_err_Cl', float('nan')):.3g}, "
-              f"spectral radius {m.get('spectral_radius', float('nan')):.6f}")
+        print(rom_summary_line(rec, results.config.cfd.outputs))
     print(f"wrote {npz} and {mat}")
     return EXIT_OK
+
+
+def rom_summary_line(rec, outputs) -> str:
+    """One line on a ROM: the FRF max error (peak-normalised) of every output, DC error, spectral radius."""
+    m = rec.metrics
+    errs = ", ".join(f"{o} {100 * m.get(f'frf_max_err_{o}', float('nan')):.3g} %" for o in outputs)
+    dc = max((m.get(f"dc_err_{o}", float("nan")) for o in outputs), default=float("nan"))
+    return (f"ROM {rec.label()}: FRF max error {errs}; DC error {dc:.2g}; spectral radius "
+            f"{m.get('spectral_radius', float('nan')):.6f}")
 
 
 def dispatch(args) -> int:

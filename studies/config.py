@@ -116,10 +116,25 @@ __all__ = [
     "ltd_piece",
     "sim_piece",
     "T_PAPER",
+    "T_RANGE",
+    "MAX_STEPS",
+    "min_order",
+    "march_memory_bytes",
 ]
 
 T_PAPER = 70.0 / (2.0 * math.pi)
 """The paper's sampling period of the bilinear map (convective time)."""
+
+T_RANGE = (0.02, 200.0)
+"""Accepted sampling periods of the bilinear map (convective time). The grid's centre frequency is
+``omega = 2 / T`` (at ``omega_d = pi / 2``, half the samples below it); the aerofoil's gust response lives at
+``omega ~ 0.01 .. 100`` (``k = omega / 2 ~ 0.005 .. 50``), so ``2 / T`` must lie in that band: a smaller ``T``
+puts every sample far above the response (only the feedthrough is seen: ``T = 1e-13`` gave a meaningless
+grid and a "0.5 %" fit, ``T = 1e-300`` NaN models), a larger one crowds every sample at ``omega ~ 0``."""
+
+MAX_STEPS = 1_000_000
+"""Most time steps ``t_end / dt`` a study may ask of the LTD march (one sparse back-substitution per step,
+about 0.03 s on the paper grid: a million steps are some 8 hours per case)."""
 
 DISCRETISATIONS = ("tustin", "zoh")
 WEIGHTS = ("none", "inverse_magnitude")
@@ -284,6 +299,43 @@ def max_order(M: int, algorithm: str = "auto", p: int = 2, m: int = 1, order: Op
 
 def _order_ok(order: int, M: int, algorithm: str, p: int, m: int = 1) -> bool:
     return order <= max_order(M, algorithm, p, m, order=order)
+
+
+def min_order(p: int, m: int = 1, dc_gain: str = "none") -> int:
+    """Smallest model order whose identification can meet the method's equality constraints.
+
+    The refit of ``B`` and ``D`` (``sysid.refit.fit_bd``) has ``(n + p) m`` unknowns; on McKelvey's grid the
+    ``omega = inf`` sample is always present and fixes the feedthrough (``p m`` equations), and
+    ``dc_gain = "match"`` adds the DC gain (``p m`` more). With both, ``n m >= p m``: at least ``p`` states
+    (order 1 with two outputs and the exact DC gain has 3 unknowns for 4 equations).
+
+    Parameters
+    ----------
+    p, m : int
+        Outputs and inputs.
+    dc_gain : {"none", "match"}
+
+    Returns
+    -------
+    int
+    """
+    return max(1, p) if dc_gain == "match" else 1
+
+
+def march_memory_bytes(steps: int, gusts: int) -> tuple:
+    """Memory the LTD march and the ROM simulations of one case hold for ``steps`` time steps.
+
+    The march keeps the time grid and three load histories per gust (``cfd.ltd_responses``); each stored
+    history has five arrays (time, input, Cl, Cm, Cd), and a ROM simulation (FFT convolution of the Markov
+    parameters, ``studies.runner.rom_simulation``) about four complex arrays of twice the length. Returns
+    ``(bytes, formula)``: an estimate that is right to a factor of two, enough to refuse what cannot fit.
+    """
+    n = steps + 1
+    return 8 * n * (1 + 3 * gusts + 5 * gusts + 16), "8 (steps + 1) (8 gusts + 17) bytes"
+
+
+def _size_text(gib: float) -> str:
+    return f"{gib * 1024:.3g} MiB" if gib < 1 else (f"{gib:.3g} GiB" if gib < 1024 else f"{gib / 1024:.3g} TiB")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -724,7 +776,14 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
         return P.integer(v, key, minimum=1)
 
     def parse_T(v, key):
-        return P.number(v, key, positive=True)
+        T = P.number(v, key, positive=True)
+        if not T_RANGE[0] <= T <= T_RANGE[1]:
+            raise P.err(key, (
+                f"T = {T:g} puts the identification grid's centre frequency 2/T = {2.0 / T:.3g} U/c (k = {1.0 / T:.3g}) "
+                f"{'far above' if T < T_RANGE[0] else 'far below'} the aerofoil's gust response (k ~ 0.005 - 50): the "
+                f"model would be fitted to {'the feedthrough alone' if T < T_RANGE[0] else 'the DC gain alone'}; use "
+                f"{T_RANGE[0]:g} <= T <= {T_RANGE[1]:g} (the paper's: 70/(2*pi) = 11.14; 2 - 4 resolves k ~ 1 - 10 better)"))
+        return T
 
     def parse_M(v, key):
         M = P.integer(v, key, minimum=2)
@@ -768,6 +827,13 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
     if t_end <= -x0:
         raise P.err("simulation.t_end", f"t_end = {t_end} ends before the gust reaches the aerofoil at s = {-x0} "
                     f"(x0 = {x0}); use a longer t_end")
+    steps = math.ceil(t_end / dt - 1e-9)
+    if steps > MAX_STEPS:
+        gib = march_memory_bytes(steps, max(1, len(data.get("gusts", []) or [])))[0] / 2**30
+        raise P.err("simulation.dt" if dt < d.dt / 10 else "simulation.t_end", (
+            f"t_end / dt = {t_end:g} / {dt:g} = {steps:.3g} time steps (at most {MAX_STEPS:,}): the LTD march would "
+            f"need {_size_text(gib)} for its histories alone and about {steps * 0.03 / 3600:.3g} h per case on the "
+            f"paper grid; use dt ~ 0.02 (BDF2 phase error ~ 1 % at k = 5) and t_end ~ 20 - 60"))
     sim = SimulationOptions(discretisation=disc, dt=dt, t_end=t_end, x0=x0)
 
     # methods
@@ -861,6 +927,13 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
     p = len(cfd.outputs)
     for i, cs in enumerate(sweeps):
         okey = f"cases[{i}].orders" if cs.orders is not g_orders else "sweep.orders"
+        for meth in methods:
+            low = min_order(p, 1, meth.dc_gain)
+            if min(cs.orders) < low:
+                raise P.err(okey, (
+                    f"order {min(cs.orders)} cannot meet method {meth.name!r}'s constraints for case {cs.case.name}: "
+                    f"the exact DC gain and the omega = inf value of {p} outputs fix {2 * p} coefficients of B and "
+                    f"D, which an order below {low} does not have; use orders >= {low} or dc_gain = \"none\""))
         for M in cs.M:
             for meth in methods:
                 for n in cs.orders:

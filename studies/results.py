@@ -302,6 +302,8 @@ class StudyResults:
         identifications are also :class:`RomRecord` with ``status = "failed"``.
     steady : dict of case -> dict
         Steady loads and solver data per case: ``cl``, ``cd``, ``cm``, ``iterations``, ``seconds``.
+    run : studies.runner.RunSummary or None
+        What the run that returned these results computed (None when read from the store alone).
     """
 
     config: StudyConfig
@@ -312,6 +314,7 @@ class StudyResults:
     missing: list
     failed: list = field(default_factory=list)
     steady: dict = field(default_factory=dict)
+    run: Any = None
 
     @property
     def complete(self) -> bool:

@@ -32,7 +32,6 @@ have been transient); ``force=True`` recomputes every piece of the study.
 
 from __future__ import annotations
 
-import inspect
 import json
 import math
 import os
@@ -66,9 +65,54 @@ from .results import (
     store_dependencies,
 )
 
-__all__ = ["run_study", "auto_workers", "rom_simulation", "simulate_discrete", "markov_parameters", "RunnerError", "PIECES"]
+__all__ = ["run_study", "RunSummary", "RunInterrupted", "auto_workers", "rom_simulation", "simulate_discrete", "markov_parameters", "RunnerError", "PIECES"]
 
 PIECES = ("steady", "frf", "ltd", "rom", "sim")
+
+
+@dataclass(frozen=True)
+class RunSummary:
+    """What one :func:`run_study` call did (``StudyResults.run``).
+
+    Attributes
+    ----------
+    computed : int
+        Pieces computed and stored by this run (failures included: they are stored as such).
+    failed_pieces : int
+        Of those, the pieces that failed.
+    task_failures : tuple of dict
+        Tasks that failed outside their pieces, so that nothing of theirs was stored: ``kind``, ``case``,
+        ``error``, and ``write`` (True for an ``OSError``: the store could not be written).
+    seconds : float
+        Wall time of the run.
+    """
+
+    computed: int
+    failed_pieces: int
+    task_failures: tuple = ()
+    seconds: float = 0.0
+
+    @property
+    def write_failures(self) -> int:
+        """Tasks whose results could not be written."""
+        return sum(bool(t.get("write")) for t in self.task_failures)
+
+
+class RunInterrupted(KeyboardInterrupt):
+    """The run was interrupted (Ctrl-C): every piece stored so far is kept; the same command resumes.
+
+    Attributes
+    ----------
+    computed : int
+        Pieces this run had stored before the interruption.
+    store_dir : Path
+    """
+
+    def __init__(self, computed: int, store_dir):
+        self.computed = int(computed)
+        self.store_dir = Path(store_dir)
+        super().__init__(f"interrupted after {self.computed} piece(s) stored in {self.store_dir}; they are kept, "
+                         "and running the same command again resumes from them")
 
 
 class RunnerError(ValueError):
@@ -129,18 +173,10 @@ def _lfd(lin, T, M, cfd_opts):
     from cfd.lfd import lfd_response
 
     grid = sysid.mckelvey_grid(M, T)
-    kw = dict(gust=cfd_opts.gust_method, outputs=tuple(cfd_opts.outputs))
-    try:
-        takes_method = "method" in inspect.signature(lfd_response).parameters
-    except (TypeError, ValueError):  # pragma: no cover
-        takes_method = False
-    if takes_method:
-        kw["method"] = "auto"
-    frf = lfd_response(lin, grid, **kw)
-    used = frf.metadata.get("method") if hasattr(frf, "metadata") else None
-    if used not in ("direct", "fast"):
-        n_finite = int(np.sum(np.isfinite(grid[1])))
-        used = ("fast" if n_finite > 8 else "direct") if takes_method else "direct"
+    frf = lfd_response(lin, grid, gust=cfd_opts.gust_method, outputs=tuple(cfd_opts.outputs), method="auto")
+    used = frf.metadata.get("method")
+    if used not in ("direct", "fast"):  # cfd.lfd_response records the path it took; older stores may lack it
+        used = "fast" if int(np.sum(np.isfinite(grid[1]))) > 8 else "direct"
     if frf.T is None or not math.isclose(frf.T, T, rel_tol=1e-9):
         frf = frf.with_T(T)
     return frf, used
@@ -284,6 +320,12 @@ def _identify(frf, point, M_base):
     m = res.model
     metrics = rom_metrics(frf_rom, frf.H, np.arange(0, M_base + 1, M_base // point.M), list(frf.outputs), dc_model,
                           res.spectral_radius, seconds)
+    bad = sorted(k for k, v in metrics.items() if isinstance(v, float) and not math.isfinite(v))
+    if bad:  # never stored as "ok": a model whose errors are NaN or inf is not a result
+        raise FloatingPointError(
+            f"the identified model gives non-finite {', '.join(bad)} (T = {point.T:g}, M = {point.M}, order "
+            f"{point.order}): its matrices or its frequency response overflowed; check that T suits the data's "
+            "frequencies (studies.config.T_RANGE) and lower the order")
     return rom_payload(m.A, m.B, m.C, m.D, res.hankel_sv, frf_rom, metrics, identify_method=res.method,
                        enforced=dict(res.enforced), outputs=list(frf.outputs))
 
@@ -482,15 +524,58 @@ class _InlinePool:
     def wait(pending):
         return set(pending), set()
 
-    def close(self):
+    def close(self, abort: bool = False):
         pass
 
 
 def _limit_blas_threads(n: int) -> None:
-    """Worker initializer: at most ``n`` BLAS threads in this process (``threadpoolctl``)."""
+    """At most ``n`` BLAS threads in this process (``threadpoolctl``)."""
     from threadpoolctl import threadpool_limits
 
     threadpool_limits(limits=n, user_api="blas")
+
+
+PARENT_POLL_S = 1.0
+"""How often a worker process checks that the process that started it is still alive (seconds)."""
+
+
+def _exit_with_parent(parent_pid: int) -> None:
+    """Make this worker process end when ``parent_pid`` ends, however it ends (``kill -9`` included).
+
+    Linux: ``prctl(PR_SET_PDEATHSIG, SIGKILL)``, immediate. Everywhere: a daemon thread that polls the parent
+    pid every :data:`PARENT_POLL_S` seconds (a worker blocked on the task pipe would otherwise wait forever,
+    reparented). Both end the worker at once: it holds no results of its own (every piece is written to the
+    store atomically before its task returns).
+    """
+    import signal
+    import threading
+
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes
+
+            ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG = 1
+        except (OSError, AttributeError):  # pragma: no cover - other libc
+            pass
+    if os.getppid() != parent_pid:  # the parent died before the hook was set
+        os._exit(1)
+
+    def watch():
+        while True:
+            time.sleep(PARENT_POLL_S)
+            if os.getppid() != parent_pid:
+                os._exit(1)
+
+    threading.Thread(target=watch, name="lfdrom-parent-watch", daemon=True).start()
+
+
+def _init_worker(threads: int, parent_pid: int) -> None:
+    """Worker initializer: BLAS threads, Ctrl-C left to the parent (which stops the workers), exit with it."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    _exit_with_parent(parent_pid)
+    _limit_blas_threads(threads)
 
 
 class _ProcessPool:
@@ -507,8 +592,8 @@ class _ProcessPool:
 
         ctx = multiprocessing.get_context("fork") if "fork" in multiprocessing.get_all_start_methods() else None
         threads = max(1, (os.cpu_count() or 1) // workers)
-        self.ex = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_limit_blas_threads,
-                                      initargs=(threads,))
+        self.ex = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
+                                      initargs=(threads, os.getpid()))
         self.name = f"{workers} local processes ({threads} BLAS thread{'s' if threads > 1 else ''} each)"
 
     def submit(self, fn, *args):
@@ -519,7 +604,13 @@ class _ProcessPool:
         done, rest = cf_wait(pending, return_when=FIRST_COMPLETED)
         return done, rest
 
-    def close(self):
+    def close(self, abort: bool = False):
+        """Wait for the running tasks, or (``abort``) stop the workers at once (what they stored is kept)."""
+        if abort:
+            for proc in list((getattr(self.ex, "_processes", None) or {}).values()):
+                proc.terminate()
+            self.ex.shutdown(wait=False, cancel_futures=True)
+            return
         self.ex.shutdown(wait=True, cancel_futures=True)
 
 
@@ -550,7 +641,7 @@ class _DaskPool:
         done, rest = wait(list(pending), return_when="FIRST_COMPLETED")
         return set(done), set(rest)
 
-    def close(self):
+    def close(self, abort: bool = False):
         self.client.close()
         if self.cluster is not None:
             self.cluster.close()
@@ -575,8 +666,12 @@ def auto_workers(config: StudyConfig, cpus: Optional[int] = None) -> int:
     int
     """
     cpus = cpus if cpus is not None else (os.cpu_count() or 1)
-    width = sum(max(1, len(cs.T) + (1 if config.gusts else 0)) for cs in config.cases)
-    return max(1, min(int(cpus), width))
+    return max(1, min(int(cpus), _width(config)))
+
+
+def _width(config: StudyConfig) -> int:
+    """Parallel tasks of the study's widest stage: per case, one per ``T`` and one for its gusts."""
+    return sum(max(1, len(cs.T) + (1 if config.gusts else 0)) for cs in config.cases)
 
 
 def _pool(scheduler, workers):
@@ -679,14 +774,25 @@ def run_study(study, *, output_dir=None, store_dir=None, scheduler: Optional[str
         config = replace(config, **changes)
     if workers == "auto":
         workers = auto_workers(config)
+    elif scheduler is None and isinstance(workers, int) and not isinstance(workers, bool) and workers > 1:
+        cap = auto_workers(config)
+        if workers > cap:
+            warnings.warn(f"workers = {workers} is more than this study can use (its widest stage has "
+                          f"{_width(config)} parallel task(s); {os.cpu_count() or 1} CPU(s)): using {cap}",
+                          RuntimeWarning, stacklevel=2)
+            workers = cap
     pool = _pool(scheduler, workers)
+    state: dict = {}
     try:
-        return _run(config, pool, progress, bool(force))
-    finally:
-        pool.close()
+        results = _run(config, pool, progress, bool(force), state)
+    except KeyboardInterrupt:
+        pool.close(abort=True)
+        raise RunInterrupted(state.get("computed", 0), config.store_dir) from None
+    pool.close()
+    return results
 
 
-def _run(config: StudyConfig, pool, progress: bool, force: bool) -> StudyResults:
+def _run(config: StudyConfig, pool, progress: bool, force: bool, state: dict) -> StudyResults:
     root = str(config.store_dir)
     base = open_store(config)
     codes = {p: base.code_version(p) for p in PIECES}
@@ -718,6 +824,7 @@ def _run(config: StudyConfig, pool, progress: bool, force: bool) -> StudyResults
              f"[{pool.name}; store {root}]")
 
     pending = {}  # future -> (kind, case)
+    task_failures: list = []  # tasks that failed outside their pieces (their pieces were not stored)
 
     def submit(kind, case_name, fn, *args):
         pending[pool.submit(fn, *args)] = (kind, case_name)
@@ -754,9 +861,12 @@ def _run(config: StudyConfig, pool, progress: bool, force: bool) -> StudyResults
                 reports = fut.result()
             except Exception as e:  # noqa: BLE001 - a task that failed outside its pieces (e.g. the store)
                 prog.say(f"{kind} task of {name} failed: {error_text(e)}")
+                task_failures.append(dict(kind=kind, case=name, error=error_text(e),
+                                          write=isinstance(e, OSError)))
                 reports = []
             for rep in reports:
                 prog.piece(rep)
+            state["computed"] = prog.done
             if kind == "steady":
                 ok = reports and reports[0]["status"] == "ok"
                 if ok:
@@ -775,7 +885,9 @@ def _run(config: StudyConfig, pool, progress: bool, force: bool) -> StudyResults
              f"{n_ok_roms}/{len(config.points())} ROMs ok, {len(results.sims)} ROM simulations, "
              f"{len(results.missing)} piece(s) missing")
     _write_log(config, prog, elapsed)
-    return results
+    summary = RunSummary(computed=prog.done, failed_pieces=prog.failed, task_failures=tuple(task_failures),
+                         seconds=elapsed)
+    return replace(results, run=summary)
 
 
 def _write_log(config: StudyConfig, prog: _Progress, elapsed: float) -> None:
