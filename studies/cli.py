@@ -29,7 +29,18 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv=None) -> int:
-    """Entry point of the ``lfdrom`` console script; returns the exit status."""
+    """Entry point of the ``lfdrom`` console script; returns the exit status (130 after Ctrl-C, with one line)."""
+    import sys
+
+    try:
+        return _main(argv)
+    except KeyboardInterrupt:
+        print("lfdrom: interrupted; whatever was stored is kept, and the same command resumes from it",
+              file=sys.stderr)
+        return 130
+
+
+def _main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.command is None:

@@ -12,7 +12,6 @@ import sys
 import textwrap
 import time
 import types
-import warnings
 from pathlib import Path
 
 import numpy as np
@@ -312,3 +311,25 @@ def test_ctrl_c_stops_the_workers_without_tracebacks(tmp_path):
     assert proc.returncode == 130 and "stopped" in out
     assert "Traceback" not in err  # the workers ignore SIGINT; the parent stops them
     assert _wait_gone(pids, 10) == []
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="process groups")
+def test_ctrl_c_on_lfdrom_run(tmp_path):
+    """Ctrl-C (SIGINT to the whole process group, as a terminal sends it) during `lfdrom run --workers 2`:
+    exit 130, no traceback, and a line that says how to resume."""
+    from tinystudy import STUDY
+
+    (tmp_path / "tiny.toml").write_text(STUDY)
+    proc = subprocess.Popen([sys.executable, "-m", "studies.cli", "run", str(tmp_path / "tiny.toml"), "--workers",
+                             "2"], cwd=REPO, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True)
+    line = proc.stdout.readline()
+    deadline = time.monotonic() + 60
+    while "study 'tiny'" not in line or "to compute" not in line:  # the runner's first progress line
+        assert line and time.monotonic() < deadline, "the run did not start"
+        line = proc.stdout.readline()
+    time.sleep(1.0)
+    os.killpg(proc.pid, signal.SIGINT)
+    out, err = proc.communicate(timeout=60)
+    assert proc.returncode == commands.EXIT_INTERRUPTED, err
+    assert "Traceback" not in err and "interrupted" in err and "resume" in err
