@@ -442,7 +442,13 @@ def rom_simulation(A, B, C, D, T, t, u, discretisation="tustin", method="auto"):
     dt = float(t[1] - t[0])
     rom = control.ss(A, B, C, D, T)
     rc = sysid.d2c_bilinear(rom)
-    rd = sysid.c2d_bilinear(rc, dt) if discretisation == "tustin" else sysid.c2d_zoh(rc, dt)
+    try:
+        rd = sysid.c2d_bilinear(rc, dt) if discretisation == "tustin" else sysid.c2d_zoh(rc, dt)
+    except sysid.ModelError as e:  # name the simulation step, not the identification's T
+        raise sysid.ModelError(
+            f"the ROM identified with T = {T:g} cannot be re-discretised at the simulation step dt = {dt:g} "
+            f"({discretisation}): its continuous form has a pole at s = 2/dt = {2.0 / dt:g} ({e}); change "
+            "simulation.dt (or the identification's T)") from None
     return simulate_discrete(rd.A, rd.B, rd.C, rd.D, np.asarray(u, dtype=float), method)
 
 

@@ -333,3 +333,14 @@ def test_ctrl_c_on_lfdrom_run(tmp_path):
     out, err = proc.communicate(timeout=60)
     assert proc.returncode == commands.EXIT_INTERRUPTED, err
     assert "Traceback" not in err and "interrupted" in err and "resume" in err
+
+
+def test_rediscretisation_error_names_the_simulation_step():
+    """A continuous pole at s = 2/dt: the message speaks of dt (it said "choose a different T" with 2/dt)."""
+    import control
+
+    dt, T = 0.1, 1.0
+    rd = sysid.c2d_bilinear(control.ss([[2.0 / dt]], [[1.0]], [[1.0]], [[0.0]]), T)
+    t = dt * np.arange(10)
+    with pytest.raises(sysid.ModelError, match=r"identified with T = 1 .* simulation step dt = 0\.1 .* s = 2/dt = 20"):
+        runner.rom_simulation(rd.A, rd.B, rd.C, rd.D, T, t, np.ones_like(t))
