@@ -512,7 +512,8 @@ def fit_data(frf, *, order: int | str = "auto", dc_gain: str = "auto", stable: b
     src = frf.metadata.get("source", "<data>")
     if T is not None:
         if frf.omega is None:
-            raise FitInputError(src, "--T", "the data are on discrete frequencies omega_d with their own T; drop --T")
+            raise FitInputError(src, "--T", "the data are on discrete frequencies omega_d without continuous ones; "
+                                            "load them with this T (load_data(path, T=...))")
         frf, T_rule = frf.with_T(T), f"T = {T:.6g} (given)"
     elif frf.T is not None:
         T_rule = f"T = {frf.T:.6g} (from the data file)"
@@ -734,7 +735,7 @@ def cmd_fit(args) -> int:
         if args.max_order < 1:
             raise FitInputError(args.data, "--max-order", f"must be >= 1, got {args.max_order}")
         frf = load_data(args.data, T=T, freq_unit=args.freq_unit, input_name=args.input)
-        out = fit_data(frf, order=order, dc_gain=args.dc_gain or "auto", stable=args.stable, T=None,
+        out = fit_data(frf, order=order, dc_gain=args.dc_gain or "auto", stable=args.stable, T=T,
                        max_order=args.max_order)
     except FitInputError as e:
         err(str(e))

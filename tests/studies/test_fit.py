@@ -1,0 +1,246 @@
+"""``lfdrom fit``: the three file formats, recovery of known systems, --order auto, bad files and exit codes."""
+
+import importlib.util
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import scipy.io
+
+import sysid
+from studies import cli, fit
+from studies.fit import FitInputError, fit_data, load_data
+
+ROOT = Path(__file__).resolve().parents[2]
+EXAMPLE = ROOT / "docs" / "data" / "fit-example.csv"
+
+# a continuous 2-output system of order 4 with known poles (U/c units): two real, one lightly damped pair
+POLES = np.array([-0.26, -2.0, -0.3 + 1j * np.sqrt(8.91), -0.3 - 1j * np.sqrt(8.91)])
+
+
+def known(omega):
+    """(2, 1, K) response of the order-4 system at continuous omega (inf -> 0 feedthrough)."""
+    w = np.asarray(omega, dtype=float)
+    fin = np.isfinite(w)
+    s = 1j * np.where(fin, w, 0.0)
+    mode = 0.6 * s / (s**2 + 0.6 * s + 9.0)
+    cl = 2 * np.pi * (0.13 / (s + 0.26) + 1.0 / (s + 2.0) + 0.03 * mode)
+    cm = 2 * np.pi * (-0.0052 / (s + 0.26) + 0.06 / (s + 2.0) - 0.01 * mode)
+    H = np.stack([np.where(fin, cl, 0.0), np.where(fin, cm, 0.0)])[:, None, :]
+    return H
+
+
+def grid_k():
+    return np.concatenate([[0.0], np.logspace(-2, np.log10(5.0), 50), [np.inf]])
+
+
+def write_csv(path, k, H, header="k,Cl_re,Cl_im,Cm_re,Cm_im", comments=("# input: gust",)):
+    lines = list(comments) + [header]
+    for j in range(k.size):
+        vals = [k[j], H[0, 0, j].real, H[0, 0, j].imag, H[1, 0, j].real, H[1, 0, j].imag]
+        lines.append(",".join("inf" if np.isinf(v) else repr(float(v)) for v in vals))
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+@pytest.fixture
+def files(tmp_path):
+    k = grid_k()
+    H = known(2 * k)
+    csv = write_csv(tmp_path / "data.csv", k, H)
+    mat = tmp_path / "data.mat"
+    scipy.io.savemat(mat, {"H": H, "omega": 2 * k, "outputs": np.array(["Cl", "Cm"], dtype=object),
+                           "inputs": np.array(["gust"], dtype=object)})
+    npz = sysid.FrequencyResponse.from_continuous(H, 2 * k, inputs=["gust"], outputs=["Cl", "Cm"]).save(
+        tmp_path / "data.npz")
+    plain = tmp_path / "plain.npz"
+    np.savez(plain, H_re=H.real, H_im=H.imag, k=k, T=np.float64(2.0))
+    return dict(csv=csv, mat=mat, npz=npz, plain=plain, k=k, H=H)
+
+
+def continuous_poles(res):
+    z = np.linalg.eigvals(np.asarray(res.model.A))
+    return (2.0 / res.T) * (z - 1.0) / (z + 1.0)
+
+
+def match(a, b):
+    a, b = np.sort_complex(np.asarray(a)), list(np.asarray(b))
+    err = 0.0
+    for x in a:
+        j = int(np.argmin([abs(x - y) for y in b]))
+        err = max(err, abs(x - b.pop(j)) / max(1.0, abs(x)))
+    return err
+
+
+# ------------------------------------------------------------------------------------------ formats
+def test_three_formats_read_the_same_data(files):
+    frfs = {name: load_data(files[name]) for name in ("csv", "mat", "npz", "plain")}
+    for name, frf in frfs.items():
+        assert frf.shape == (2, 1, files["k"].size), name
+        assert np.allclose(frf.H, files["H"], rtol=1e-12, atol=1e-14), name
+        assert np.array_equal(frf.omega, 2 * files["k"]), name
+    for name in ("csv", "mat", "npz"):
+        assert frfs[name].outputs == ("Cl", "Cm") and frfs[name].inputs == ("gust",), name
+    assert frfs["csv"].T is None and frfs["plain"].T == 2.0 and frfs["plain"].outputs == ("y[0]", "y[1]")
+
+
+def test_csv_frequency_units(tmp_path, files):
+    k, H = files["k"], files["H"]
+    # a column named 'freq' needs the unit: from a comment, or from the option (which wins)
+    p = write_csv(tmp_path / "f.csv", k, H, header="freq,Cl_re,Cl_im,Cm_re,Cm_im", comments=("# frequency: k",))
+    assert np.array_equal(load_data(p).omega, 2 * k)
+    assert np.array_equal(load_data(p, freq_unit="omega").omega, k)
+    # omega_d with '# T:' in the file
+    T = 2.0
+    wd = sysid.continuous_to_discrete(2 * k, T)
+    p = write_csv(tmp_path / "d.csv", wd, H, header="omega_d,Cl_re,Cl_im,Cm_re,Cm_im", comments=("# T: 2",))
+    frf = load_data(p)
+    assert frf.T == 2.0 and np.allclose(frf.omega_d, wd) and np.isinf(frf.omega[-1])
+
+
+# ------------------------------------------------------------------------------------------ fitting
+def test_recovery_of_a_known_system(files):
+    out = fit_data(load_data(files["csv"]), order=4)
+    res = out.result
+    assert res.order == 4 and res.spectral_radius < 1
+    assert res.max_error < 1e-8 and res.dc_error < 1e-12
+    assert res.enforced["dc_gain"] and res.enforced["feedthrough"] and res.enforced["stable"]
+    assert match(continuous_poles(res), POLES) < 1e-7
+    # the default T puts the band's geometric mean at omega_d = pi / 2
+    w = 2 * files["k"][1:-1]
+    assert res.T == pytest.approx(2 / np.sqrt(w.min() * w.max()))
+    assert out.diagnostics.ok
+
+
+def test_order_auto_picks_the_true_order_continuous_grid(files):
+    out = fit_data(load_data(files["mat"]), order="auto", max_order=8)
+    assert out.selection.chosen == 4 and out.result.order == 4
+    assert out.selection.errors[3] < 1e-8 and out.selection.errors[2] > 1e-3
+
+
+def test_order_auto_picks_the_true_order_mckelvey_grid(tmp_path):
+    sys.path.insert(0, str(ROOT / "tests" / "sysid"))
+    from sysid_synth import freqresp, random_system
+
+    A, B, C, D, _ = random_system(6, 2, 1, 5, rho=0.9)
+    wd, _ = sysid.mckelvey_grid(64, 1.0)
+    frf = sysid.FrequencyResponse(freqresp(A, B, C, D, np.exp(1j * wd)), wd, 1.0)
+    frf.save(tmp_path / "d.npz")
+    out = fit_data(load_data(tmp_path / "d.npz"), order="auto", max_order=10)
+    assert out.selection.chosen == 6 and out.result.max_error < 1e-7
+
+
+def test_command_line_end_to_end(files, tmp_path, capsys):
+    out_dir = tmp_path / "out"
+    rc = cli.main(["fit", str(files["csv"]), "--order", "4", "--out", str(out_dir)])
+    assert rc == 0
+    text = capsys.readouterr().out
+    assert "order 4 (given)" in text and "wrote" in text
+    for name in ("rom.npz", "rom.mat", "summary.md", "bode.png", "error.png", "hankel.png", "poles.png"):
+        assert (out_dir / name).stat().st_size > 0, name
+    from studies.rom_export import load_rom_npz
+
+    model, meta = load_rom_npz(out_dir / "rom.npz")
+    assert model.nstates == 4 and meta["order"] == 4 and meta["source"] == "data.csv"
+    m = scipy.io.loadmat(out_dir / "rom.mat")
+    assert m["A"].shape == (4, 4) and float(m["T"].squeeze()) == pytest.approx(model.dt)
+    md = (out_dir / "summary.md").read_text()
+    for part in ("## Data diagnostics", "## Order", "| Cl |", "spectral radius", "DC error"):
+        assert part in md
+
+
+def test_command_line_options(files, tmp_path, capsys):
+    rc = cli.main(["fit", str(files["npz"]), "--order", "4", "--T", "2", "--dc-gain", "none", "--no-stable",
+                   "--out", str(tmp_path / "o"), "--no-figures", "--quiet"])
+    assert rc == 0
+    md = (tmp_path / "o" / "summary.md").read_text()
+    assert "T = 2 (given)" in md and "dc_gain=none, stable=False" in md
+    assert not (tmp_path / "o" / "bode.png").exists()
+
+
+# ------------------------------------------------------------------------------------------ bad input
+def bad_csv(tmp_path, text, name="bad.csv"):
+    p = tmp_path / name
+    p.write_text(text)
+    return p
+
+
+@pytest.mark.parametrize("text, where, what", [
+    ("k,Cl_re,Cl_im\n0,1,0\n0.1,abc,0\n", "line 3", "'abc' is not a number"),
+    ("# input: gust\nk,Cl_re,Cl_im\n0,1,0\n0.1,1\n", "line 4", "2 values but the header"),
+    ("k,Cl_re,Cm_im\n0,1,0\n", "line 1", "Cl_im is missing"),
+    ("freq,Cl_re,Cl_im\n0,1,0\n", "line 1", "'freq' is not a frequency column"),
+    ("# frequency: hertz\nfreq,Cl_re,Cl_im\n0,1,0\n", "line 1", "'# frequency: hertz' is not one of"),
+    ("k,Cl_re,Cl_im\n0,1,0\n0.1,1,0\n0.1,1,0\n", "line 4", "appears twice"),
+    ("k,Cl_re,Cl_im\n0,1,0\n-0.1,1,0\n", "line 3", "negative frequency"),
+    ("k,Cl,Cl_im\n0,1,0\n", "line 1", "NAME_re and NAME_im"),
+    ("omega_d,Cl_re,Cl_im\n0,1,0\n", "line 1", "need the sampling period T"),
+    ("k,Cl_re,Cl_im\n", "line 1", "a header but no data"),
+])
+def test_bad_csv_names_the_line(tmp_path, text, where, what):
+    p = bad_csv(tmp_path, text)
+    with pytest.raises(FitInputError, match=rf"bad\.csv: {where}: .*{what}") as e:
+        load_data(p)
+    assert e.value.where == where and isinstance(e.value, ValueError)
+
+
+@pytest.mark.parametrize("content, key, what", [
+    ({"omega": np.arange(3.0)}, "key 'H'", "missing: found keys"),
+    ({"H": np.ones(4, complex), "omega": np.arange(3.0)}, "key 'H'", "has 4 frequencies"),
+    ({"H": np.ones(3, complex)}, "key 'omega'", "missing"),
+    ({"H": np.ones(3, complex), "omega": np.arange(3.0), "k": np.arange(3.0)}, "key 'omega'", "ambiguous"),
+    ({"H": np.ones(3, complex), "omega_d": np.arange(3.0)}, "key 'omega_d'", "need the sampling period"),
+    ({"H": np.ones(3, complex), "omega": np.arange(3.0), "T": -1.0}, "key 'T'", "positive"),
+    ({"H": np.array([1, np.nan, 1], complex), "omega": np.arange(3.0)}, "key 'H'", "NaN or inf"),
+    ({"H": np.ones((2, 1, 3), complex), "omega": np.arange(3.0), "outputs": np.array(["Cl"], dtype=object)},
+     "key 'outputs'", "has 1 names"),
+])
+@pytest.mark.parametrize("suffix", [".mat", ".npz"])
+def test_bad_mat_and_npz_name_the_key(tmp_path, content, key, what, suffix):
+    p = tmp_path / f"bad{suffix}"
+    if suffix == ".mat":
+        scipy.io.savemat(p, content)
+    else:
+        np.savez(p, **{k: (v if not (isinstance(v, np.ndarray) and v.dtype == object) else v.astype(str))
+                       for k, v in content.items()})
+    with pytest.raises(FitInputError, match=rf"bad\{suffix}: {key}: .*{what}"):
+        load_data(p)
+
+
+def test_bad_input_exit_code_2(tmp_path, capsys):
+    p = bad_csv(tmp_path, "k,Cl_re,Cl_im\n0,1,0\n0.1,x,0\n")
+    assert cli.main(["fit", str(p), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert "bad.csv: line 3:" in err and "'x' is not a number" in err
+    assert not (tmp_path / "o").exists()
+    cases = [([str(tmp_path / "none.csv")], "no such file"),
+             ([str(EXAMPLE), "--T", "-1"], "--T: must be positive"),
+             ([str(EXAMPLE), "--T", "abc"], "--T: 'abc' is not a number"),
+             ([str(EXAMPLE), "--order", "x"], "--order: 'x' is neither"),
+             ([str(tmp_path / "data.xlsx")], "no such file")]
+    for argv, msg in cases:
+        assert cli.main(["fit", *argv, "--out", str(tmp_path / "o")]) == 2, argv
+        assert msg in capsys.readouterr().err
+    (tmp_path / "data.xlsx").write_text("x")
+    assert cli.main(["fit", str(tmp_path / "data.xlsx")]) == 2
+    assert "unknown suffix '.xlsx'" in capsys.readouterr().err
+
+
+def test_dc_match_without_dc_sample_is_bad_input(tmp_path):
+    k = np.logspace(-2, 0, 30)
+    p = write_csv(tmp_path / "nodc.csv", k, known(2 * k))
+    with pytest.raises(FitInputError, match="--dc-gain: match needs an omega = 0 sample"):
+        fit_data(load_data(p), order=4, dc_gain="match")
+    out = fit_data(load_data(p), order=4)  # default: no DC constraint without the sample
+    assert out.options["dc_gain"] == "none" and not out.result.enforced["dc_gain"]
+
+
+def test_worked_example_file_is_what_the_script_writes(tmp_path):
+    spec = importlib.util.spec_from_file_location("make_fit_example", ROOT / "bench" / "make_fit_example.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    assert mod.main(tmp_path / "ex.csv").read_text() == EXAMPLE.read_text()
+    frf = load_data(EXAMPLE)
+    assert frf.outputs == ("Cl", "Cm") and frf.inputs == ("gust",)
+    assert np.allclose(frf.H, np.stack(mod.response(frf.omega))[:, None, :], rtol=1e-10, atol=1e-12)
