@@ -335,12 +335,13 @@ def test_ctrl_c_on_lfdrom_run(tmp_path):
     assert "Traceback" not in err and "interrupted" in err and "resume" in err
 
 
-def test_rediscretisation_error_names_the_simulation_step():
-    """A continuous pole at s = 2/dt: the message speaks of dt (it said "choose a different T" with 2/dt)."""
-    import control
+def test_rediscretisation_error_names_the_simulation_step(monkeypatch):
+    """The re-discretisation at the simulation step fails (a continuous pole at s = 2/dt, which sysid reports as
+    "choose a different T"): the message names dt, the step it happened at, not the identification's T."""
+    def singular(model, T):
+        raise sysid.ModelError(f"c2d_bilinear(): a pole at s = 2/T = {2.0 / T:g}; choose a different T")
 
-    dt, T = 0.1, 1.0
-    rd = sysid.c2d_bilinear(control.ss([[2.0 / dt]], [[1.0]], [[1.0]], [[0.0]]), T)
-    t = dt * np.arange(10)
+    monkeypatch.setattr(sysid, "c2d_bilinear", singular)
+    t = 0.1 * np.arange(10)
     with pytest.raises(sysid.ModelError, match=r"identified with T = 1 .* simulation step dt = 0\.1 .* s = 2/dt = 20"):
-        runner.rom_simulation(rd.A, rd.B, rd.C, rd.D, T, t, np.ones_like(t))
+        runner.rom_simulation([[0.5]], [[1.0]], [[1.0]], [[0.0]], 1.0, t, np.ones_like(t))
