@@ -856,7 +856,7 @@ def findings(results, rows: Optional[Sequence[Mapping]] = None) -> str:
         qual = "" if stable else " (no stable ROM: the smallest FRF error)"
         lines.append(f"- {case}{qual}: best ROM {what}: FRF max error {frf}"
                      + (f"; worst gust peak error {', '.join(peaks)}" if peaks else "; no gust history yet")
-                     + f"; {len(stable)} of {len(cr)} ROMs stable.")
+                     + (f"; {len(stable)} of {len(cr)} ROMs stable." if len(cases) > 1 else "."))
     return lines[0] + "\n\n" + "\n".join(lines[1:]) + "\n"
 
 
