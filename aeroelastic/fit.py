@@ -22,8 +22,8 @@ first, and estimating them from the high-frequency data alone is ill-conditioned
 asymptote); Roger's form finds them jointly with the lags in one convex problem, keeps the static derivatives
 exactly and gives real stable poles, which is what flutter codes expect (Karpel's minimum-state form would
 need fewer states but a non-convex fit). The gust column (proper: it decays at high frequency) is identified
-with :func:`sysid.identify` (subspace + convex refit, exact DC gain, stability enforced) and converted to
-continuous time (paper Eq. 26).
+with :func:`sysid.identify` (subspace + constrained least-squares refit of B, D with the exact DC gain by the
+closed-form null-space solver, stability enforced) and converted to continuous time (paper Eq. 26).
 
 The lag part is realised with two states per root (one per motion input)::
 
@@ -73,7 +73,7 @@ class MotionModel:
         True when ``M0`` is the data's ``omega = 0`` value (imposed exactly).
     max_error, rms_error : float
         Motion fit errors over the data: ``|fit - data| / max(|data|, 0.01 max|data_ij|)``, max and RMS over
-        entries and frequencies.
+        entries and frequencies (an entry that is zero throughout is measured against ``1e-12`` of the largest).
     gust_max_error : float or None
         Max error of the gust model over the data relative to the peak of each output (``nan`` without gust).
     omega : ndarray, shape (K,)
@@ -237,7 +237,9 @@ def fit_motion(frf, order: int = 4, *, gust_order: int = 8, T: float | None = No
                        "or a lower order")
     s = 1j * w
     peak = np.abs(Hm).max(axis=2, keepdims=True)
-    W = 1.0 / np.maximum(np.abs(Hm), 0.01 * np.maximum(peak, np.finfo(float).tiny))
+    # an entry that is zero throughout (e.g. the plunge column of static data) is weighted by the largest entry
+    floor = np.maximum(0.01 * peak, 1e-12 * max(float(np.abs(Hm).max()), 1e-300))
+    W = 1.0 / np.maximum(np.abs(Hm), floor)
 
     wpos = w[w > 0]
     if poles is not None:
@@ -280,7 +282,8 @@ def fit_motion(frf, order: int = 4, *, gust_order: int = 8, T: float | None = No
         has_dc = bool(np.any(omega == 0.0))
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
-            ident = sysid.identify(gfrf, gust_order, dc_gain="match" if has_dc else None, stable=True)
+            ident = sysid.identify(gfrf, gust_order, dc_gain="match" if has_dc else None, stable=True,
+                                   solver="numpy")
         gc = ident.continuous()
         import control
 

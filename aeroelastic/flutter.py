@@ -213,7 +213,9 @@ def flutter(aero: Any, section: TypicalSection, speeds: Any = None, *, order: in
         return _eigs(model, section, v).real.max() - tol
 
     Vf = optimize.brentq(f, V[i - 1], V[i], xtol=1e-12, rtol=1e-12)
-    lam = _eigs(model, section, Vf)
+    # the critical root: the most unstable one just past the crossing (at the crossing itself a divergent root and
+    # an undamped oscillatory one can tie on Re = 0)
+    lam = _eigs(model, section, Vf * (1 + 1e-8))
     crit = lam[np.argmax(lam.real)]
     fr = abs(crit.imag)
     kind = "flutter" if fr > 1e-6 else "divergence"

@@ -1,0 +1,76 @@
+"""fit_motion: Roger form with exact static derivatives; gust column through sysid.identify."""
+
+import numpy as np
+import pytest
+import sysid
+
+import aeroelastic as ae
+from aeroelastic import theodorsen as th
+
+W = np.concatenate([[0.0], np.geomspace(0.01, 4.0, 100)])
+
+
+@pytest.fixture(scope="module")
+def theo_fit():
+    return ae.fit_motion(th.theodorsen_frf(W, -0.2, gust=True), 4)
+
+
+def test_theodorsen_fit_error_and_structure(theo_fit):
+    m = theo_fit
+    # measured 1.8e-3 (order 4); C(k) has a logarithmic branch point at k = 0 that no finite sum of poles
+    # represents exactly, so the error falls with the order but never reaches round-off
+    assert m.max_error < 3e-3 and m.rms_error < 1e-3
+    assert m.static_exact
+    np.testing.assert_array_equal(m.M0, [[0.0, 2 * np.pi], [0.0, np.pi * 0.3]])  # exact, not fitted
+    assert np.all(m.poles > 0) and m.n_lags == 4
+    # apparent mass (exact: Cl_h = -pi/2, Cm_a = -(pi/2)(1/8 + a^2)/4 per (d/ds)^2); the lag terms trade a little
+    # with M2 over a finite band, so 1 % is what the fit can promise
+    assert m.M2[0, 0] == pytest.approx(-np.pi / 2, rel=1e-2)
+    assert m.M2[1, 1] == pytest.approx(-np.pi / 8 * (0.125 + 0.04), rel=1e-2)
+    # gust column: 8 states through sysid.identify, measured 1.5e-4 of the peak
+    assert m.gust_max_error < 1e-3
+    assert np.all(np.linalg.eigvals(m.gust.A).real < 0)
+    np.testing.assert_allclose(m.evaluate_gust([0.0])[:, 0, 0], [2 * np.pi, 2 * np.pi * 0.3 / 2], rtol=1e-8)
+
+
+@pytest.mark.parametrize("order, bound", [(2, 3e-2), (3, 1e-2), (6, 1e-3)])
+def test_fit_error_falls_with_order(order, bound):
+    m = ae.fit_motion(th.theodorsen_frf(W, -0.2), order)
+    assert m.max_error < bound
+
+
+def test_exact_models_are_recovered():
+    # quasi-steady (C = 1) data are a quadratic polynomial: order 0 recovers them to round-off
+    m = ae.fit_motion(th.theodorsen_frf(W, 0.1, quasi_steady=True), 0)
+    assert m.max_error < 1e-12
+    # Jones' approximation is exactly of Roger's form with 2 lags
+    mj = ae.fit_motion(th.jones_frf(W, -0.2), 2, gust_order=3)
+    assert mj.max_error < 1e-9
+    np.testing.assert_allclose(mj.poles, [0.0455 * 2, 0.3 * 2], rtol=1e-6)  # semichord -> chord time
+
+
+def test_lag_model_matches_evaluate(theo_fit):
+    lag = theo_fit.lag_model()
+    w = np.array([0.1, 1.0])
+    G = np.array([np.asarray(lag(1j * x)) for x in w]).transpose(1, 2, 0)
+    s = 1j * w
+    poly = theo_fit.M0[:, :, None] + theo_fit.M1[:, :, None] * s + theo_fit.M2[:, :, None] * s**2
+    np.testing.assert_allclose(G + poly, theo_fit.evaluate(w), rtol=1e-12)
+
+
+def test_errors():
+    frf = th.theodorsen_frf(W, -0.2)
+    with pytest.raises(ae.AeroModelError, match="missing"):
+        ae.fit_motion(frf.replace(inputs=["h", "pitch"]), 2)
+    with pytest.raises(ae.AeroModelError, match="expects a sysid.FrequencyResponse"):
+        ae.fit_motion(np.ones((2, 2, 5)), 2)
+    disc = sysid.FrequencyResponse(np.ones((2, 2, 5)), np.linspace(0, np.pi, 5), None,
+                                   inputs=["plunge", "pitch"], outputs=["Cl", "Cm"])
+    with pytest.raises(ae.AeroModelError, match="no continuous frequencies"):
+        ae.fit_motion(disc, 2)
+    with pytest.raises(ae.FitError, match="order"):
+        ae.fit_motion(frf, -1)
+    with pytest.raises(ae.FitError, match="cannot determine"):
+        ae.fit_motion(th.theodorsen_frf([0.0, 0.5, 1.0], -0.2), 4)
+    with pytest.raises(ae.FitError, match="positive lag roots"):
+        ae.fit_motion(frf, 2, poles=[0.1, -0.2])
