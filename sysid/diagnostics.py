@@ -294,7 +294,7 @@ class DataDiagnostics:
         else:
             lines.append("the data are consistent with a causal, stable, real LTI system within the thresholds "
                          f"(negative-time energy <= {self.thresholds['neg_time']:g}, KK residual <= "
-                         f"{self.thresholds['kk']:g}, Im H(0)/peak <= {self.thresholds['dc_imag']:g})")
+                         f"max({self.thresholds['kk']:g}, 3 x its discretisation estimate), Im H(0)/peak <= {self.thresholds['dc_imag']:g})")
         return "\n".join(lines)
 
     def markdown(self) -> str:
@@ -305,7 +305,7 @@ class DataDiagnostics:
         else:
             lines.append("- The data are consistent with a causal, stable, real LTI system within the thresholds "
                          f"(negative-time energy <= {self.thresholds['neg_time']:g}, KK residual <= "
-                         f"{self.thresholds['kk']:g}, Im H(0)/peak <= {self.thresholds['dc_imag']:g}).")
+                         f"max({self.thresholds['kk']:g}, 3 x its discretisation estimate), Im H(0)/peak <= {self.thresholds['dc_imag']:g}).")
         return "\n".join(lines)
 
 
