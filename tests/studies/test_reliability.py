@@ -345,3 +345,35 @@ def test_rediscretisation_error_names_the_simulation_step(monkeypatch):
     t = 0.1 * np.arange(10)
     with pytest.raises(sysid.ModelError, match=r"identified with T = 1 .* simulation step dt = 0\.1 .* s = 2/dt = 20"):
         runner.rom_simulation([[0.5]], [[1.0]], [[1.0]], [[0.0]], 1.0, t, np.ones_like(t))
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="kill -9")
+def test_kill_9_then_rerun_equals_the_uninterrupted_run(computed, tmp_path):
+    """`lfdrom run` killed with SIGKILL (process group: the workers too) after its first pieces; the rerun
+    computes only the rest and its results equal an uninterrupted run's (store corruption: test_cache.py)."""
+    from tinystudy import STUDY
+
+    from studies.config import load_study
+    from studies.results import load_results
+
+    config, first, _ = computed
+    (tmp_path / "tiny.toml").write_text(STUDY)
+    proc = subprocess.Popen([sys.executable, "-m", "studies.cli", "run", str(tmp_path / "tiny.toml"), "--workers",
+                             "2", "--no-report"], cwd=REPO, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True)
+    deadline = time.monotonic() + 120
+    line = proc.stdout.readline()
+    while " pieces, " not in line:  # the first stored piece
+        assert line and time.monotonic() < deadline, "no piece was stored"
+        line = proc.stdout.readline()
+    os.killpg(proc.pid, signal.SIGKILL)
+    proc.wait(timeout=30)
+    study = load_study(tmp_path / "tiny.toml")
+    part = load_results(study)
+    assert not part.complete and part.steady  # killed mid-way, the steady flow kept
+    res = run_study(study, progress=False)
+    assert res.complete and res.run.computed < N_POINTS * 2 + 3 and not res.failed
+    for a in first.sims:
+        b = next(s for s in res.sims if (s.M, s.order, s.method, s.gust) == (a.M, a.order, a.method, a.gust))
+        # same code and inputs on the same machine: the stored results agree to round-off of the solves
+        np.testing.assert_allclose(b.cl, a.cl, rtol=1e-9, atol=1e-12 * np.abs(a.cl).max())
