@@ -52,8 +52,9 @@ Options and rules
 - ``--dc-gain match|none`` (default ``match`` when the data have an ``omega = 0`` sample, else ``none``),
   ``--stable/--no-stable`` (default stable).
 
-Exit status: 0 written; 1 the identification failed; 2 bad input (file, options), reported with the file and
-the line (CSV) or key (``.npz``/``.mat``) and what to do.
+Exit status (``studies.commands.EXIT_*``): 0 written; 1 the identification failed; 2 bad input (file, options),
+reported with the file and the line (CSV) or key (``.npz``/``.mat``) and what to do; 4 the output folder
+cannot be written.
 """
 
 from __future__ import annotations
@@ -74,7 +75,8 @@ import numpy as np
 __all__ = ["FitInputError", "FitOutcome", "load_data", "holdout_order", "fit_data", "write_outputs",
            "add_parser", "cmd_fit", "FREQ_UNITS"]
 
-EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT = 0, 1, 2  # as studies.commands: EXIT_OK, EXIT_FAILED, EXIT_UNAVAILABLE
+from .commands import EXIT_FAILED, EXIT_NOT_WRITTEN, EXIT_OK
+from .commands import EXIT_UNAVAILABLE as EXIT_BAD_INPUT  # 2: bad input, found before anything is computed
 FREQ_UNITS = ("omega", "k", "omega_d")
 HOLDOUT_RTOL, HOLDOUT_ATOL = 0.1, 1e-6
 
@@ -723,7 +725,7 @@ def _parse_order(text, file) -> int | str:
 
 
 def cmd_fit(args) -> int:
-    """Run ``lfdrom fit``; returns the exit status (0 ok, 1 identification failed, 2 bad input)."""
+    """Run ``lfdrom fit``; returns the exit status (0 ok, 1 identification failed, 2 bad input, 4 not written)."""
     import sysid
 
     def err(msg):
@@ -735,6 +737,18 @@ def cmd_fit(args) -> int:
         if args.max_order < 1:
             raise FitInputError(args.data, "--max-order", f"must be >= 1, got {args.max_order}")
         frf = load_data(args.data, T=T, freq_unit=args.freq_unit, input_name=args.input)
+    except FitInputError as e:
+        err(str(e))
+        return EXIT_BAD_INPUT
+    out_dir = args.out if args.out is not None else Path(f"fit-{args.data.stem}")
+    try:
+        out_dir.mkdir(parents=True, exist_ok=True)
+        if not out_dir.is_dir():
+            raise NotADirectoryError(f"{out_dir} is not a folder")
+    except OSError as e:
+        err(f"cannot write to {out_dir} ({e}); choose another --out")
+        return EXIT_NOT_WRITTEN
+    try:
         out = fit_data(frf, order=order, dc_gain=args.dc_gain or "auto", stable=args.stable, T=T,
                        max_order=args.max_order)
     except FitInputError as e:
@@ -746,13 +760,12 @@ def cmd_fit(args) -> int:
     except Exception as e:  # noqa: BLE001 - the command line reports any failure with its type
         err(f"the identification of {args.data} failed: {type(e).__name__}: {e}")
         return EXIT_FAILED
-    out_dir = args.out if args.out is not None else Path(f"fit-{args.data.stem}")
     command = "lfdrom fit " + " ".join(sys.argv[2:]) if len(sys.argv) > 2 and sys.argv[1] == "fit" else None
     try:
         paths = write_outputs(out, args.data, out_dir, command=command, figures=not args.no_figures)
     except OSError as e:
         err(f"cannot write to {out_dir}: {e}")
-        return EXIT_FAILED
+        return EXIT_NOT_WRITTEN
     if not args.quiet:
         print_summary(out)
     print("wrote " + ", ".join(str(p) for p in paths.values()))

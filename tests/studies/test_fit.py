@@ -244,3 +244,15 @@ def test_worked_example_file_is_what_the_script_writes(tmp_path):
     frf = load_data(EXAMPLE)
     assert frf.outputs == ("Cl", "Cm") and frf.inputs == ("gust",)
     assert np.allclose(frf.H, np.stack(mod.response(frf.omega))[:, None, :], rtol=1e-10, atol=1e-12)
+
+
+def test_unwritable_output_exit_code_4_and_impossible_order_exit_code_2(files, tmp_path, capsys):
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    assert cli.main(["fit", str(files["csv"]), "--order", "4", "--out", str(blocker / "o")]) == 4
+    assert "cannot write to" in capsys.readouterr().err
+    assert cli.main(["fit", str(files["csv"]), "--order", "500", "--no-figures", "--out", str(tmp_path / "o")]) == 2
+    assert "--order" in capsys.readouterr().err
+    # order 1 cannot carry both the DC and the feedthrough equalities of two outputs
+    assert cli.main(["fit", str(files["csv"]), "--order", "1", "--no-figures", "--out", str(tmp_path / "o")]) == 2
+    assert "raise the order" in capsys.readouterr().err
