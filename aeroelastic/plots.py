@@ -25,7 +25,8 @@ def root_locus_plot(result, ax: Any = None, *, show_lags: bool = True):
     """Root locus against speed: eigenvalues in the ``(Re, Im)`` plane (``omega_alpha`` units).
 
     The two structural branches are drawn as coloured lines from the lowest speed (circle) to the highest
-    (triangle); the other roots (aerodynamic lags, always real and stable here) as grey points. The flutter
+    (triangle); the other roots (the aerodynamic lag roots, real and stable, and a real root crossing to the right
+    half plane at divergence) as grey points. The flutter
     point, when found, is marked with a star.
     """
     plt = _plt()
@@ -36,7 +37,7 @@ def root_locus_plot(result, ax: Any = None, *, show_lags: bool = True):
         others = [j for j in range(E.shape[1]) if j not in set(result.modes)]
         lag = E[:, others]
         lag = lag[lag.imag >= -1e-12]
-        ax.plot(lag.real, lag.imag, ".", color="0.6", ms=2, label="other roots (aerodynamic lags)")
+        ax.plot(lag.real, lag.imag, ".", color="0.6", ms=2, label="other roots (lags; real, > 0 past divergence)")
     for c, name, j in zip(_MODE_COLOURS, _MODE_NAMES, result.modes):
         lam = E[:, j]
         lam = np.where(lam.imag < 0, lam.conj(), lam)

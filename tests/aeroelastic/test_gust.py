@@ -56,7 +56,7 @@ def test_fitted_jones_data_reproduce_the_jones_time_domain_model(V):
 
 @pytest.mark.parametrize("V, bounds", [(1.0, (0.015, 0.03, 0.02, 0.02)), (1.5, (0.015, 0.035, 0.02, 0.02))])
 def test_theodorsen_sears_fit_against_jones_time_domain(theo, V, bounds):
-    # exact Theodorsen/Sears data (fitted, errors 1.8e-3 and 1.5e-4) against Jones' approximations: the two
+    # exact Theodorsen/Sears data (fitted, errors 1.8e-3 and 4e-5) against Jones' approximations: the two
     # aerodynamic models differ by 1-2.3 % in C(k) and a few per cent in the early Kussner rise; the flexible
     # section filters them. Measured (max difference / peak) at V = 1.5: plunge 1.1 %, pitch 2.9 %, Cl 1.5 %,
     # Cm 1.6 %; at V = 1.0: see docs/aeroelastic.md.
