@@ -274,6 +274,9 @@ def _load_csv(path: Path, T_opt, freq_unit: str | None, input_name: str | None):
             raise FitInputError(path, f"line {ln}", f"'# frequency: {unit}' is not one of {FREQ_UNITS} (omega in U/c, "
                                                     "k = omega/2, omega_d in rad/sample)")
     fname = header[0]
+    if len(header) == 1 and any(sep in fname for sep in (";", "\t", " ")):
+        raise FitInputError(path, f"line {hline}", f"one column only ({fname!r}): separate the columns with commas "
+                                                   "(k,Cl_re,Cl_im,...)")
     if unit is None:
         if fname not in FREQ_UNITS:
             raise FitInputError(path, f"line {hline}", f"the first column {fname!r} is not a frequency column I "
