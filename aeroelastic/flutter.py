@@ -45,7 +45,7 @@ class FlutterResult:
     reduced_frequency : float
         ``k = omega b / U = frequency_ratio / speed_index`` at flutter.
     speeds : ndarray, shape (N,)
-        Speed indices of the root locus.
+        Speed indices of the root locus (arrays of the result are read-only).
     eigenvalues : ndarray, complex, shape (N, n)
         All eigenvalues per speed (``omega_alpha`` units), ordered along continuous branches (each column
         follows one root as the speed grows).
@@ -93,6 +93,12 @@ class FlutterResult:
             return f"no instability for speed index {self.speeds[0]:.4g} .. {self.speeds[-1]:.4g}"
         return (f"{self.kind} at U/(b w_alpha) = {self.speed_index:.5f} (V_f = {self.flutter_speed_index:.5f}), "
                 f"w/w_alpha = {self.frequency_ratio:.5f}, k = {self.reduced_frequency:.5f}")
+
+
+def _ro(a: np.ndarray) -> np.ndarray:
+    a = np.array(a, copy=True)
+    a.setflags(write=False)
+    return a
 
 
 def _eigs(model: MotionModel, section: TypicalSection, V: float) -> np.ndarray:
@@ -206,7 +212,7 @@ def flutter(aero: Any, section: TypicalSection, speeds: Any = None, *, order: in
         why = ("the section is stable over the whole grid; extend speeds" if unstable.size == 0 else
                "the section is already unstable at the first speed; start speeds lower")
         warnings.warn(f"no stability crossing found: {why}", RuntimeWarning, stacklevel=2)
-        return FlutterResult(nan, nan, nan, "none", False, nan, V, E, modes, section, model)
+        return FlutterResult(nan, nan, nan, "none", False, nan, _ro(V), _ro(E), _ro(modes), section, model)
     i = unstable[0]
 
     def f(v):
@@ -222,7 +228,7 @@ def flutter(aero: Any, section: TypicalSection, speeds: Any = None, *, order: in
     if kind == "divergence":
         fr = 0.0
     return FlutterResult(float(Vf), float(Vf / math.sqrt(section.mu)), float(fr), kind, True, float(fr / Vf),
-                         V, E, modes, section, model)
+                         _ro(V), _ro(E), _ro(modes), section, model)
 
 
 def divergence_speed(aero: Any, section: TypicalSection, *, order: int = 4) -> float:

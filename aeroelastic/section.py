@@ -120,7 +120,7 @@ class TypicalSection:
         """In-vacuo coupled frequencies ``omega / omega_alpha`` (ascending), shape (2,).
 
         Roots of ``det(Ks - w^2 Ms) = 0``:
-        ``(r2 - x_a^2) w^4 - r2 (1 + s^2) w^2 + r2 s^2 = 0`` with ``s = omega_ratio`` (Hodges & Pierce Eq. 5.x).
+        ``(r2 - x_a^2) w^4 - r2 (1 + s^2) w^2 + r2 s^2 = 0`` with ``s = omega_ratio``.
         """
         r2, xa, s2 = self.r_alpha2, self.x_alpha, self.omega_ratio**2
         w2 = np.roots([r2 - xa**2, -r2 * (1 + s2), r2 * s2])

@@ -445,8 +445,6 @@ def jones_section_model(section, speed: float):
     rho, U, b = 1.0 / (np.pi * mu), V, 1.0
     nW, nG = len(WAGNER_JONES), len(KUSSNER_JONES)
     n = 4 + nW + nG
-    iz = slice(4, 4 + nW)
-    iy = slice(4 + nW, n)
     sumA = sum(A for A, _ in WAGNER_JONES)
     sumG = sum(G for G, _ in KUSSNER_JONES)
 

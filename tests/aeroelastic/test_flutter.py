@@ -1,7 +1,6 @@
 """Flutter as an eigenvalue problem: the textbook section against the classical determinant solution."""
 
 import math
-import warnings
 
 import numpy as np
 import pytest
@@ -122,6 +121,8 @@ def test_root_locus_is_tracked_and_frozen(result):
     assert result.g.shape == E.shape and result.damping.shape == E.shape
     with pytest.raises(AttributeError):
         result.speed_index = 1.0
+    with pytest.raises(ValueError):
+        result.eigenvalues[0, 0] = 0.0
     V, E2 = ae.root_locus_response(result.model, HP, SPEEDS[:5])
     np.testing.assert_allclose(np.sort_complex(E2[-1]), np.sort_complex(E[4]), atol=1e-12)
 
