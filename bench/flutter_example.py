@@ -14,10 +14,13 @@ figures ``fit.png``, ``root_locus.png``, ``vg.png`` and ``gust_response.png``.
 from __future__ import annotations
 
 import argparse
+import sys
 import time
 from pathlib import Path
 
-import matplotlib
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout
+
+import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
