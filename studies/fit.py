@@ -459,7 +459,9 @@ def holdout_order(frf, *, max_order: int = 30, dc_gain=None, stable: bool = True
                 res = sysid.identify(part, int(n), dc_gain=dc_gain, stable=stable)
             Hm = res.evaluate(val.omega_d)
         except sysid.OrderError:
-            break
+            if np.isfinite(errs[:i]).any():
+                break  # above what the fitted half supports
+            continue  # below what the data need (e.g. fewer states than inputs)
         except (ValueError, RuntimeError, np.linalg.LinAlgError):
             continue
         errs[i] = float((np.sqrt(np.mean(np.abs(Hm - Hv) ** 2, axis=(1, 2))) / den).max())

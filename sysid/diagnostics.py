@@ -422,8 +422,9 @@ def diagnose(
         msgs.append(
             f"{_names(ch, frf)}: the imaginary part differs from the one causality implies from the real part "
             f"(Kramers-Kronig) by {kk_res[worst]:.2g} of the peak (threshold {kk_tol:g}, discretisation estimate "
-            f"{kk_disc[worst]:.1g}): the data are not those of a causal, stable, real system, or they are too "
-            "sparse in frequency; check the sign convention (responses per exp(+i omega t)), the phase reference "
+            f"{kk_disc[worst]:.1g}): the data are not those of a causal, stable, real system, or they are noisy "
+            "(noise has no causal structure: a residual about twice the relative noise level is expected), or "
+            "too sparse in frequency; check the sign convention (responses per exp(+i omega t)), the phase reference "
             "(a time advance e^{+i omega tau} is non-causal), and add frequencies where the response varies fast")
     if flag_dc.any():
         ch = chans(flag_dc)

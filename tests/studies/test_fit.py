@@ -264,3 +264,20 @@ def test_unwritable_output_exit_code_4_and_too_large_order_exit_code_2(files, tm
     assert "cannot write to" in capsys.readouterr().err
     assert cli.main(["fit", str(files["csv"]), "--order", "500", "--no-figures", "--out", str(tmp_path / "o")]) == 2
     assert "--order" in capsys.readouterr().err
+
+
+def test_mimo_csv_and_order_auto(tmp_path):
+    # two inputs: columns NAME/INPUT_re, NAME/INPUT_im; McMillan degree 4 (pole -1 with a rank-2 residue)
+    k = np.concatenate([[0.0], np.logspace(-2, 0.5, 40)])
+    s = 1j * 2 * k
+    H = np.array([[1 / (s + 1), 0.5 / (s + 0.3)], [2 / (s + 2), -0.2 / (s + 1)]])
+    cols = ["k"] + [f"{o}/{i}_{part}" for o in ("Cl", "Cm") for i in ("gust", "pitch") for part in ("re", "im")]
+    rows = [[k[j]] + [v for o in range(2) for i in range(2) for v in (H[o, i, j].real, H[o, i, j].imag)]
+            for j in range(k.size)]
+    p = tmp_path / "mimo.csv"
+    p.write_text("\n".join([",".join(cols)] + [",".join(repr(float(x)) for x in r) for r in rows]) + "\n")
+    frf = load_data(p)
+    assert frf.outputs == ("Cl", "Cm") and frf.inputs == ("gust", "pitch") and np.allclose(frf.H, H)
+    # order 1 is below the number of inputs (skipped, not the end of the search)
+    out = fit_data(frf, order="auto", max_order=6)
+    assert np.isnan(out.selection.errors[0]) and out.selection.chosen == 4 and out.result.max_error < 1e-8
