@@ -280,7 +280,7 @@ class DataDiagnostics:
     def _header(self) -> str:
         grid = ("equispaced McKelvey grid" if self.equispaced else
                 "non-equispaced grid: negative-time energy needs McKelvey's grid, the KK residual applies")
-        tnote = f"T = {self.T:.6g}" + (" (default 2/sqrt(omega_lo omega_hi), for the KK check only)"
+        tnote = ("no T (discrete frequencies only)" if math.isnan(self.T) else f"T = {self.T:.6g}") + (" (default 2/sqrt(omega_lo omega_hi), for the KK check only)"
                                        if self.T_is_default else "")
         samples = (f"omega = 0 sample: {'yes' if self.has_dc else 'no'}; "
                    f"omega = inf sample: {'yes' if self.has_inf else 'no'}")
