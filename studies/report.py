@@ -1113,7 +1113,7 @@ def write_report(results, out_dir, *, page=None, prose=None, progress: bool = Fa
     md.append("## Gust responses: ROM against LTD\n")
     md.append(_figs_md(figs, page_dir, "histories"))
     md.append(_slot("histories", slots, paper))
-    if figs is None or any(f.section == "cases" for f in figs):
+    if figs is None or any(f.section == "cases" for f in figs) or slots.get("cases"):  # never drop written text
         md.append("## LTD responses of the cases\n")
         md.append(_figs_md(figs, page_dir, "cases"))
         md.append(_slot("cases", slots, paper))
@@ -1142,6 +1142,9 @@ def write_report(results, out_dir, *, page=None, prose=None, progress: bool = Fa
               "DC errors absolute per radian of gust angle; peak error |peak_ROM - peak_LTD| / |peak_LTD| with the "
               "peak the signed extreme; peak time error in c/U; RMS error rms(ROM - LTD) / rms(LTD); times in "
               "seconds.\n")
+    for name in slots:
+        if name not in SLOTS:  # a slot added by hand to the page: kept, at its end
+            md.append(_slot(name, slots, False))
     atomic_write_text(page_path, "\n".join(md))
     say(f"report {config.name}: {page_path}")
     return page_path

@@ -370,3 +370,10 @@ def test_read_prose_merges_the_page_and_the_file(tmp_path):
     (tmp_path / "prose.toml").write_text('cost = """\nNew.\n"""\nsummary = ""\n')
     assert read_prose(tmp_path / "prose.toml", page) == {"frf": "Kept.", "cost": "New."}
     assert read_prose({"methods": "M."}) == {"methods": "M."}
+
+
+def test_text_in_slots_the_page_would_not_show_is_kept(small, tmp_path):
+    page = make_report(small, tmp_path, figures=False)
+    page.write_text(page.read_text() + "\n<!-- prose:mine -->\nMy own slot.\n<!-- /prose:mine -->\n")
+    text = make_report(small, tmp_path, figures=False).read_text()
+    assert "<!-- prose:mine -->\nMy own slot.\n<!-- /prose:mine -->" in text
