@@ -247,6 +247,7 @@ def probe_writable(folder, *, what: str = "output folder", fix: str | None = Non
 
 def generated_marker(source) -> str:
     """The first line of a generated page: an HTML comment naming the study it was generated from."""
+    source = str(source).replace("--", "- -")  # "--" may not appear inside an HTML comment
     return (f"{GENERATED_MARKER} from {source}; the prose slots are kept when it is regenerated, "
             f"everything else is rewritten -->")
 
