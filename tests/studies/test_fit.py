@@ -278,6 +278,19 @@ def test_mimo_csv_and_order_auto(tmp_path):
     p.write_text("\n".join([",".join(cols)] + [",".join(repr(float(x)) for x in r) for r in rows]) + "\n")
     frf = load_data(p)
     assert frf.outputs == ("Cl", "Cm") and frf.inputs == ("gust", "pitch") and np.allclose(frf.H, H)
-    # order 1 is below the number of inputs (skipped, not the end of the search)
     out = fit_data(frf, order="auto", max_order=6)
-    assert np.isnan(out.selection.errors[0]) and out.selection.chosen == 4 and out.result.max_error < 1e-8
+    assert out.selection.chosen == 4 and out.result.max_error < 1e-8
+
+
+def test_order_auto_skips_orders_below_what_the_data_need(files, monkeypatch):
+    # an OrderError before any order fitted (e.g. fewer states than inputs) does not end the search
+    real = sysid.identify
+
+    def identify(frf, order, **kw):
+        if order < 3:
+            raise sysid.OrderError(f"order {order} is below the number of inputs")
+        return real(frf, order, **kw)
+
+    monkeypatch.setattr(sysid, "identify", identify)
+    out = fit_data(load_data(files["csv"]), order="auto", max_order=6)
+    assert np.isnan(out.selection.errors[:2]).all() and out.selection.chosen == 4
