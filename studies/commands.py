@@ -28,7 +28,7 @@ from .config import StudyConfig, StudyConfigError, load_study, parse_study
 
 __all__ = ["add_subcommands", "dispatch", "cmd_cases", "cmd_run", "cmd_report", "cmd_rom", "rom_study", "COMMANDS",
            "EXIT_OK", "EXIT_FAILED", "EXIT_UNAVAILABLE", "EXIT_INCOMPLETE", "EXIT_NOT_WRITTEN", "EXIT_INTERRUPTED",
-           "run_status", "rom_summary_line"]
+           "run_status", "rom_summary_line", "report_page"]
 
 EXIT_OK, EXIT_FAILED, EXIT_UNAVAILABLE, EXIT_INCOMPLETE, EXIT_NOT_WRITTEN = 0, 1, 2, 3, 4
 EXIT_INTERRUPTED = 130  # the shell's convention for Ctrl-C (128 + SIGINT)
@@ -176,16 +176,27 @@ def _apply_paths(config: StudyConfig, args) -> StudyConfig:
     return replace(config, **changes) if changes else config
 
 
-def _preflight(config: StudyConfig, *, report: bool, page=None, prose=None, extra=()) -> int:
+def report_page(config: StudyConfig, args) -> Path:
+    """Where the report of ``lfdrom run`` / ``lfdrom report`` goes: ``--page``, else ``--out``/report.md, else
+    the study's ``[report] page``, else ``<output>/report.md`` (as ``studies.report.make_report`` decides)."""
+    if getattr(args, "page", None) is not None:
+        return Path(args.page)
+    if getattr(args, "out", None) is None and config.report.page is not None:
+        return Path(config.report.page)
+    return Path(config.output_dir) / "report.md"
+
+
+def _preflight(config: StudyConfig, *, page=None, prose=None, force_page: bool = False, extra=()) -> int:
     """Check, before anything is computed, what would otherwise fail late: every folder the command will write
-    (the store, the output folder, the report page's folder and ``extra`` folders) accepts files, and the
-    prose file parses. Returns EXIT_OK, or (after saying why) EXIT_UNAVAILABLE / EXIT_NOT_WRITTEN."""
+    (the store, the output folder, the report page's folder and ``extra`` folders) accepts files, the page (when
+    a report is to be written) is ours to overwrite, and the prose file parses. Returns EXIT_OK, or (after
+    saying why) EXIT_UNAVAILABLE / EXIT_NOT_WRITTEN."""
     from .files import NotWritableError, probe_writable
+    from .report import ReportError, check_page, read_prose
 
     folders = [(config.store_dir, "results store", "give another one with --store"),
                (config.output_dir, "output folder", "give another one with --out")]
-    page = page if page is not None else config.report.page
-    if report and page is not None:
+    if page is not None:
         folders.append((Path(page).parent, "report page's folder", "give another page with --page"))
     folders.extend(extra)
     for folder, what, fix in folders:
@@ -195,14 +206,14 @@ def _preflight(config: StudyConfig, *, report: bool, page=None, prose=None, extr
             _err(str(e))
             return EXIT_NOT_WRITTEN
     prose = prose if prose is not None else config.report.prose
-    if report and prose is not None:
-        from .report import ReportError, read_prose
-
-        try:
-            read_prose(prose)
-        except ReportError as e:
-            _err(str(e))
-            return EXIT_UNAVAILABLE
+    try:
+        if page is not None:
+            check_page(page, force_page=force_page)
+            if prose is not None:
+                read_prose(prose)
+    except ReportError as e:
+        _err(str(e))
+        return EXIT_UNAVAILABLE
     return EXIT_OK
 
 
@@ -288,8 +299,8 @@ def cmd_run(args) -> int:
         print(_plan(config))
     if args.dry_run:
         return EXIT_OK
-    status = _preflight(config, report=not args.no_report, page=getattr(args, "page", None),
-                        prose=getattr(args, "prose", None))
+    status = _preflight(config, page=None if args.no_report else report_page(config, args),
+                        force_page=args.force_page)
     if status != EXIT_OK:
         return status
     results, status = _run(config, args, output_dir=config.output_dir, store_dir=config.store_dir,
@@ -350,7 +361,7 @@ def cmd_report(args) -> int:
     if config is None:
         return EXIT_UNAVAILABLE
     config = _apply_paths(config, args)
-    status = _preflight(config, report=True, page=args.page, prose=args.prose)
+    status = _preflight(config, page=report_page(config, args), prose=args.prose, force_page=args.force_page)
     if status != EXIT_OK:
         return status
     return _report(config, args)
@@ -405,7 +416,7 @@ def cmd_rom(args) -> int:
     if not args.quiet:
         print(_plan(config))
     npz, _ = _rom_files(args)
-    status = _preflight(config, report=False, extra=[(npz.parent, "ROM output folder", "give another --out")])
+    status = _preflight(config, extra=[(npz.parent, "ROM output folder", "give another --out")])
     if status != EXIT_OK:
         return status
     results, status = _run(config, args, output_dir=config.output_dir, store_dir=config.store_dir,

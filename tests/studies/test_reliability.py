@@ -377,3 +377,17 @@ def test_kill_9_then_rerun_equals_the_uninterrupted_run(computed, tmp_path):
         b = next(s for s in res.sims if (s.M, s.order, s.method, s.gust) == (a.M, a.order, a.method, a.gust))
         # same code and inputs on the same machine: the stored results agree to round-off of the solves
         np.testing.assert_allclose(b.cl, a.cl, rtol=1e-9, atol=1e-12 * np.abs(a.cl).max())
+
+
+def test_a_page_that_is_not_ours_is_refused_before_computing(tmp_path, recorder, capsys):
+    """`[report] page` naming a hand-written file: refused before any CFD (it was refused only after the run),
+    untouched; --force-page lets the run go on."""
+    page = tmp_path / "notes.md"
+    page.write_text("# My notes\n\nhand-written\n")
+    study = tmp_path / "s.toml"
+    study.write_text(study_text() + '\n[report]\npage = "notes.md"\n')
+    assert cli(["run", str(study), "--quiet"]) == commands.EXIT_UNAVAILABLE
+    assert recorder.calls == [] and page.read_text() == "# My notes\n\nhand-written\n"
+    assert "was not written by lfdrom report" in capsys.readouterr().err
+    assert cli(["run", str(study), "--quiet", "--force-page"]) == commands.EXIT_OK
+    assert recorder.calls == ["run_study", "make_report"]
