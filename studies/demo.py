@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import io
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -32,6 +33,9 @@ from pathlib import Path
 import numpy as np
 
 import sysid
+
+from .files import atomic_write_text
+from .plots import save_figure
 
 __all__ = ["gust_like_system", "make_data", "run_demo", "DemoResult", "main"]
 
@@ -161,8 +165,7 @@ def _plot(path: Path, frf, H_true, models, title):
     axes[0, 0].legend(fontsize=8, loc="lower left")
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
+    save_figure(fig, path, dpi=130)
 
 
 def run_demo(out, *, M: int = 256, T: float = T_DEMO, noise: float = 2e-3, orders=(4, 6, 40),
@@ -212,7 +215,8 @@ def run_demo(out, *, M: int = 256, T: float = T_DEMO, noise: float = 2e-3, order
                 f"rho {row['spectral_radius']:.5f}  ({row['time_ms']:.0f} ms)")
     md = _table_md(rows)
     table_md = out / "table.md"
-    table_md.write_text(
+    atomic_write_text(
+        table_md,
         "# lfdrom identification demo\n\n"
         f"Gust-response-like truth (6 states, outputs Cl, Cm), {frf.shape[2]} samples on McKelvey's grid, "
         f"T = 70/(2 pi), noise {noise:g} of each channel's peak. Errors relative (sysid.metrics): against the "
@@ -220,10 +224,11 @@ def run_demo(out, *, M: int = 256, T: float = T_DEMO, noise: float = 2e-3, order
         + md + "\n"
     )
     table_csv = out / "table.csv"
-    with table_csv.open("w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+    buf = io.StringIO(newline="")
+    w = csv.DictWriter(buf, fieldnames=list(rows[0]))
+    w.writeheader()
+    w.writerows(rows)
+    atomic_write_text(table_csv, buf.getvalue())
     n_show = 6 if 6 in orders else orders[len(orders) // 2]
     n_low = min(orders)
     models = [(f"ROM n={n_show}, DC + stable", results[n_show, "dc+stable"][1], "-")]

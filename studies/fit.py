@@ -76,6 +76,7 @@ __all__ = ["FitInputError", "FitOutcome", "load_data", "holdout_order", "fit_dat
            "add_parser", "cmd_fit", "FREQ_UNITS"]
 
 from .commands import EXIT_FAILED, EXIT_NOT_WRITTEN, EXIT_OK
+from .files import atomic_write_text
 from .commands import EXIT_UNAVAILABLE as EXIT_BAD_INPUT  # 2: bad input, found before anything is computed
 FREQ_UNITS = ("omega", "k", "omega_d")
 HOLDOUT_RTOL, HOLDOUT_ATOL = 0.1, 1e-6
@@ -652,7 +653,7 @@ def write_outputs(out: FitOutcome, data_path, out_dir, *, command: str | None = 
     paths = {"npz": export_rom_npz(out_dir / "rom.npz", res.model, meta),
              "mat": export_rom_mat(out_dir / "rom.mat", res.model, meta)}
     md = out_dir / "summary.md"
-    md.write_text(summary_markdown(out, data_path, command), encoding="utf-8")
+    atomic_write_text(md, summary_markdown(out, data_path, command))
     paths["summary"] = md
     if figures:
         from .fit_plots import write_figures

@@ -27,22 +27,10 @@ def _plt():
 
 
 def _save(fig, path: Path, dpi: int = 110) -> Path:
-    """Save as a palette PNG (small enough to commit) and close."""
-    plt = _plt()
-    try:
-        fig.savefig(path, dpi=dpi)
-        try:
-            from PIL import Image
+    """Save atomically as a palette PNG (small enough to commit) and close (:func:`studies.plots.save_figure`)."""
+    from .plots import save_figure
 
-            with Image.open(path) as im:
-                q = im.convert("RGB").quantize(colors=256, method=Image.Quantize.FASTOCTREE,
-                                               dither=Image.Dither.NONE)
-            q.save(path, format="PNG", optimize=True)
-        except ImportError:  # pragma: no cover - Pillow comes with matplotlib
-            pass
-    finally:
-        plt.close(fig)
-    return path
+    return save_figure(fig, path, dpi=dpi)
 
 
 def _plain_log_axis(ax, axis: str) -> None:
