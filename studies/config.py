@@ -118,6 +118,7 @@ __all__ = [
     "T_PAPER",
     "T_RANGE",
     "MAX_STEPS",
+    "MAX_M",
     "min_order",
     "march_memory_bytes",
 ]
@@ -131,6 +132,10 @@ T_RANGE = (0.02, 200.0)
 ``omega ~ 0.01 .. 100`` (``k = omega / 2 ~ 0.005 .. 50``), so ``2 / T`` must lie in that band: a smaller ``T``
 puts every sample far above the response (only the feedthrough is seen: ``T = 1e-13`` gave a meaningless
 grid and a "0.5 %" fit, ``T = 1e-300`` NaN models), a larger one crowds every sample at ``omega ~ 0``."""
+
+MAX_M = 4096
+"""Largest ``M_base`` (``N_omega = M + 1`` frequencies computed by the LFD per case and ``T``): 16 times the
+paper's 256."""
 
 MAX_STEPS = 1_000_000
 """Most time steps ``t_end / dt`` a study may ask of the LTD march (one sparse back-substitution per step,
@@ -771,6 +776,11 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
     M_base = P.integer(sweep.get("M_base", 256), "sweep.M_base", minimum=4)
     if not _is_pow2(M_base):
         raise P.err("sweep.M_base", f"must be a power of two (e.g. 256 = 2^8 as in the paper), got {M_base}")
+    if M_base > MAX_M:
+        raise P.err("sweep.M_base", (
+            f"M_base = {M_base} asks the LFD for {M_base + 1} frequencies per case and T (at most {MAX_M + 1}): "
+            f"the paper's 257 take about 3 minutes by the fast sweep on the paper grid, and the identification "
+            f"needs no more (the T sweep and N_omega = 33 .. 257 show where accuracy goes); use M_base <= {MAX_M}"))
 
     def parse_order(v, key):
         return P.integer(v, key, minimum=1)

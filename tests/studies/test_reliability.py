@@ -92,9 +92,13 @@ def test_min_order_is_what_the_identification_needs(p):
             sysid.identify(frf, n - 1, dc_gain="match")
 
 
-def test_rom_command_refuses_a_meaningless_T(capsys):
-    assert cli(["rom", "T2", "--order", "9", "--T", "1e-300", "--quiet"]) == commands.EXIT_UNAVAILABLE
-    assert "--T: T = 1e-300" in capsys.readouterr().err
+@pytest.mark.parametrize("argv, match", [
+    (["--T", "1e-300"], "--T: T = 1e-300"),
+    (["--M", "1048576"], r"--M: M_base = 1048576 asks the LFD for 1048577 frequencies .* M_base <= 4096"),
+])
+def test_rom_command_refuses_what_cannot_be_computed(capsys, argv, match):
+    assert cli(["rom", "T2", "--order", "9", "--quiet"] + argv) == commands.EXIT_UNAVAILABLE
+    assert __import__("re").search(match, capsys.readouterr().err)
 
 
 # ------------------------------------------------------------------ output locations probed first
