@@ -24,6 +24,7 @@ from .identify import IdentificationResult, StabilisationReport, identify
 from .diagnostics import DataDiagnostics, diagnose
 from .refit import BDFit, CDFit, fit_alternating, fit_bd, fit_cd
 from .stability import StabiliseResult, stabilise
+from .relocation import RelocationResult, fit_relocated
 
 __all__ = [
     # errors
@@ -74,4 +75,7 @@ __all__ = [
     "fit_alternating",
     "StabiliseResult",
     "stabilise",
+    # pole relocation (sysid.relocation): the default stable / DC-exact path of identify
+    "RelocationResult",
+    "fit_relocated",
 ]

@@ -132,7 +132,7 @@ def test_dc_constraint_with_pole_at_one():
     res = identify(frf, 3)
     assert np.min(np.abs(np.linalg.eigvals(res.model.A) - 1.0)) < 1e-9
     with pytest.raises(ConstraintError, match="z = 1"):
-        identify(frf, 3, dc_gain=np.array([[1.0]]))
+        identify(frf, 3, dc_gain=np.array([[1.0]]), algorithm="subspace")
 
 
 # ------------------------------------------------------------------------------------ stability
@@ -180,8 +180,8 @@ def test_output_matrix_refit_on_aerofoil_data():
     frf = FrequencyResponse.load(path)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
-        keep = identify(frf, 25, dc_gain="match", stable=True, refit_c=False)
-        both = identify(frf, 25, dc_gain="match", stable=True)
+        keep = identify(frf, 25, dc_gain="match", stable=True, refit_c=False, algorithm="subspace")
+        both = identify(frf, 25, dc_gain="match", stable=True, algorithm="subspace")
     G = np.asarray(frf.H)[:, 0]
 
     def err(res):
@@ -201,7 +201,7 @@ def test_stability_sdp_with_a_rank_deficient_objective():
     scaled = FrequencyResponse(H / np.abs(H).max(axis=(1, 2))[:, None, None], frf.omega_d, frf.T)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
-        res = identify(scaled, 55, dc_gain="match", stable=True)
+        res = identify(scaled, 55, dc_gain="match", stable=True, algorithm="subspace")
     assert res.subspace.spectral_radius > 1.5  # the subspace model is far from stable
     assert res.stabilisation.method == "lmi" and res.spectral_radius < 1 - 1e-3 and res.dc_error < 1e-9
     G = np.asarray(scaled.H)[:, 0]
