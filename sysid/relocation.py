@@ -95,8 +95,9 @@ class RelocationResult:
         ``"minimax"`` or ``"least-squares"``: which convex residue fit gave the final ``C``, ``D``.
     refined : bool
         True when the Gauss-Newton pole refinement lowered the error and was kept.
-    candidates : tuple of (str, float)
-        ``(label, max error)`` of every candidate tried, for the record.
+    candidates : tuple of (str, ndarray, bool)
+        ``(label, max error per output, admissible)`` of every candidate of the first input column, best
+        first; admissible: its DC / feedthrough equalities hold to ``_EQ_TOL`` of the peak when evaluated.
     iterations : int
         Relocation iterations run for the winning start.
     seconds : float
@@ -226,19 +227,22 @@ def _basis(s: np.ndarray, poles: np.ndarray) -> np.ndarray:
     n = poles.size
     Phi = np.zeros((K, n), dtype=complex)
     fin = np.isfinite(s)
-    sf = s[fin]
-    i = 0
-    while i < n:
-        a = poles[i]
-        if a.imag == 0:
-            Phi[fin, i] = 1.0 / (sf - a.real)
-            i += 1
-        else:
-            t1 = 1.0 / (sf - a)
-            t2 = 1.0 / (sf - np.conj(a))
-            Phi[fin, i] = t1 + t2
-            Phi[fin, i + 1] = 1j * (t1 - t2)
-            i += 2
+    if n == 0:
+        return Phi
+    sf = s[fin][:, None]
+    is_pair = np.abs(poles.imag) > 0
+    first = np.ones(n, dtype=bool)
+    first[1:] = ~(is_pair[1:] & is_pair[:-1] & (np.conj(poles[1:]) == poles[:-1]))
+    idx = np.flatnonzero(first)
+    a = poles[idx]
+    pair = is_pair[idx]
+    t1 = 1.0 / (sf - a[None, :])
+    t2 = 1.0 / (sf - np.conj(a)[None, :])
+    real_cols = idx[~pair]
+    pair_cols = idx[pair]
+    Phi[np.ix_(fin, real_cols)] = t1[:, ~pair]
+    Phi[np.ix_(fin, pair_cols)] = t1[:, pair] + t2[:, pair]
+    Phi[np.ix_(fin, pair_cols + 1)] = 1j * (t1[:, pair] - t2[:, pair])
     return Phi
 
 
@@ -442,7 +446,7 @@ def _input_normal(A, B):
 
 
 # --------------------------------------------------------------------------------------------- minimax
-def _socp_minimax(Q, g, E, f, tol=1e-10):
+def _socp_minimax(Q, g, E, f, tol=1e-9):
     """Solve ``min_y max_k |Q_k y - g_k|`` s.t. ``E y = f`` with Clarabel (conic form, one 3-cone per row).
 
     ``Q`` (K, N) complex, ``g`` (K,) complex, ``E`` (c, N) real, ``f`` (c,). Variables ``x = [y; t]``;
@@ -478,7 +482,7 @@ def _socp_minimax(Q, g, E, f, tol=1e-10):
     cones = ([clarabel.ZeroConeT(c)] if c else []) + [clarabel.SecondOrderConeT(3)] * K
     st = clarabel.DefaultSettings()
     st.verbose = False
-    st.tol_gap_abs = st.tol_gap_rel = st.tol_feas = tol
+    st.tol_gap_abs = st.tol_gap_rel = st.tol_feas = tol  # relative to the unit-scaled data
     st.max_iter = 200
     try:
         sol = clarabel.DefaultSolver(Pm, q, Am, bv, cones, st).solve()
@@ -694,12 +698,12 @@ def _derivative_columns(s, poles, theta):
     t2 = np.where(pair, theta[np.minimum(idx + 1, n - 1)], 0.0)
     du = np.where(pair, a.real * ((q1 + q2) * t1 + 1j * (q1 - q2) * t2), a.real * q1 * t1)
     dv = 1j * (q1 - q2) * t1 - (q1 + q2) * t2
-    cols = []
-    for j in range(idx.size):
-        cols.append(du[:, j])
-        if pair[j]:
-            cols.append(dv[:, j])
-    return np.column_stack(cols)
+    # parameter order: per real pole u; per pair (u, v)
+    pos_u = np.cumsum(np.where(pair, 2, 1)) - np.where(pair, 2, 1)
+    out = np.empty((s.size, int(np.sum(np.where(pair, 2, 1)))), dtype=complex)
+    out[:, pos_u] = du
+    out[:, pos_u[pair] + 1] = dv[:, pair]
+    return out
 
 
 def _bad_step(P, K, dc, x, n_coef):
@@ -1092,6 +1096,6 @@ def _fit_relocated(omega, z, G, T, order, *, dc_gain, feedthrough, weights, star
     return RelocationResult(
         A=A, B=B, C=C, D=D, poles=np.concatenate([b[0]["poles"] for b in blocks]),
         max_error_per_output=_channel_errors(A, B, C, D, z, G), start=best["label"], residues=best["residues"],
-        refined=best["refined"], candidates=tuple((c["label"], float(c["err"].max())) for c in blocks[0]),
+        refined=best["refined"], candidates=tuple((c["label"], c["err"].copy(), c["eq"] <= _EQ_TOL) for c in blocks[0]),
         iterations=best["its"], seconds=time.perf_counter() - t0,
     )
