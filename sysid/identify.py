@@ -59,7 +59,9 @@ class StabilisationReport:
     Attributes
     ----------
     method : str
-        ``"lmi"``, ``"reflect"`` or ``"none"`` (``A`` was already stable with the margin).
+        ``"lmi"``, ``"reflect"`` or ``"none"`` (``A`` was already stable with the margin) on the subspace
+        path; ``"relocation"`` on the relocation path, whose poles are stable by construction (nothing was
+        changed after the fit: the before/after fields are equal).
     status : str
         Solver / method status from :func:`sysid.stability.stabilise`.
     spectral_radius_before, spectral_radius_after : float

@@ -888,7 +888,7 @@ def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson,
 
     def refine_from(c):
         pr = refine_poles(s, Hn, c["poles"], weights=Wf, dc=None if dc is None else dc[:, 0] / peak,
-                          ft=None if ft is None else ft[:, 0] / peak, max_nfev=40, region=region)
+                          ft=None if ft is None else ft[:, 0] / peak, max_nfev=25, region=region)
         if pr is not c["poles"]:
             finish(c["label"] + "+gn", pr, c["its"], refined=True)
 
@@ -968,7 +968,7 @@ def _equality_residual(c, dc, ft, peak):
 
 
 def fit_relocated(omega, z, G, T, order, *, dc_gain=None, feedthrough=None, weights=None, start_poles=None,
-                  margin: float = 1e-3, iterations: int = 20, lawson: int = 10, refine: int = 3, minimax: int = 3,
+                  margin: float = 1e-3, iterations: int = 12, lawson: int = 5, refine: int = 3, minimax: int = 2,
                   budget: float | None = None) -> RelocationResult:
     """Stable discrete model by pole relocation and convex residue fits (the module docstring's steps 1-4).
 
