@@ -259,3 +259,19 @@ def test_bad_algorithm_and_margin():
         fit_relocated(frf.omega, frf.z, np.asarray(frf.H), frf.T, 4, margin=0.0)
     with pytest.raises(ValueError, match="rho"):
         stability_region(1.0, 1.0)
+
+
+def test_weights_reach_the_relocation():
+    # the studies' "inverse_magnitude" weights (squared-residual weights, shape (p, m, K)) go through the
+    # relocation path: the fit still holds the equalities and is stable, and the weights change it
+    frf = noisy_frf(seed=9, sigma=1e-2)
+    H = np.asarray(frf.H)
+    a = np.abs(H)
+    w = 1.0 / np.maximum(a, 1e-3 * a.max(axis=-1, keepdims=True)) ** 2
+    plain = identify(frf, 6, dc_gain="match", stable=True)
+    weighted = identify(frf, 6, dc_gain="match", stable=True, weights=w)
+    assert weighted.algorithm == "relocation" and weighted.dc_error < 1e-10
+    assert weighted.spectral_radius < 1 - 1e-3
+    assert not np.allclose(weighted.evaluate(frf.omega_d), plain.evaluate(frf.omega_d), rtol=0, atol=1e-12)
+    with pytest.raises(ValueError, match="weights"):
+        identify(frf, 6, dc_gain="match", stable=True, weights=-w)
