@@ -31,7 +31,10 @@ Schema (every key optional unless marked; see ``studies/demo.toml`` and ``studie
     stable = false                 # enforce spectral radius < 1 - margin
     margin = 1e-3
     weights = "none"               # "none" | "inverse_magnitude"
-    algorithm = "auto"             # "auto" | "mckelvey1" | "mckelvey2"
+    algorithm = "auto"             # "auto" | "relocation" | "subspace" | "mckelvey1" | "mckelvey2":
+                                   # auto = sysid.identify's default (pole relocation with the DC gain or
+                                   # stability, else the paper's McKelvey subspace); mckelvey1/2 = subspace
+                                   # with that algorithm
 
     [simulation]                   # gust responses: ROM against LTD
     discretisation = "tustin"      # re-discretisation of the continuous ROM at dt: "tustin" | "zoh"
@@ -143,7 +146,7 @@ about 0.03 s on the paper grid: a million steps are some 8 hours per case)."""
 
 DISCRETISATIONS = ("tustin", "zoh")
 WEIGHTS = ("none", "inverse_magnitude")
-ALGORITHMS = ("auto", "mckelvey1", "mckelvey2")
+ALGORITHMS = ("auto", "relocation", "subspace", "mckelvey1", "mckelvey2")
 GUST_METHODS = ("svm", "fvm")
 OUTPUTS = ("Cl", "Cm", "Cd")
 
@@ -306,24 +309,31 @@ def _order_ok(order: int, M: int, algorithm: str, p: int, m: int = 1) -> bool:
     return order <= max_order(M, algorithm, p, m, order=order)
 
 
-def min_order(p: int, m: int = 1, dc_gain: str = "none") -> int:
+def min_order(p: int, m: int = 1, dc_gain: str = "none", algorithm: str = "subspace") -> int:
     """Smallest model order whose identification can meet the method's equality constraints.
 
-    The refit of ``B`` and ``D`` (``sysid.refit.fit_bd``) has ``(n + p) m`` unknowns; on McKelvey's grid the
-    ``omega = inf`` sample is always present and fixes the feedthrough (``p m`` equations), and
-    ``dc_gain = "match"`` adds the DC gain (``p m`` more). With both, ``n m >= p m``: at least ``p`` states
-    (order 1 with two outputs and the exact DC gain has 3 unknowns for 4 equations).
+    Subspace path: the refit of ``B`` and ``D`` (``sysid.refit.fit_bd``) has ``(n + p) m`` unknowns; on
+    McKelvey's grid the ``omega = inf`` sample is always present and fixes the feedthrough (``p m``
+    equations), and ``dc_gain = "match"`` adds the DC gain (``p m`` more). With both, ``n m >= p m``: at
+    least ``p`` states (order 1 with two outputs and the exact DC gain has 3 unknowns for 4 equations).
+    Relocation path (``sysid.relocation``): residues per pole and output, the feedthrough given, one DC
+    equation per output and input: at least one state per input column (``min(p, m)``, it fits the transpose
+    when ``p < m``).
 
     Parameters
     ----------
     p, m : int
         Outputs and inputs.
     dc_gain : {"none", "match"}
+    algorithm : {"subspace", "relocation"}
+        As :meth:`MethodOptions.resolved_algorithm` gives it.
 
     Returns
     -------
     int
     """
+    if algorithm == "relocation":
+        return max(1, min(p, m))
     return max(1, p) if dc_gain == "match" else 1
 
 
@@ -377,13 +387,26 @@ class MethodOptions:
         H : array_like, shape (p, m, K), optional
             The data; needed for ``weights = "inverse_magnitude"`` (see :meth:`weights_for`).
         """
-        kw = dict(dc_gain="match" if self.dc_gain == "match" else None, stable=self.stable,
-                  margin=self.margin, method=self.algorithm)
+        kw = dict(dc_gain="match" if self.dc_gain == "match" else None, stable=self.stable, margin=self.margin)
+        if self.algorithm in ("mckelvey1", "mckelvey2"):
+            kw.update(algorithm="subspace", method=self.algorithm)
+        else:
+            kw.update(algorithm=self.algorithm, method="auto")
         if self.weights != "none":
             if H is None:
                 raise ValueError(f"method {self.name!r}: weights = {self.weights!r} needs the data H")
             kw["weights"] = self.weights_for(H)
         return kw
+
+    def resolved_algorithm(self, p: int, m: int = 1) -> str:
+        """``"relocation"`` or ``"subspace"``: what ``sysid.identify`` runs for this variant on data with ``p``
+        outputs and ``m`` inputs (``"auto"``: relocation when the DC gain or stability is imposed and
+        ``min(p, m) == 1``, as :func:`sysid.identify` decides)."""
+        if self.algorithm == "relocation":
+            return "relocation"
+        if self.algorithm != "auto":
+            return "subspace"
+        return "relocation" if (self.stable or self.dc_gain == "match") and min(p, m) == 1 else "subspace"
 
     def weights_for(self, H, floor: float = 1e-3):
         """Refit weights for data ``H`` (shape (p, m, K)), or None for ``weights = "none"``.
@@ -938,12 +961,13 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
     for i, cs in enumerate(sweeps):
         okey = f"cases[{i}].orders" if cs.orders is not g_orders else "sweep.orders"
         for meth in methods:
-            low = min_order(p, 1, meth.dc_gain)
+            low = min_order(p, 1, meth.dc_gain, meth.resolved_algorithm(p, 1))
             if min(cs.orders) < low:
                 raise P.err(okey, (
                     f"order {min(cs.orders)} cannot meet method {meth.name!r}'s constraints for case {cs.case.name}: "
                     f"the exact DC gain and the omega = inf value of {p} outputs fix {2 * p} coefficients of B and "
-                    f"D, which an order below {low} does not have; use orders >= {low} or dc_gain = \"none\""))
+                    f"D, which an order below {low} does not have; use orders >= {low}, dc_gain = \"none\" or "
+                    f"algorithm = \"relocation\""))
         for M in cs.M:
             for meth in methods:
                 for n in cs.orders:

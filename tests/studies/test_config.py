@@ -100,7 +100,8 @@ def test_good_study_with_user_case():
     assert (mine.case.naca, mine.case.mach, mine.case.alpha_deg, mine.case.grid.nj) == ("0012", 0.5, 1.0, 48)
     assert mine.orders == (9, 15) and mine.T == (5.0, pytest.approx(T_PAPER, rel=1e-11)) and mine.M == (16, 64)
     dc = [m for m in c.methods if m.name == "dc"][0]
-    assert dc.identify_kwargs() == dict(dc_gain="match", stable=True, margin=1e-3, method="auto")
+    assert dc.identify_kwargs() == dict(dc_gain="match", stable=True, margin=1e-3, algorithm="auto", method="auto")
+    assert loads_study(BASE + "[method]\nalgorithm = \"mckelvey2\"\n").methods[0].identify_kwargs()["algorithm"] == "subspace"
     w = loads_study(BASE + "[method]\nweights = 'inverse_magnitude'\n").methods[0]
     H = np.array([[[2.0, 1.0, 0.5, 0.0]]])
     np.testing.assert_allclose(w.identify_kwargs(H)["weights"], [[[0.25, 1.0, 4.0, 1 / 0.002**2]]])

@@ -35,6 +35,7 @@ orders = [{orders}]
 T = [{T}]
 [method]
 dc_gain = "{dc}"
+algorithm = "{algorithm}"
 [simulation]
 dt = {dt}
 t_end = {t_end}
@@ -43,8 +44,8 @@ nj = {nj}
 """
 
 
-def study_text(orders="9", T="11", dc="none", dt="0.02", t_end="40", nj="60"):
-    return BASE.format(orders=orders, T=T, dc=dc, dt=dt, t_end=t_end, nj=nj)
+def study_text(orders="9", T="11", dc="none", dt="0.02", t_end="40", nj="60", algorithm="auto"):
+    return BASE.format(orders=orders, T=T, dc=dc, dt=dt, t_end=t_end, nj=nj, algorithm=algorithm)
 
 
 def cli(argv):
@@ -62,7 +63,7 @@ def cli(argv):
     (dict(dt="1e-9"), "simulation.dt", r"4e\+10 time steps .* TiB"),
     (dict(t_end="1e12"), "simulation.t_end", r"5e\+13 time steps"),
     (dict(nj="100000000"), "grid.nj", r"nj = 100000000 .* use nj < 6251"),
-    (dict(orders="1", dc="match"), "sweep.orders", r"order 1 cannot meet .* orders >= 2"),
+    (dict(orders="1", dc="match", algorithm="subspace"), "sweep.orders", r"order 1 cannot meet .* orders >= 2"),
 ])
 def test_impossible_studies_are_refused_with_the_key(kw, key, match):
     with pytest.raises(StudyConfigError, match=match) as e:
@@ -76,20 +77,43 @@ def test_accepted_limits_are_accepted():
     loads_study(study_text(dt="0.02", t_end=str(0.02 * MAX_STEPS)))
 
 
+@pytest.mark.parametrize("algorithm", ["subspace", "relocation"])
 @pytest.mark.parametrize("p", [1, 2, 3])
-def test_min_order_is_what_the_identification_needs(p):
+def test_min_order_is_what_the_identification_needs(p, algorithm):
     """The order limit of studies.config against sysid itself (not a rule written twice): identify succeeds
-    at min_order and refuses one state less with a ConstraintError."""
+    at min_order and refuses one state less."""
+    import control
+
     rng = np.random.default_rng(p)
     A = np.diag([0.5, -0.3, 0.7])
     B, C = rng.standard_normal((3, 1)), rng.standard_normal((p, 3))
-    frf = sysid.FrequencyResponse.from_model(__import__("control").ss(A, B, C, np.zeros((p, 1)), 1.0),
+    frf = sysid.FrequencyResponse.from_model(control.ss(A, B, C, np.zeros((p, 1)), 1.0),
                                              sysid.mckelvey_grid(32, 1.0)[0])
-    n = min_order(p, 1, "match")
-    sysid.identify(frf, n, dc_gain="match")
+    n = min_order(p, 1, "match", algorithm)
+    res = sysid.identify(frf, n, dc_gain="match", algorithm=algorithm)
+    assert res.algorithm == algorithm
     if n > 1:
         with pytest.raises(sysid.ConstraintError, match="equality constraints"):
-            sysid.identify(frf, n - 1, dc_gain="match")
+            sysid.identify(frf, n - 1, dc_gain="match", algorithm=algorithm)
+
+
+@pytest.mark.parametrize("dc, stable, p, expected", [
+    ("none", False, 2, "subspace"), ("match", False, 2, "relocation"), ("none", True, 2, "relocation"),
+    ("match", True, 1, "relocation"),
+])
+def test_study_methods_resolve_as_identify_does(dc, stable, p, expected):
+    """MethodOptions.resolved_algorithm (used for the order limits) against what sysid.identify runs."""
+    import control
+
+    from studies.config import MethodOptions
+
+    meth = MethodOptions(name="m", dc_gain=dc, stable=stable)
+    rng = np.random.default_rng(0)
+    frf = sysid.FrequencyResponse.from_model(
+        control.ss(np.diag([0.5, -0.3, 0.7]), rng.standard_normal((3, 1)), rng.standard_normal((p, 3)),
+                   np.zeros((p, 1)), 1.0), sysid.mckelvey_grid(32, 1.0)[0])
+    res = sysid.identify(frf, 3, **meth.identify_kwargs())
+    assert meth.resolved_algorithm(p, 1) == res.algorithm == expected
 
 
 @pytest.mark.parametrize("argv, match", [
