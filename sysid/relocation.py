@@ -968,7 +968,7 @@ def _equality_residual(c, dc, ft, peak):
 
 
 def fit_relocated(omega, z, G, T, order, *, dc_gain=None, feedthrough=None, weights=None, start_poles=None,
-                  margin: float = 1e-3, iterations: int = 12, lawson: int = 5, refine: int = 3, minimax: int = 2,
+                  margin: float = 1e-3, iterations: int = 12, lawson: int = 5, refine: int | None = None, minimax: int = 2,
                   budget: float | None = None) -> RelocationResult:
     """Stable discrete model by pole relocation and convex residue fits (the module docstring's steps 1-4).
 
@@ -998,9 +998,12 @@ def fit_relocated(omega, z, G, T, order, *, dc_gain=None, feedthrough=None, weig
         :func:`stability_region`); ``0 < margin < 1``.
     iterations, lawson : int
         Relocation and Lawson iterations (:func:`relocate_poles`).
-    refine : int
-        Number of leading candidates from which the Gauss-Newton pole refinement (:func:`refine_poles`)
-        starts (0: none).
+    refine : int, optional
+        Number of distinct relocated starts from which the Gauss-Newton pole refinement
+        (:func:`refine_poles`) runs (0: none; the Lawson candidate of the best start is refined too).
+        Default: 3 up to 40 states, 2 above (an evaluation costs ~n^2 K; measured on the paper data at
+        N_r = 35 and 55 on a loaded 2-core machine: 3 starts 2.0 s mean, worst error ratio to VF 0.46;
+        2 starts 1.5 s, 0.77).
     minimax : int
         Number of leading candidates that get the minimax residue fit (0: least squares only).
     budget : float, optional
@@ -1083,7 +1086,8 @@ def _fit_relocated(omega, z, G, T, order, *, dc_gain, feedthrough, weights, star
         cands = _fit_simo(omega, z, Gj, T, nj, None if dc_gain is None else np.asarray(dc_gain)[:, j:j + 1],
                           None if feedthrough is None else np.asarray(feedthrough)[:, j:j + 1],
                           None if weights is None else np.asarray(weights)[:, j:j + 1], starts,
-                          iterations=iterations, lawson=lawson, refine=refine, minimax=minimax,
+                          iterations=iterations, lawson=lawson,
+                          refine=(3 if nj <= 40 else 2) if refine is None else refine, minimax=minimax,
                           budget=np.inf if budget is None else budget / m, region=region)
         blocks.append(cands)
     import scipy.linalg
