@@ -176,39 +176,58 @@ def _apply_paths(config: StudyConfig, args) -> StudyConfig:
     return replace(config, **changes) if changes else config
 
 
-def report_page(config: StudyConfig, args) -> Path:
-    """Where the report of ``lfdrom run`` / ``lfdrom report`` goes: ``--page``, else ``--out``/report.md, else
-    the study's ``[report] page``, else ``<output>/report.md`` (as ``studies.report.make_report`` decides)."""
-    if getattr(args, "page", None) is not None:
-        return Path(args.page)
-    if getattr(args, "out", None) is None and config.report.page is not None:
-        return Path(config.report.page)
-    return Path(config.output_dir) / "report.md"
+def report_targets(config: StudyConfig, args) -> tuple:
+    """``(page, folder)`` of the report of ``lfdrom run`` / ``lfdrom report``, as ``studies.report.make_report``
+    decides: the page is ``--page``, else the study's ``[report] page`` (unless ``--out``), else
+    ``<folder>/report.md``; tables and figures go to ``--out``, else the folder named after the page
+    (``docs/paper-reproduction/``), else the study's output folder."""
+    out = Path(config.output_dir) if getattr(args, "out", None) is not None else None
+    page = getattr(args, "page", None)
+    page = Path(page) if page is not None else (config.report.page if out is None else None)
+    folder = out if out is not None else (Path(page).with_suffix("") if page is not None else Path(config.output_dir))
+    return (Path(page) if page is not None else folder / "report.md"), folder
 
 
-def _preflight(config: StudyConfig, *, page=None, prose=None, force_page: bool = False, extra=()) -> int:
-    """Check, before anything is computed, what would otherwise fail late: every folder the command will write
-    (the store, the output folder, the report page's folder and ``extra`` folders) accepts files, the page (when
-    a report is to be written) is ours to overwrite, and the prose file parses. Returns EXIT_OK, or (after
-    saying why) EXIT_UNAVAILABLE / EXIT_NOT_WRITTEN."""
+def _preflight(config: StudyConfig, *, report=None, prose=None, force_page: bool = False, store: bool = True,
+               output: bool = True, extra=()) -> int:
+    """Check, before anything is computed, what would otherwise fail late.
+
+    Every folder the command will write accepts files (the store and the output folder unless told not to,
+    the report's page, tables and figures folders when ``report = (page, folder)`` is given, and ``extra``
+    ``(folder, what, fix)``); the page ends in ``.md``, is not a folder and is ours to overwrite; the prose file
+    parses. Returns EXIT_OK, or (after saying why) EXIT_UNAVAILABLE / EXIT_NOT_WRITTEN.
+    """
     from .files import NotWritableError, probe_writable
     from .report import ReportError, check_page, read_prose
 
-    folders = [(config.store_dir, "results store", "give another one with --store"),
-               (config.output_dir, "output folder", "give another one with --out")]
-    if page is not None:
-        folders.append((Path(page).parent, "report page's folder", "give another page with --page"))
+    folders = []
+    if store:
+        folders.append((config.store_dir, "results store", "give another one with --store"))
+    if output:
+        folders.append((config.output_dir, "output folder", "give another one with --out"))
+    if report is not None:
+        page, folder = report
+        if page.suffix != ".md":
+            _err(f"{page}: the report page must be a Markdown file ending in .md (its tables and figures go to the "
+                 f"folder of the same name); give another --page")
+            return EXIT_UNAVAILABLE
+        folders += [(page.parent, "report page's folder", "give another page with --page"),
+                    (folder / "tables", "report's tables folder", "give another --page or --out"),
+                    (folder / "figures", "report's figures folder", "give another --page or --out")]
     folders.extend(extra)
-    for folder, what, fix in folders:
+    for where, what, fix in folders:
         try:
-            probe_writable(folder, what=what, fix=fix)
+            probe_writable(where, what=what, fix=fix)
+            if where.exists() and not where.is_dir():
+                raise NotWritableError(where, f"{where}: cannot write the {what} there: it is a file, not a folder; "
+                                              f"{fix}")
         except NotWritableError as e:
             _err(str(e))
             return EXIT_NOT_WRITTEN
     prose = prose if prose is not None else config.report.prose
     try:
-        if page is not None:
-            check_page(page, force_page=force_page)
+        if report is not None:
+            check_page(report[0], force_page=force_page)
             if prose is not None:
                 read_prose(prose)
     except ReportError as e:
@@ -227,7 +246,7 @@ def _run(config: StudyConfig, args, **options):
             warnings.showwarning = _show_warning
             return run_study(config, **options), EXIT_OK
     except RunInterrupted as e:
-        _err(f"interrupted: {e}")
+        _err(str(e))
         return None, EXIT_INTERRUPTED
     except (RunnerError, StudyConfigError) as e:
         _err(str(e))
@@ -297,11 +316,9 @@ def cmd_run(args) -> int:
         return EXIT_UNAVAILABLE
     if args.dry_run or not args.quiet:
         print(_plan(config))
-    if args.dry_run:
-        return EXIT_OK
-    status = _preflight(config, page=None if args.no_report else report_page(config, args),
+    status = _preflight(config, report=None if args.no_report else report_targets(config, args),
                         force_page=args.force_page)
-    if status != EXIT_OK:
+    if status != EXIT_OK or args.dry_run:
         return status
     results, status = _run(config, args, output_dir=config.output_dir, store_dir=config.store_dir,
                            scheduler=args.scheduler, workers=workers, progress=not args.quiet, force=args.force)
@@ -310,7 +327,9 @@ def cmd_run(args) -> int:
     status, line = run_status(results)
     if not args.no_report:
         report_status = _report(config, args)
-        if report_status != EXIT_OK:
+        if isinstance(report_status, int):  # a Path when the report was written
+            _err(f"lfdrom run: the results are stored ({line}); write the report with 'lfdrom report "
+                 f"{args.study}' once the problem above is fixed")
             return report_status if status == EXIT_OK else status
     (print if status == EXIT_OK else _err)(f"lfdrom run: {line}")
     return status
@@ -331,8 +350,9 @@ def _workers(value):
     return n
 
 
-def _report(config: StudyConfig, args) -> int:
-    """``make_report`` with the page of ``--page``, else of ``--out``/report.md, else the study's [report]."""
+def _report(config: StudyConfig, args):
+    """``make_report`` with the page of ``--page``, else of ``--out``/report.md, else the study's [report].
+    Returns the page written (a Path), or the exit status (an int) after saying what went wrong."""
     from .files import NotWritableError
     from .report import ReportError, make_report
 
@@ -342,7 +362,7 @@ def _report(config: StudyConfig, args) -> int:
     if getattr(args, "out", None) is not None:
         options["output_dir"] = config.output_dir
     try:
-        make_report(config, **options)
+        return make_report(config, **options)
     except (NotWritableError, OSError) as e:
         _err(f"the report could not be written: {e}")
         return EXIT_NOT_WRITTEN
@@ -352,7 +372,6 @@ def _report(config: StudyConfig, args) -> int:
     except Exception as e:  # noqa: BLE001 - the command line reports any failure with its type
         _err(f"the report failed: {type(e).__name__}: {e}")
         return EXIT_FAILED
-    return EXIT_OK
 
 
 def cmd_report(args) -> int:
@@ -361,10 +380,22 @@ def cmd_report(args) -> int:
     if config is None:
         return EXIT_UNAVAILABLE
     config = _apply_paths(config, args)
-    status = _preflight(config, page=report_page(config, args), prose=args.prose, force_page=args.force_page)
+    # the report reads the store (it may be read-only) and writes only the page, tables and figures
+    status = _preflight(config, report=report_targets(config, args), prose=args.prose, force_page=args.force_page,
+                        store=False, output=False)
     if status != EXIT_OK:
         return status
-    return _report(config, args)
+    page = _report(config, args)
+    if isinstance(page, int):
+        return page
+    from .results import load_results
+
+    status, line = run_status(load_results(config))
+    if status == EXIT_OK:
+        return EXIT_OK
+    _err(f"lfdrom report: {page} written from an incomplete store ({line}); 'lfdrom run {args.study}' computes the "
+         "rest")
+    return status
 
 
 def rom_study(args) -> StudyConfig:
@@ -415,7 +446,11 @@ def cmd_rom(args) -> int:
         return EXIT_UNAVAILABLE
     if not args.quiet:
         print(_plan(config))
-    npz, _ = _rom_files(args)
+    npz, mat = _rom_files(args)
+    for f in (npz, mat):
+        if f.is_dir():
+            _err(f"{f}: is a folder; the ROM is written as {npz.name} and {mat.name}: give another --out")
+            return EXIT_NOT_WRITTEN
     status = _preflight(config, extra=[(npz.parent, "ROM output folder", "give another --out")])
     if status != EXIT_OK:
         return status
@@ -429,7 +464,7 @@ def cmd_rom(args) -> int:
 def _rom_files(args):
     """``(npz, mat)`` paths of ``lfdrom rom``: ``--out`` a folder, or a file name ending in .npz or .mat."""
     out = args.out
-    if out.suffix in (".npz", ".mat"):
+    if out.suffix.lower() in (".npz", ".mat"):
         stem = out.with_suffix("")
     else:
         stem = out / f"{args.case}_N{args.order}_M{args.M}"

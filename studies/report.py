@@ -1217,12 +1217,9 @@ def make_report(study_or_path, output_dir=None, *, store_dir=None, page=None, pr
                               f"{type(study_or_path).__name__}")
         if store_dir is not None:
             config = replace(config, store_dir=Path(store_dir))
-        from . import results as _results
+        from .results import load_results
 
-        loader: Optional[Callable[..., Any]] = getattr(_results, "load_results", None)
-        if loader is None:
-            raise ReportError("studies.results.load_results is not available in this version")
-        results = loader(config)
+        results = load_results(config)
     rep = getattr(results.config, "report", None)
     if rep is not None:
         if page is None and out is None:

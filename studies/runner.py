@@ -114,6 +114,9 @@ class RunInterrupted(KeyboardInterrupt):
         super().__init__(f"interrupted after {self.computed} piece(s) stored in {self.store_dir}; they are kept, "
                          "and running the same command again resumes from them")
 
+    def __str__(self) -> str:
+        return str(self.args[0]) if self.args else "interrupted"
+
 
 class RunnerError(ValueError):
     """Bad runner options (workers, scheduler), or Dask asked for but not installed."""
@@ -634,7 +637,11 @@ class _DaskPool:
             self.client = Client(self.cluster)
             self.name = f"Dask LocalCluster of {n} process(es)"
         else:
-            self.client = Client(scheduler)
+            try:
+                self.client = Client(scheduler, timeout="10s")
+            except (OSError, TimeoutError) as e:
+                raise RunnerError(f"scheduler {scheduler!r}: cannot connect ({e}); check the address (the Dask "
+                                  "scheduler must be running) or leave --scheduler out for local processes") from None
             self.name = f"Dask scheduler {scheduler}"
 
     def submit(self, fn, *args):
@@ -780,7 +787,7 @@ def run_study(study, *, output_dir=None, store_dir=None, scheduler: Optional[str
         config = replace(config, **changes)
     if workers == "auto":
         workers = auto_workers(config)
-    elif scheduler is None and isinstance(workers, int) and not isinstance(workers, bool) and workers > 1:
+    elif scheduler in (None, "local") and isinstance(workers, int) and not isinstance(workers, bool) and workers > 1:
         cap = auto_workers(config)
         if workers > cap:
             warnings.warn(f"workers = {workers} is more than this study can use (its widest stage has "

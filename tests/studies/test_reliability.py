@@ -419,3 +419,62 @@ def test_a_page_that_is_not_ours_is_refused_before_computing(tmp_path, recorder,
     assert "was not written by lfdrom report" in capsys.readouterr().err
     assert cli(["run", str(study), "--quiet", "--force-page"]) == commands.EXIT_OK
     assert recorder.calls == ["run_study", "make_report"]
+
+
+def test_dry_run_checks_what_the_run_would_refuse(tmp_path, recorder, capsys):
+    page = tmp_path / "notes.md"
+    page.write_text("hand-written\n")
+    study = tmp_path / "s.toml"
+    study.write_text(study_text() + '\n[report]\npage = "notes.md"\n')
+    assert cli(["run", str(study), "--dry-run"]) == commands.EXIT_UNAVAILABLE
+    assert recorder.calls == [] and "was not written by lfdrom report" in capsys.readouterr().err
+
+
+def test_report_folders_are_probed_before_computing(tmp_path, recorder, capsys):
+    out = tmp_path / "o"
+    out.mkdir()
+    (out / "tables").write_text("a file where the tables folder goes")
+    assert cli(["run", str(STUDIES / "demo.toml"), "--out", str(out), "--quiet"]) == commands.EXIT_NOT_WRITTEN
+    assert recorder.calls == []
+    assert "report's tables folder" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("page", ["pg/noext", "pg/notes.txt"])
+def test_report_page_must_be_markdown(tmp_path, recorder, capsys, page):
+    assert cli(["report", str(STUDIES / "demo.toml"), "--page", str(tmp_path / page), "--quiet"]) == \
+        commands.EXIT_UNAVAILABLE
+    assert recorder.calls == [] and "must be a Markdown file ending in .md" in capsys.readouterr().err
+    assert not (tmp_path / "pg").exists()
+
+
+def test_rom_output_that_is_a_folder_is_refused_before_computing(tmp_path, recorder, capsys):
+    (tmp_path / "d.npz").mkdir()
+    assert cli(["rom", "T2", "--order", "9", "--out", str(tmp_path / "d.npz"), "--quiet"]) == commands.EXIT_NOT_WRITTEN
+    assert recorder.calls == [] and "d.npz: is a folder" in capsys.readouterr().err
+
+
+def test_report_of_an_incomplete_store_is_not_a_success(computed, tmp_path, capsys):
+    """`lfdrom report` on a store that lacks pieces writes the page and exits 3, saying what to run."""
+    from tinystudy import STUDY
+
+    config, _, _ = computed
+    (tmp_path / "tiny.toml").write_text(STUDY)
+    study = copy_study(config, tmp_path, drop=("sim",))
+    status = cli(["report", str(tmp_path / "tiny.toml"), "--store", str(study.store_dir), "--out", str(tmp_path / "r"),
+                  "--quiet"])
+    assert status == commands.EXIT_INCOMPLETE and (tmp_path / "r" / "report.md").is_file()
+    last = capsys.readouterr().err.strip().splitlines()[-1]
+    assert "written from an incomplete store" in last and "missing" in last and "lfdrom run" in last
+
+
+def test_no_gusts_no_step_limit():
+    loads_study(study_text(dt="1e-9").replace('gusts = ["G3"]', "gusts = []"))
+
+
+def test_grid_limits():
+    from studies.cases import CaseError, GridSpec
+
+    with pytest.raises(CaseError, match="farfield = 1000 chords .* at most 200"):
+        GridSpec(farfield=1000.0)
+    with pytest.raises(CaseError, match=r"3001 x 600 has 1,797,000 cells: a worker would need about 6\d\d GiB"):
+        GridSpec(ni=3001, nj=600)

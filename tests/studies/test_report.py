@@ -245,9 +245,11 @@ def test_command_line_report(tmp_path, capsys):
 
     study = tmp_path / "s.toml"
     study.write_text(STUDY.format(out=(tmp_path / "out").as_posix()))
-    assert main(["report", str(study), "--out", str(tmp_path / "elsewhere")]) == 0
+    # nothing computed yet: the page is written (it says what is missing) and the status is "incomplete"
+    assert main(["report", str(study), "--out", str(tmp_path / "elsewhere")]) == 3
     assert (tmp_path / "elsewhere" / "report.md").is_file()
-    assert "report.md" in capsys.readouterr().err  # progress lists the page
+    err = capsys.readouterr().err
+    assert "report.md" in err and "written from an incomplete store" in err.strip().splitlines()[-1]
     assert main(["report", str(tmp_path / "nope.toml")]) == 2
 
 
