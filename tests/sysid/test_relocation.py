@@ -275,3 +275,18 @@ def test_weights_reach_the_relocation():
     assert not np.allclose(weighted.evaluate(frf.omega_d), plain.evaluate(frf.omega_d), rtol=0, atol=1e-12)
     with pytest.raises(ValueError, match="weights"):
         identify(frf, 6, dc_gain="match", stable=True, weights=-w)
+
+
+def test_result_pickles_and_data_without_constraint_samples():
+    import pickle
+
+    # data on an arbitrary grid without omega = 0 and omega = inf: no equality is imposed, the fit is exact
+    pl, r, d = continuous_system(np.array(LIGHT[:4], dtype=complex), 2, 11)
+    w = np.geomspace(0.05, 20.0, 60)
+    frf = FrequencyResponse.from_continuous(sample(pl, r, d, w), w, 1.0)
+    res = identify(frf, 4, stable=True)
+    assert res.algorithm == "relocation" and res.enforced["dc_gain"] is False and res.enforced["feedthrough"] is False
+    assert res.max_error < 1e-7  # exact data in the model class, as in test_exact_recovery_through_identify
+    back = pickle.loads(pickle.dumps(res))  # process pools (studies.runner) ship results
+    assert back.algorithm == "relocation" and back.relocation.start == res.relocation.start
+    np.testing.assert_array_equal(np.asarray(back.model.A), np.asarray(res.model.A))
