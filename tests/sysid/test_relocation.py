@@ -290,3 +290,17 @@ def test_result_pickles_and_data_without_constraint_samples():
     back = pickle.loads(pickle.dumps(res))  # process pools (studies.runner) ship results
     assert back.algorithm == "relocation" and back.relocation.start == res.relocation.start
     np.testing.assert_array_equal(np.asarray(back.model.A), np.asarray(res.model.A))
+
+
+def test_two_inputs_one_output_fitted_through_the_transpose():
+    from sysid_synth import freqresp, random_system
+
+    # p < m: the relocation fits G^T (common poles for the two input columns) and transposes back, so a
+    # 6-state MISO system is recovered with 6 states (round-off level, as for the SIMO systems above)
+    A, B, C, D, poles = random_system(6, 1, 2, 3)
+    wd, _ = mckelvey_grid(64, 1.0)
+    frf = FrequencyResponse(freqresp(A, B, C, D, np.exp(1j * wd)), wd, 1.0)
+    res = identify(frf, 6, dc_gain="match", stable=True)
+    assert res.algorithm == "relocation" and res.model.nstates == 6
+    assert res.max_error < 1e-8 and res.dc_error < 1e-12
+    assert pole_mismatch(np.linalg.eigvals(np.asarray(res.model.A)), poles) < 1e-6
