@@ -306,3 +306,33 @@ def test_bad_order(order):
     frf, _ = data(seed=0, M=16)
     with pytest.raises(OrderError):
         identify(frf, order)
+
+
+def test_default_falls_back_when_the_relocated_model_resonates_between_samples():
+    """T4 (NACA0018, M0.25) on the paper's grid: the samples at omega = 14.6 and 29.2 have none between them and
+    the relocated N_r = 25 model puts a resonance of ~28 times Cm's data peak there; the default returns the
+    subspace model (gain ~2) and says why. The explicit algorithm="relocation" keeps the relocated model."""
+    from pathlib import Path
+
+    from sysid.identify import UNOBSERVED_GAIN_LIMIT, unobserved_gain
+
+    frf = FrequencyResponse.load(Path(__file__).resolve().parents[2] / "docs" / "data" / "frf-T4.npz")
+    with pytest.warns(RuntimeWarning, match="between the data's frequencies reaches .* subspace model"):
+        res = identify(frf, 25, dc_gain="match", stable=True)
+    assert res.algorithm == "subspace" and res.spectral_radius < 1.0
+    reloc = identify(frf, 25, dc_gain="match", stable=True, algorithm="relocation")
+    # the two gains differ by an order of magnitude: far from the limit on both sides
+    assert unobserved_gain(reloc.model, frf).max() > 5 * UNOBSERVED_GAIN_LIMIT
+    assert unobserved_gain(res.model, frf).max() < unobserved_gain(reloc.model, frf).max() / 5
+
+
+def test_unobserved_gain_of_an_exact_model_is_its_peak_ratio():
+    """A first-order system sampled on McKelvey's grid: the dense-grid peak is the DC value, which the data
+    hold, so the gain is 1 to round-off."""
+    import control
+
+    from sysid.identify import unobserved_gain
+
+    sysd = control.ss([[0.5]], [[1.0]], [[1.0]], [[0.0]], 1.0)
+    frf = FrequencyResponse.from_model(sysd, mckelvey_grid(16, 1.0)[0])
+    np.testing.assert_allclose(unobserved_gain(sysd, frf), [1.0], rtol=1e-12)
