@@ -38,7 +38,7 @@ def counts(monkeypatch):
 
 def test_end_to_end_metrics(computed):
     config, res, elapsed = computed
-    assert res.complete and res.failed == [] and elapsed < 120
+    assert res.complete and res.failed == []  # no wall-clock bound: speed is measured in bench/, not in tests
     assert len(res.roms) == N_POINTS and all(r.ok for r in res.roms)
     assert len(res.sims) == N_POINTS and len(res.ltd) == 1
     (frf,) = res.frf.values()
