@@ -1,7 +1,7 @@
 """Steady Euler solutions: Runge-Kutta start, then Newton with pseudo-transient continuation.
 
-Strategy
---------
+Strategy ``"classic"``
+----------------------
 1. ``n_rk`` steps of Jameson's 5-stage scheme (stage coefficients 1/4, 1/6, 3/8, 1/2, 1; the full
    residual, dissipation included, is re-evaluated at every stage) with local time steps
    ``dt = cfl_rk * area / sum(|u.S| + c|S|)`` from the free stream: this washes out the start-up
@@ -19,6 +19,19 @@ Strategy
    diagonal keeps the pivots safe): on the 181 x 60 grid about 20x fill against 33x for COLAMD with
    partial pivoting, and 2.7x faster (bench/steady_bench.py); if that
    factorisation fails, COLAMD with partial pivoting is used.
+
+Strategy ``"chord"`` (the default; ``strategy="classic"`` is the one above, kept for comparison)
+-------------------------------------------------------------------------------------------------
+The same continuation, cheaper: 200 RK steps instead of 500 (they cost about 1.5 factorisations' worth on
+the paper grid), CFL growth x3 instead of x2, and after every accepted step **chord steps** with the frozen
+factorisation (``dq = -(area/dt + J_old)^-1 R(q)``: one back-substitution, about 1/20 of a factorisation,
+and one residual each), accepted while they lower the residual and repeated while each cuts it by at least
+``chord_ratio`` (at most ``max_chord``). A step that is not admissible is first shortened along the same
+direction (x1/4, twice) before the CFL number is cut and the matrix refactorised. With ``q0`` (a warm start
+from a neighbouring converged flow) there is no RK start and the continuation starts at CFL 1000. Measured
+side by side on T1-T6 (bench/steady_bench.py, docs/validation.md section 7): 4-6 factorisations and 6.3-9.0
+LUs' worth of wall time against 9-13 and 12.6-18.6, the same solutions to 1e-11; warm starts (alpha + 0.1
+deg, Mach - 0.01) in 1-6 factorisations.
 
 Convergence is measured by the L2 norm of ``R`` over all cells and variables; the solver stops when it
 falls by ``tol`` from its value for the free stream (the history's first entry when starting from it;
@@ -63,12 +76,14 @@ class SteadySolution:
     cp : ndarray, shape (n_surface,)
         Wall pressure coefficient.
     history : ndarray, shape (iterations + 1,)
-        L2 norm of the residual per iteration (RK steps, then Newton steps).
+        L2 norm of the residual per iteration (RK steps, then accepted Newton and chord steps).
     iterations : int
     converged : bool
     scheme : Scheme
     info : dict
-        Solver statistics (timings, number of Newton steps, factorisations, fill).
+        Solver statistics: timings (``t_rk``, ``t_jacobian``, ``t_factor``, ``t_solve``, ``wall_time``),
+        counts (``newton_steps``, ``n_factor``, ``n_solve`` back-substitutions, ``n_chord`` accepted chord
+        steps, ``n_jacobian``, ``n_residual``), ``fill``, ``strategy``, ``relative_drop``.
     """
 
     grid: Grid
@@ -150,7 +165,7 @@ STRATEGIES = ("classic", "chord")
 
 def solve_steady(grid, mach, alpha_deg, *, gamma=1.4, tol=1e-10, scheme=None, q0=None, n_rk=None, cfl_rk=2.5,
                  cfl0=None, cfl_max=1e10, growth=None, cfl_min=0.01, max_change=0.5, max_rise=2.0, max_newton=100,
-                 strategy="classic", chord_ratio=0.5, max_chord=30, verbose=False):
+                 strategy="chord", chord_ratio=0.5, max_chord=30, verbose=False):
     """Steady Euler flow about the aerofoil of ``grid``.
 
     Parameters
@@ -170,11 +185,12 @@ def solve_steady(grid, mach, alpha_deg, *, gamma=1.4, tol=1e-10, scheme=None, q0
         Dissipation constants (``cfd.euler.Scheme``).
     q0 : ndarray, shape (ni-1, nj-1, 4), optional
         Initial state (free stream if None; then the RK start is skipped if ``n_rk = 0``).
-    n_rk : int
-        Runge-Kutta start-up steps.
+    n_rk : int, optional
+        Runge-Kutta start-up steps (default: see ``strategy``).
     cfl_rk, cfl0, cfl_max : float
-        CFL numbers of the RK steps, of the first Newton step, and the cap of the continuation.
-    growth : float
+        CFL numbers of the RK steps, of the first Newton step (default: see ``strategy``), and the cap of
+        the continuation.
+    growth : float, optional
         CFL factor after a full step that lowered the residual (halved after a step that raised it).
     cfl_min : float
         Smallest CFL number tried before giving up.
@@ -185,7 +201,16 @@ def solve_steady(grid, mach, alpha_deg, *, gamma=1.4, tol=1e-10, scheme=None, q0
         A step that multiplies the residual norm by more than this (or makes density or pressure
         non-positive) is rejected and retried with a quarter of the CFL number.
     max_newton : int
-        Newton / pseudo-transient steps allowed (rejected steps included).
+        Newton / pseudo-transient steps allowed (rejected steps included; chord steps not counted).
+    strategy : {"chord", "classic"}
+        ``"chord"`` (default): chord steps with the frozen factorisation, backtracking before a new one,
+        200 RK steps, growth 3, and with ``q0`` no RK start and ``cfl0 = 1000``. ``"classic"``: one
+        factorisation per step, 500 RK steps, growth 2, cfl0 10 (the solver before 2026-12). ``n_rk``,
+        ``cfl0`` and ``growth`` given explicitly override either strategy's defaults.
+    chord_ratio : float
+        Chord steps go on while each multiplies the residual norm by at most this.
+    max_chord : int
+        Chord steps per factorisation at most.
     verbose : bool
         Print the residual per Newton step.
 
@@ -197,6 +222,8 @@ def solve_steady(grid, mach, alpha_deg, *, gamma=1.4, tol=1e-10, scheme=None, q0
     ------
     FlowConditionError
         Mach out of (0, 1), NaN or infinite input, or a non-physical ``q0``.
+    ValueError
+        Unknown ``strategy``.
     ConvergenceError
         If the iteration diverges (non-finite or non-physical state) or stalls before ``tol``; carries
         ``.history``.
