@@ -69,8 +69,8 @@ def kernels(quick=False):
         rows.append(("LU, MMD_AT_PLUS_A", "not run", "killed after > 60 s in a trial on this grid size"))
 
     rows.append(("steady solve T2 to 1e-10", f"{t_solve:.1f} s",
-                 f"{t_solve / t_nd:.1f} factorisations; {info['newton_steps']} Newton steps after "
-                 f"{sol.iterations - info['newton_steps']} RK5 steps"))
+                 f"{t_solve / t_nd:.1f} factorisations' worth; {info['newton_steps']} Newton steps "
+                 f"({info['n_factor']} LUs), {info['n_chord']} chord steps, {info['n_residual']} residuals"))
     rows.append(("  of which Jacobians / LU / solves", f"{info['t_jacobian']:.1f} / {info['t_factor']:.1f} / "
                  f"{info['t_solve']:.1f} s", ""))
     rows.append(("  residual drop, final |R|_2", f"{info['relative_drop']:.1e}", f"absolute {sol.history[-1]:.1e} (round-off floor about 1e-14)"))
