@@ -75,7 +75,7 @@ def test_nan_initial_state_is_refused(grid0012):
 
 def test_stall_raises_convergence_error_with_history(grid0012):
     with pytest.raises(ConvergenceError, match="no convergence in 1 Newton steps") as err:
-        cfd.solve_steady(grid0012, 0.8, 1.25, n_rk=5, max_newton=1)
+        cfd.solve_steady(grid0012, 0.8, 1.25, n_rk=5, max_newton=1, strategy="classic")
     h = err.value.history
     assert h.ndim == 1 and h.size == 7 and np.all(np.isfinite(h))
 
@@ -93,3 +93,53 @@ def test_drag_of_subsonic_flow_falls_with_refinement():
         g = cfd.c_grid(cfd.naca("0012"), ni=ni, nj=nj, n_surface=ns)
         cds.append(abs(cfd.solve_steady(g, 0.5, 0.0).cd))
     assert cds[-1] < cds[0]
+
+
+# --- strategy="chord": frozen-LU (chord) steps, faster CFL growth, warm starts -------------------------------
+
+
+@pytest.fixture(scope="module")
+def transonic0010():
+    # NACA0010 at M0.85 (the paper's T3) on a coarse grid: shocks on both sides.
+    g = cfd.c_grid(cfd.naca("0010"), ni=97, nj=25, n_surface=64)
+    return g, cfd.solve_steady(g, 0.85, 0.0, strategy="chord")
+
+
+def test_chord_strategy_converges_to_the_classic_solution(grid0012):
+    old = cfd.solve_steady(grid0012, 0.8, 1.25, strategy="classic")
+    new = cfd.solve_steady(grid0012, 0.8, 1.25, strategy="chord")
+    assert new.converged and new.history[-1] <= 1e-10 * new.history[0]
+    assert new.cl == pytest.approx(old.cl, rel=1e-9)
+    assert new.cm == pytest.approx(old.cm, rel=1e-9)
+    assert np.abs(new.q - old.q).max() < 1e-8
+    i = new.info
+    assert i["strategy"] == "chord" and old.info["strategy"] == "classic"
+    assert i["n_factor"] < old.info["n_factor"]           # fewer factorisations ...
+    assert i["n_solve"] == i["n_factor"] + i["n_chord"]   # ... each chord step one back-substitution
+    assert i["n_residual"] < old.info["n_residual"]       # shorter RK start
+    assert i["n_jacobian"] <= i["n_factor"]
+
+
+@pytest.mark.parametrize("mach, alpha", [(0.85, 0.1), (0.84, 0.0)])
+def test_warm_start_from_a_neighbouring_transonic_flow_takes_few_factorisations(transonic0010, mach, alpha):
+    g, base = transonic0010
+    warm = cfd.solve_steady(g, mach, alpha, q0=base.q, strategy="chord")
+    assert warm.converged and warm.info["n_factor"] <= 4     # 2 and 3 measured; cold: 8, classic warm: 16-17
+    assert warm.info["n_residual"] < 60                      # no RK steps from a converged neighbour
+    cold = cfd.solve_steady(g, mach, alpha, strategy="chord")
+    assert warm.cl == pytest.approx(cold.cl, rel=1e-8, abs=1e-12)
+    assert np.abs(warm.q - cold.q).max() < 1e-8
+
+
+def test_chord_strategy_bad_input_raises_typed_errors(grid0012):
+    with pytest.raises(ValueError, match="strategy must be one of"):
+        cfd.solve_steady(grid0012, 0.5, 0.0, strategy="newton-krylov")
+    with pytest.raises(FlowConditionError, match="out of range"):
+        cfd.solve_steady(grid0012, 1.2, 0.0, strategy="chord")
+    with pytest.raises(FlowConditionError, match="q0 contains NaN"):
+        cfd.solve_steady(grid0012, 0.5, 0.0, q0=np.full(grid0012.cell_shape + (4,), np.nan), strategy="chord")
+    with pytest.raises(ConvergenceError, match="no convergence in 1 Newton steps") as err:
+        cfd.solve_steady(grid0012, 0.8, 1.25, n_rk=5, max_newton=1, strategy="chord", chord_ratio=0.0)
+    assert np.all(np.isfinite(err.value.history))
+    with pytest.raises(ConvergenceError, match="diverged"):
+        cfd.solve_steady(grid0012, 0.8, 1.25, cfl_rk=50.0, strategy="chord")
