@@ -177,15 +177,12 @@ def _apply_paths(config: StudyConfig, args) -> StudyConfig:
 
 
 def report_targets(config: StudyConfig, args) -> tuple:
-    """``(page, folder)`` of the report of ``lfdrom run`` / ``lfdrom report``, as ``studies.report.make_report``
-    decides: the page is ``--page``, else the study's ``[report] page`` (unless ``--out``), else
-    ``<folder>/report.md``; tables and figures go to ``--out``, else the folder named after the page
-    (``docs/paper-reproduction/``), else the study's output folder."""
-    out = Path(config.output_dir) if getattr(args, "out", None) is not None else None
-    page = getattr(args, "page", None)
-    page = Path(page) if page is not None else (config.report.page if out is None else None)
-    folder = out if out is not None else (Path(page).with_suffix("") if page is not None else Path(config.output_dir))
-    return (Path(page) if page is not None else folder / "report.md"), folder
+    """``(page, folder)`` of the report of ``lfdrom run`` / ``lfdrom report`` (``studies.report.report_paths``
+    with ``--out`` and ``--page``)."""
+    from .report import report_paths
+
+    return report_paths(config, config.output_dir if getattr(args, "out", None) is not None else None,
+                        getattr(args, "page", None))
 
 
 def _preflight(config: StudyConfig, *, report=None, prose=None, force_page: bool = False, store: bool = True,
@@ -218,9 +215,6 @@ def _preflight(config: StudyConfig, *, report=None, prose=None, force_page: bool
     for where, what, fix in folders:
         try:
             probe_writable(where, what=what, fix=fix)
-            if where.exists() and not where.is_dir():
-                raise NotWritableError(where, f"{where}: cannot write the {what} there: it is a file, not a folder; "
-                                              f"{fix}")
         except NotWritableError as e:
             _err(str(e))
             return EXIT_NOT_WRITTEN

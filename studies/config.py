@@ -402,11 +402,10 @@ class MethodOptions:
         """``"relocation"`` or ``"subspace"``: what ``sysid.identify`` runs for this variant on data with ``p``
         outputs and ``m`` inputs (``"auto"``: relocation when the DC gain or stability is imposed and
         ``min(p, m) == 1``, as :func:`sysid.identify` decides)."""
-        if self.algorithm == "relocation":
-            return "relocation"
-        if self.algorithm != "auto":
-            return "subspace"
-        return "relocation" if (self.stable or self.dc_gain == "match") and min(p, m) == 1 else "subspace"
+        from sysid.identify import resolve_algorithm
+
+        algorithm = "subspace" if self.algorithm in ("mckelvey1", "mckelvey2") else self.algorithm
+        return resolve_algorithm(algorithm, p, m, stable=self.stable, dc_gain=self.dc_gain == "match")
 
     def weights_for(self, H, floor: float = 1e-3):
         """Refit weights for data ``H`` (shape (p, m, K)), or None for ``weights = "none"``.

@@ -49,6 +49,7 @@ from .tables import Column, format_table, write_tables
 __all__ = [
     "ReportError",
     "make_report",
+    "report_paths",
     "write_report",
     "read_prose",
     "check_page",
@@ -1150,6 +1151,24 @@ def write_report(results, out_dir, *, page=None, prose=None, progress: bool = Fa
     return page_path
 
 
+def report_paths(config, output_dir=None, page=None) -> tuple:
+    """``(page, folder)``: where :func:`make_report` writes the page and its ``tables/`` and ``figures/``.
+
+    The page is ``page``, else the study's ``[report] page`` (unless ``output_dir`` is given), else
+    ``<folder>/report.md``; the folder is ``output_dir``, else the one named after the page
+    (``docs/paper-reproduction/``), else the study's output folder. The command line checks these paths
+    before computing (``studies.commands``).
+    """
+    rep = getattr(config, "report", None)
+    if page is None and output_dir is None and rep is not None:
+        page = rep.page
+    if output_dir is not None:
+        folder = Path(output_dir)
+    else:
+        folder = Path(page).with_suffix("") if page is not None else Path(config.output_dir)
+    return (Path(page) if page is not None else folder / "report.md"), folder
+
+
 def make_report(study_or_path, output_dir=None, *, store_dir=None, page=None, prose=None, progress: bool = False,
                 out_dir=None, dpi: int = 120, title: Optional[str] = None, paper: Optional[bool] = None,
                 figures: Optional[bool] = None, redraw: bool = False, force_page: bool = False) -> Path:
@@ -1220,10 +1239,9 @@ def make_report(study_or_path, output_dir=None, *, store_dir=None, page=None, pr
         from .results import load_results
 
         results = load_results(config)
+    page, out = report_paths(results.config, out, page)
     rep = getattr(results.config, "report", None)
     if rep is not None:
-        if page is None and out is None:
-            page = rep.page
         if prose is None:
             prose = rep.prose
         if figures is None:
@@ -1233,7 +1251,5 @@ def make_report(study_or_path, output_dir=None, *, store_dir=None, page=None, pr
         if paper is None:
             paper = rep.paper
     figures = True if figures is None else bool(figures)
-    if out is None:
-        out = Path(page).with_suffix("") if page is not None else results.config.output_dir
     return write_report(results, out, page=page, prose=prose, progress=progress, dpi=dpi, title=title, paper=paper,
                         figures=figures, redraw=redraw, force_page=force_page)

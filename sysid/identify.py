@@ -49,7 +49,7 @@ from .frd import FrequencyResponse
 from .metrics import FitErrors, dc_error, frf_errors, spectral_radius
 from .subspace import SubspaceResult, _order_hint, evaluate_ss, from_basis, hankel_svd
 
-__all__ = ["identify", "IdentificationResult", "StabilisationReport", "unobserved_gain", "UNOBSERVED_GAIN_LIMIT"]
+__all__ = ["identify", "IdentificationResult", "StabilisationReport", "unobserved_gain", "UNOBSERVED_GAIN_LIMIT", "resolve_algorithm"]
 
 
 @dataclass(frozen=True)
@@ -334,9 +334,10 @@ def identify(
     if algorithm not in ("auto", "relocation", "subspace"):
         raise ValueError(f"algorithm must be 'auto', 'relocation' or 'subspace'; got {algorithm!r}")
     auto_algorithm = algorithm == "auto"
-    if algorithm == "auto":
-        single = isinstance(frf, FrequencyResponse) and min(frf.shape[:2]) == 1
-        algorithm = "relocation" if ((stable or dc_gain is not None) and single) else "subspace"
+    if algorithm == "auto" and isinstance(frf, FrequencyResponse):
+        algorithm = resolve_algorithm(algorithm, frf.shape[0], frf.shape[1], stable=stable, dc_gain=dc_gain is not None)
+    elif algorithm == "auto":
+        algorithm = "subspace"  # not a FrequencyResponse: rejected below
     if refit_c not in ("auto", True, False):
         raise ValueError(f"refit_c must be 'auto', True or False; got {refit_c!r}")
     if not isinstance(frf, FrequencyResponse):
@@ -497,6 +498,24 @@ def _identify_relocation(frf, sub, svd, dc, ft, dc_data, weights, margin, stable
         rms_error=err.rms_rel, dc_error=dc_err, enforced=enforced, spectral_radius=rho, stabilisation=report,
         subspace=sub, refit=None, T=T, q=svd.q, r=svd.r, data=frf, algorithm="relocation", relocation=rl,
     )
+
+
+def resolve_algorithm(algorithm: str, p: int, m: int, *, stable: bool, dc_gain: bool) -> str:
+    """What :func:`identify` runs for ``algorithm`` on data with ``p`` outputs and ``m`` inputs.
+
+    ``"auto"``: ``"relocation"`` when stability or a DC gain is imposed and ``min(p, m) == 1`` (the relocation
+    gives each input column its own poles, so with several inputs and outputs it needs more states than a
+    subspace model of common poles), else ``"subspace"``. Other values are returned as they are. The default's
+    fallback to the subspace model (see :data:`UNOBSERVED_GAIN_LIMIT`) happens after fitting and is not
+    decided here.
+
+    Returns
+    -------
+    {"relocation", "subspace"}
+    """
+    if algorithm != "auto":
+        return algorithm
+    return "relocation" if (stable or dc_gain) and min(p, m) == 1 else "subspace"
 
 
 UNOBSERVED_GAIN_LIMIT = 1.5
