@@ -24,7 +24,7 @@ import scipy.sparse.linalg as spla
 
 import cfd
 from cfd.euler import spectral_radius_sum
-from cfd.jacobian import _state_pattern
+from cfd.jacobian import state_pattern
 from cfd.ordering import nested_dissection, unknown_permutation
 from cfd.steady import factorise
 
@@ -51,7 +51,7 @@ def kernels(quick=False):
 
     t_res, _ = best(lambda: cfd.residual(grid, q, flow), 30)
     rows.append(("residual evaluation", f"{1e3 * t_res:.2f} ms", "best of 30"))
-    _, colours = _state_pattern(grid)
+    _, colours = state_pattern(grid)
     t_jac, J = best(lambda: cfd.jacobian(grid, q, flow), 3)
     rows.append(("Jacobian assembly (complex step)", f"{t_jac:.3f} s",
                  f"{colours.max() + 1} colours, nnz {J.nnz}, best of 3"))

@@ -179,7 +179,7 @@ def pad(grid, W, flow, face_velocity=None, scheme=DEFAULT_SCHEME, circulation=No
     # Far field: j-max, i-min, i-max.
     if scheme.vortex:
         if circulation is None:
-            circulation = _lift(grid, p.real, flow)
+            circulation = lift_coefficient(grid, p.real, flow)
     uf, vf = flow.velocity
     sides = (
         ("jmax", grid.sj[:, :, -1], None if wj is None else wj[..., :, :, -1]),
@@ -222,7 +222,7 @@ def _face_centres(grid, side):
     return 0.5 * (x[1:] + x[:-1]), 0.5 * (y[1:] + y[:-1])
 
 
-def _lift(grid, p, flow):
+def lift_coefficient(grid, p, flow):
     """Lift coefficient of (real) cell pressures p (..., ni-1, nj-1); batch axes reduce to the first."""
     p = p.reshape((-1,) + p.shape[-2:])[0]
     pw = bc.wall_pressure(p[grid.wall, 0], p[grid.wall, 1])

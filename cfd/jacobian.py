@@ -24,7 +24,7 @@ from functools import lru_cache
 import numpy as np
 import scipy.sparse as sp
 
-from .euler import DEFAULT_SCHEME, _lift, residual
+from .euler import DEFAULT_SCHEME, lift_coefficient, residual
 
 __all__ = ["jacobian", "cell_stencil", "greedy_colouring", "coloured_complex_step", "residual_derivative"]
 
@@ -118,7 +118,7 @@ def greedy_colouring(pattern, preferred=None):
 
 
 @lru_cache(maxsize=16)
-def _state_pattern(grid):
+def state_pattern(grid):
     """Scalar pattern (4N x 4N) and column colours of dR/dq for this grid."""
     S = cell_stencil(grid)
     # (ic + 3 jc) mod 10 colours the radius-2 cross without conflicts on a lattice; the greedy pass
@@ -193,8 +193,8 @@ def jacobian(grid, q, flow, *, face_velocity=None, source=None, scheme=None, chu
     if scheme.vortex:
         g = flow.gamma
         p = (g - 1.0) * (q[..., 3] - 0.5 * (q[..., 1] ** 2 + q[..., 2] ** 2) / q[..., 0])
-        circulation = _lift(grid, p, flow)
-    P, colours = _state_pattern(grid)
+        circulation = lift_coefficient(grid, p, flow)
+    P, colours = state_pattern(grid)
 
     def func(X):
         R = residual(grid, X.reshape((-1,) + shape), flow, face_velocity=face_velocity, scheme=scheme,

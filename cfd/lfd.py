@@ -15,7 +15,8 @@ import numpy as np
 from sysid import FrequencyResponse
 
 from .gust import face_gust_harmonic
-from .linear import LinearError, _check_method, check_outputs, factorise, grid_permutation
+from .frequencies import check_x_ref, frequency_grid
+from .linear import LinearError, check_gust_method, check_outputs, factorise, grid_permutation
 
 __all__ = ["lfd_response", "lfd_state", "solve_direct", "METHODS", "AUTO_FAST_ABOVE"]
 
@@ -28,45 +29,6 @@ def solve_direct(A, b, perm=None):
 
 def _permutation(lin):
     return grid_permutation(lin.grid)
-
-
-def _frequencies(omega):
-    """Accept an array of frequencies or the ``(omega_d, omega)`` pair of ``sysid.mckelvey_grid``."""
-    omega_d = None
-    if isinstance(omega, tuple) and len(omega) == 2 and all(np.ndim(o) == 1 for o in omega):
-        omega_d, omega = (np.asarray(o, dtype=float) for o in omega)
-    try:
-        w = np.atleast_1d(np.asarray(omega, dtype=float))
-    except (TypeError, ValueError):
-        raise LinearError(f"omega must be an array of real frequencies (U/c units); got {omega!r}") from None
-    if w.ndim != 1 or w.size == 0:
-        raise LinearError(f"omega must be a non-empty 1-D array of frequencies; got shape {w.shape}")
-    if np.any(np.isnan(w)) or np.any(w == -np.inf):
-        raise LinearError("omega contains NaN or -inf; give nonnegative frequencies (inf allowed: feedthrough)")
-    if np.any(w < 0.0):
-        raise LinearError(
-            f"omega must be >= 0 (found {w[w < 0][0]!r}): only positive frequencies are solved, the response at "
-            "-omega is the complex conjugate"
-        )
-    return omega_d, w
-
-
-def _grid_and_T(omega, T):
-    """Frequencies (checked) and the sampling period: ``T`` as given, else recovered from a McKelvey pair."""
-    omega_d, w = _frequencies(omega)
-    if T is None and omega_d is not None:
-        inner = np.isfinite(w) & (w > 0)
-        if np.any(inner):
-            k = np.flatnonzero(inner)[0]
-            T = 2.0 * np.tan(omega_d[k] / 2.0) / w[k]
-    return w, T
-
-
-def _check_x_ref(x_ref):
-    x_ref = float(x_ref)
-    if not np.isfinite(x_ref):
-        raise LinearError(f"x_ref must be finite (chords); got {x_ref!r}")
-    return x_ref
 
 
 METHODS = ("auto", "direct", "fast")
@@ -92,7 +54,7 @@ def lfd_state(lin, omega, gust="svm", x_ref=0.0, perm=None):
     -------
     ndarray, complex, shape (4N,)
     """
-    _check_method(gust)
+    check_gust_method(gust)
     gi, gj = face_gust_harmonic(lin.grid, float(omega), x_ref)
     b = lin.forcing(gi, gj, gust)
     if omega == 0.0:  # the steady gain: a real system (the uniform gust has real face values)
@@ -140,12 +102,12 @@ def lfd_response(lin, omega, gust="svm", outputs=("Cl", "Cm"), x_ref=0.0, T=None
     LinearError
         Negative, NaN or -inf frequencies, unknown gust method, output name or ``method``, bad ``tol``.
     """
-    _check_method(gust)
+    check_gust_method(gust)
     names, rows = check_outputs(outputs)
     if method not in METHODS:
         raise LinearError(f"method must be one of {METHODS}; got {method!r}")
-    w, T = _grid_and_T(omega, T)
-    x_ref = _check_x_ref(x_ref)
+    w, T = frequency_grid(omega, T)
+    x_ref = check_x_ref(x_ref)
     if method == "fast" or (method == "auto" and np.isfinite(w).sum() > AUTO_FAST_ABOVE):
         from .sweep import fast_sweep
 

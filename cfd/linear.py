@@ -60,7 +60,8 @@ class LinearError(ValueError):
     """Bad argument to the linear solvers (unknown output or gust method, wrong shapes...)."""
 
 
-def _check_method(method):
+def check_gust_method(method):
+    """The gust method name, checked against :data:`METHODS`."""
     if method not in METHODS:
         raise LinearError(f"gust method must be one of {METHODS} (split or field velocity method); got {method!r}")
     return method
@@ -281,7 +282,7 @@ class LinearSystem:
         -------
         ndarray, shape (..., 4N)
         """
-        _check_method(method)
+        check_gust_method(method)
         gi = np.asarray(gi)
         gj = np.asarray(gj)
         batch = gi.shape[:-2]

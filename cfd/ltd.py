@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .gust import OneMinusCosine, SharpEdged, SineGust, face_gust
-from .linear import LinearError, _check_method
+from .linear import LinearError, check_gust_method
 
 __all__ = ["LTDHistory", "ltd_response", "ltd_responses", "phase_error_estimate"]
 
@@ -154,7 +154,7 @@ def ltd_responses(lin, gusts, dt, t_end, method="svm", x_ref=0.0, max_phase_erro
     LinearError
         As :func:`ltd_response`, or an empty list of gusts.
     """
-    _check_method(method)
+    check_gust_method(method)
     gusts = list(gusts)
     if not gusts:
         raise LinearError("gusts is empty: give at least one cfd.SineGust, OneMinusCosine or SharpEdged")
@@ -195,7 +195,7 @@ def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, ma
     LinearError
         Non-positive or non-finite ``dt``, ``t_end < dt``, unknown method, not a gust.
     """
-    _check_method(method)
+    check_gust_method(method)
     _check_gust(gust)
     dt, t_end = _check_times(dt, t_end)
     _warn_phase(gust, dt, max_phase_error)

@@ -51,7 +51,8 @@ from sysid import FrequencyResponse
 
 from .superlu import splu_nested, splu_pivoted
 from .gust import face_gust_harmonic
-from .linear import LinearError, _check_method, check_outputs
+from .frequencies import check_x_ref, frequency_grid
+from .linear import LinearError, check_gust_method, check_outputs
 from .ordering import nested_dissection, unknown_permutation
 
 __all__ = ["SweepBasis", "fast_sweep", "gust_operator", "face_gust_vector", "SAFETY"]
@@ -77,7 +78,7 @@ def gust_operator(lin, gust="svm"):
     scipy.sparse.csc_matrix, shape (4N, ni (nj-1) + (ni-1) nj), real
         Columns: the i-faces in C order of ``(i, jc)``, then the j-faces in C order of ``(ic, j)``.
     """
-    _check_method(gust)
+    check_gust_method(gust)
     ni, nj = lin.grid.shape
     NI, NJ = ni - 1, nj - 1
     n_i = ni * NJ
@@ -549,7 +550,7 @@ class SweepBasis:
         res : ndarray, shape (p, K)
             Dual residual norms relative to ``|C_k|``.
         """
-        _check_method(gust)
+        check_gust_method(gust)
         w = np.asarray(omega, dtype=float)
         if self.size == 0:
             raise LinearError("the sweep basis is empty; call add_shift first")
@@ -682,15 +683,13 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
     RuntimeWarning
         When ``tol`` is not met within ``max_shifts``; the message names the frequencies.
     """
-    from .lfd import _check_x_ref, _grid_and_T  # the direct path's checks (same accepted forms)
-
     tol = _check_tol(tol)
-    _check_method(gust)
+    check_gust_method(gust)
     names, rows = check_outputs(outputs)
     if int(max_shifts) != max_shifts or max_shifts < 1:
         raise LinearError(f"max_shifts must be a positive integer (factorisations allowed); got {max_shifts!r}")
-    w, T = _grid_and_T(omega, T)
-    x_ref = _check_x_ref(x_ref)
+    w, T = frequency_grid(omega, T)
+    x_ref = check_x_ref(x_ref)
     if basis is None:
         basis = SweepBasis(lin, names, n_moments=n_moments)
     elif basis.lin is not lin:

@@ -11,7 +11,7 @@ sys.path.append(str(Path(__file__).parent))
 
 from flowgrids import parabolic_c_grid  # noqa: E402
 
-from cfd.euler import _lift, residual  # noqa: E402
+from cfd.euler import lift_coefficient, residual  # noqa: E402
 from cfd.flow import FlowCondition  # noqa: E402
 from cfd.gust import OneMinusCosine, cell_x_gradient, face_gust, gust_face_velocity, svm_source  # noqa: E402
 from cfd.jacobian import residual_derivative  # noqa: E402
@@ -86,7 +86,7 @@ def test_output_operator(perturbed):
     grid, flow, q, lin = perturbed
     g = flow.gamma
     p = (g - 1) * (q[..., 3] - 0.5 * (q[..., 1] ** 2 + q[..., 2] ** 2) / q[..., 0])
-    assert wall_loads(grid, q, flow)[0] == pytest.approx(_lift(grid, p, flow), rel=1e-13)
+    assert wall_loads(grid, q, flow)[0] == pytest.approx(lift_coefficient(grid, p, flow), rel=1e-13)
     rng = np.random.default_rng(2)
     d = rng.normal(size=q.shape)
     h = 1e-6
