@@ -58,6 +58,17 @@ def load(case):
     return sysid.FrequencyResponse.load(ROOT / "docs" / "data" / f"frf-{case}.npz")
 
 
+def dense_omega_d(frf, refine=8):
+    """``omega_d`` grid ``refine`` times denser than the data's, equispaced over [0, pi] (as
+    :func:`sysid.identify.unobserved_gain`)."""
+    return np.linspace(0.0, np.pi, refine * (len(frf.omega_d) - 1) + 1)
+
+
+def gain_between(H_dense, frf):
+    """Peak gain on the dense grid per output, in units of the data's peak on that output."""
+    return np.abs(H_dense).max(axis=(1, 2)) / np.abs(np.asarray(frf.H)).max(axis=(1, 2))
+
+
 def dc_rel(G0_model, H):
     G0 = np.asarray(H)[:, :, 0].real
     return float(np.abs(np.asarray(G0_model).real - G0).max() / np.abs(G0).max())
@@ -71,8 +82,10 @@ def run_identify(frf, n, **kw):
         res = sysid.identify(frf, n, **kw)
         t = time.perf_counter() - t0
     H = res.evaluate(frf.omega_d)
+    with np.errstate(all="ignore"):
+        gain = gain_between(res.evaluate(dense_omega_d(frf)), frf)
     return dict(H=H, rho=res.spectral_radius, dc=dc_rel(res.evaluate([0.0])[:, :, 0], frf.H), time=t,
-                note=res.algorithm)
+                note=res.algorithm, gain=gain)
 
 
 def run_vf(frf, n):
@@ -113,11 +126,17 @@ def run_vf(frf, n):
         if best is None or e.max() < best[0].max():
             poles = np.concatenate([vf.poles, np.conj(vf.poles[vf.poles.imag != 0])])
             zp = (1 + poles * frf.T / 2) / (1 - poles * frf.T / 2)
-            best = (e, Hm, G0, float(np.abs(zp).max()), spacing)
+            wd = dense_omega_d(frf)
+            fd = (2.0 / frf.T) * np.tan(wd[:-1] / 2) / (2 * np.pi)
+            Hd = np.zeros((p, 1, wd.size), dtype=complex)
+            for i in range(p):
+                Hd[i, 0, :-1] = vf.get_model_response(i, 0, fd) * peak[i]
+                Hd[i, 0, -1] = vf.constant_coeff[i * p] * peak[i]
+            best = (e, Hm, G0, float(np.abs(zp).max()), spacing, gain_between(Hd, frf))
     t = time.perf_counter() - t0
     if best is None:
         raise RuntimeError("no stable VF fit from either start")
-    return dict(H=best[1], rho=best[3], dc=dc_rel(best[2], frf.H), time=t, note=f"{best[4]} start")
+    return dict(H=best[1], rho=best[3], dc=dc_rel(best[2], frf.H), time=t, note=f"{best[4]} start", gain=best[5])
 
 
 def run_aaa(frf, n):
@@ -128,6 +147,7 @@ def run_aaa(frf, n):
     zf = np.concatenate([z, np.conj(z[1:-1])])
     Hm = np.zeros(frf.shape, dtype=complex)
     G0 = np.zeros((p, 1))
+    gain = np.zeros(p)
     rho = 0.0
     t0 = time.perf_counter()
     with warnings.catch_warnings():
@@ -136,11 +156,12 @@ def run_aaa(frf, n):
             g = np.asarray(frf.H)[i, 0]
             r = AAA(zf, np.concatenate([g, np.conj(g[1:-1])]), max_terms=n + 1, rtol=1e-13)
             Hm[i, 0] = r(z)
+            gain[i] = np.abs(r(np.exp(1j * dense_omega_d(frf)))).max() / np.abs(g).max()
             G0[i, 0] = np.real(r(np.array([1.0 + 0j]))[0])
             pl = r.poles()
             rho = max(rho, float(np.abs(pl).max()) if pl.size else 0.0)
     t = time.perf_counter() - t0
-    return dict(H=Hm, rho=rho, dc=dc_rel(G0, frf.H), time=t, note="stable" if rho < 1 else "UNSTABLE")
+    return dict(H=Hm, rho=rho, dc=dc_rel(G0, frf.H), time=t, note="stable" if rho < 1 else "UNSTABLE", gain=gain)
 
 
 METHODS = [
@@ -171,8 +192,9 @@ def main(argv=None):
 
     lines = [f"<!-- {datetime.date.today()}, {platform.machine()}, {os.cpu_count()} CPUs, "
              f"OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS')}, numpy {np.__version__} -->", "",
-             "| case | N_r | method | Cl max err | Cm max err | spectral radius | DC err | s / ROM | note |",
-             "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+             "| case | N_r | method | Cl max err | Cm max err | spectral radius | DC err | gain between samples "
+             "(Cl, Cm) | s / ROM | note |",
+             "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     summary = []
     compact = []
     for case in cases:
@@ -188,13 +210,14 @@ def main(argv=None):
                 e = max_relative_error(r["H"], frf.H, per_output=True)
                 got[name] = (e, r)
                 lines.append(f"| {case} | {n} | {name} | {100 * e[0]:.3g} % | {100 * e[1]:.3g} % | {r['rho']:.5f} | "
-                             f"{r['dc']:.1e} | {r['time']:.3f} | {r['note']} |")
+                             f"{r['dc']:.1e} | {r['gain'][0]:.3g}, {r['gain'][1]:.3g} | {r['time']:.3f} | {r['note']} |")
             print("\n".join(lines[-len(METHODS):]), flush=True)
             compact.append((case, n, got))
             if "default (relocation)" in got and "VF (skrf, stable)" in got:
                 summary.append((case, n, got["default (relocation)"][0], got["VF (skrf, stable)"][0],
                                 got["dc+stable (subspace)"][0] if "dc+stable (subspace)" in got else None,
-                                got["default (relocation)"][1]["time"]))
+                                got["default (relocation)"][1]["time"], got["default (relocation)"][1]["gain"],
+                                got["VF (skrf, stable)"][1]["gain"]))
     short = ["paper", "dc (subspace)", "dc+stable (subspace)", "default (relocation)", "VF (skrf, stable)",
              "AAA (scipy, per output)"]
     lines += ["", "Max error per output, Cl / Cm in % of each output's peak (AAA: * = unstable):", "",
@@ -215,15 +238,19 @@ def main(argv=None):
         dcell = f"{d[1]['rho']:.4f}, {d[1]['dc']:.0e}, {d[1]['time']:.2f}" if d else ""
         vcell = f"{v[1]['time']:.2f}" if v else ""
         lines.append(f"| {case} | {n} | " + " | ".join(cells) + f" | {dcell} | {vcell} |")
-    lines += ["", "| case | N_r | default Cl / VF | default Cm / VF | old stable Cm / VF | default at or below VF |",
-              "| --- | --- | --- | --- | --- | --- |"]
+    lines += ["", "Error ratios to VF, and the largest gain between the samples (8 points per data interval, in units "
+              "of the output's data peak; Cl, Cm):", "",
+              "| case | N_r | default Cl / VF | default Cm / VF | old stable Cm / VF | default at or below VF | "
+              "default gain | VF gain |",
+              "| --- | --- | --- | --- | --- | --- | --- | --- |"]
     wins = 0
-    for case, n, e, v, old, t in summary:
+    for case, n, e, v, old, t, gd, gv in summary:
         ok = bool(np.all(e <= v))
         wins += int(np.sum(e <= v))
         lines.append(f"| {case} | {n} | {e[0] / v[0]:.2f} | {e[1] / v[1]:.2f} | "
-                     f"{'' if old is None else f'{old[1] / v[1]:.2f}'} | {'yes' if ok else 'NO'} |")
-    times = [t for *_, t in summary]
+                     f"{'' if old is None else f'{old[1] / v[1]:.2f}'} | {'yes' if ok else 'NO'} | "
+                     f"{gd[0]:.3g}, {gd[1]:.3g} | {gv[0]:.3g}, {gv[1]:.3g} |")
+    times = [t for _, _, _, _, _, t, _, _ in summary]
     lines += ["", f"default at or below VF on {wins} of {2 * len(summary)} (case, order, output) points; "
               f"default s / ROM: max {max(times):.2f}, median {np.median(times):.2f}."]
     text = "\n".join(lines)

@@ -308,22 +308,30 @@ def test_bad_order(order):
         identify(frf, order)
 
 
-def test_default_falls_back_when_the_relocated_model_resonates_between_samples():
-    """T4 (NACA0018, M0.25) on the paper's grid: the samples at omega = 14.6 and 29.2 have none between them and
-    the relocated N_r = 25 model puts a resonance of ~28 times Cm's data peak there; the default returns the
-    subspace model (gain ~2) and says why. The explicit algorithm="relocation" keeps the relocated model."""
+def test_default_falls_back_when_the_relocated_model_resonates_between_samples(monkeypatch):
+    """The last guard of the default: a relocated model whose gain between the samples (8 points per interval)
+    exceeds UNOBSERVED_GAIN_LIMIT times the data's peak is compared with the subspace model, and the one with
+    the smaller gain is returned with a warning. The relocation's own gap bounds keep T4 N_r = 25 at ~1.01 of
+    Cm's peak, so the limit is lowered to 1.0 here to exercise the comparison; the subspace model's gain is
+    then compared, and the explicit algorithm="relocation" keeps the relocated model."""
+    import importlib
     from pathlib import Path
 
-    from sysid.identify import UNOBSERVED_GAIN_LIMIT, unobserved_gain
+    ident = importlib.import_module("sysid.identify")  # the module (the package exports the function)
 
     frf = FrequencyResponse.load(Path(__file__).resolve().parents[2] / "docs" / "data" / "frf-T4.npz")
-    with pytest.warns(RuntimeWarning, match="between the data's frequencies reaches .* subspace model"):
-        res = identify(frf, 25, dc_gain="match", stable=True)
-    assert res.algorithm == "subspace" and res.spectral_radius < 1.0
     reloc = identify(frf, 25, dc_gain="match", stable=True, algorithm="relocation")
-    # the two gains differ by an order of magnitude: far from the limit on both sides
-    assert unobserved_gain(reloc.model, frf).max() > 5 * UNOBSERVED_GAIN_LIMIT
-    assert unobserved_gain(res.model, frf).max() < unobserved_gain(reloc.model, frf).max() / 5
+    alt = identify(frf, 25, dc_gain="match", stable=True, algorithm="subspace")
+    g_reloc, g_alt = ident.unobserved_gain(reloc.model, frf).max(), ident.unobserved_gain(alt.model, frf).max()
+    assert 1.0 < g_reloc < ident.UNOBSERVED_GAIN_LIMIT  # within the default limit: no fallback by default
+    monkeypatch.setattr(ident, "UNOBSERVED_GAIN_LIMIT", 1.0)
+    if g_alt < g_reloc:
+        with pytest.warns(RuntimeWarning, match="between the data's frequencies reaches .* subspace model"):
+            res = identify(frf, 25, dc_gain="match", stable=True)
+        assert res.algorithm == "subspace" and res.spectral_radius < 1.0
+    else:  # the subspace model resonates more: the relocated one is kept
+        res = identify(frf, 25, dc_gain="match", stable=True)
+        assert res.algorithm == "relocation"
 
 
 def test_unobserved_gain_of_an_exact_model_is_its_peak_ratio():
