@@ -172,8 +172,23 @@ class IdentificationResult:
 
         return self.evaluate(continuous_to_discrete(np.asarray(omega, dtype=float).reshape(-1), self.T))
 
+    @property
+    def diagnostics(self):
+        """:class:`sysid.diagnostics.DataDiagnostics` of the data identified from (computed on first use: a few
+        FFTs): whether they are consistent with a causal, stable, real LTI system, and by how much not."""
+        cached = self.__dict__.get("_diagnostics")
+        if cached is None:
+            from .diagnostics import diagnose
+
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)
+                cached = diagnose(self.data)
+            object.__setattr__(self, "_diagnostics", cached)
+        return cached
+
     def summary(self) -> str:
-        """One-paragraph plain-text summary (order, method, errors, constraints, stability)."""
+        """Plain-text summary: order, method, errors, constraints, stability, and one line on the data's
+        consistency (:attr:`diagnostics`)."""
         enf = ", ".join(k for k, v in self.enforced.items() if v) or "none"
         if self.algorithm == "relocation" and self.relocation is not None:
             rl = self.relocation
@@ -196,6 +211,8 @@ class IdentificationResult:
                 f"stabilised by {st.method}: radius {st.spectral_radius_before:.6f} -> {st.spectral_radius_after:.6f}, "
                 f"|dA|/|A| = {st.relative_change:.3e}, RMS error {st.rms_error_before:.3e} -> {st.rms_error_after:.3e}"
             )
+        if self.data is not None:
+            lines.append(_diagnostics_line(self.diagnostics))
         return "\n".join(lines)
 
     def frequency_response(self, omega_d: Any = None) -> FrequencyResponse:
@@ -211,6 +228,18 @@ class IdentificationResult:
         from .transforms import d2c_bilinear
 
         return d2c_bilinear(self.model)
+
+
+def _diagnostics_line(d) -> str:
+    """One line of :class:`sysid.diagnostics.DataDiagnostics` for :meth:`IdentificationResult.summary`."""
+    parts = []
+    for c in d.channels():
+        nte = "" if c["neg_time_energy"] is None else f"negative-time energy {c['neg_time_energy']:.1e}, "
+        parts.append(f"{c['output']}/{c['input']} {'FLAG' if c['flagged'] else 'ok'} ({nte}KK residual "
+                     f"{c['kk_residual']:.1e})")
+    verdict = ("consistent with a causal, stable, real LTI system" if d.ok else
+               "not consistent with a causal, stable, real LTI system (sysid.diagnose(data).summary() says why)")
+    return f"data: {verdict}; " + "; ".join(parts)
 
 
 def _rebuild_result(spec, fields):

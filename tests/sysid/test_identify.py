@@ -344,3 +344,17 @@ def test_unobserved_gain_of_an_exact_model_is_its_peak_ratio():
     sysd = control.ss([[0.5]], [[1.0]], [[1.0]], [[0.0]], 1.0)
     frf = FrequencyResponse.from_model(sysd, mckelvey_grid(16, 1.0)[0])
     np.testing.assert_allclose(unobserved_gain(sysd, frf), [1.0], rtol=1e-12)
+
+
+def test_summary_reports_the_data_diagnostics():
+    """The summary's last line is sysid.diagnose of the data: a system's own samples are consistent; the T4 LFD
+    data (1.7e-3 of Cm's impulse-response energy at negative time, docs/fit.md) are flagged, per channel."""
+    from pathlib import Path
+
+    frf, _ = data(seed=3)
+    res = identify(frf, 6)
+    assert res.diagnostics.ok
+    assert res.summary().splitlines()[-1].startswith("data: consistent with a causal, stable, real LTI system")
+    t4 = FrequencyResponse.load(Path(__file__).resolve().parents[2] / "docs" / "data" / "frf-T4.npz")
+    line = identify(t4, 9, dc_gain="match", stable=True).summary().splitlines()[-1]
+    assert line.startswith("data: not consistent") and "Cm/gust FLAG (negative-time energy 1.7e-03" in line
