@@ -14,9 +14,12 @@ from sysid_synth import pole_mismatch
 import sysid
 from sysid import FrequencyDataError, FrequencyResponse, OrderError, identify, mckelvey_grid
 from sysid.metrics import max_relative_error
-from sysid.relocation import (GAP_FLOOR, GAP_SLACK, _basis, _derivative_columns, _pair_poles, _params_to_poles,
-                              _stable_params, discrete_basis, fit_relocated, gap_bounds, initial_poles, minimax_cd,
-                              refine_poles, relocate_poles, resolution_floor, stability_region)
+from sysid.pole_refinement import derivative_columns, params_to_poles, refine_poles, stable_params
+from sysid.poles import (discrete_basis, initial_poles, pair_poles, partial_fraction_basis, resolution_floor,
+                         stability_region)
+from sysid.relocation import fit_relocated
+from sysid.residues import GAP_FLOOR, GAP_SLACK, gap_bounds, minimax_cd
+from sysid.vector_fitting import relocate_poles
 from sysid.refit import fit_cd
 
 DATA = Path(__file__).resolve().parents[2] / "docs" / "data"
@@ -145,7 +148,7 @@ def test_refinement_never_increases_the_cost():
     p0 = true.real * 1.5 + 1j * true.imag * 1.03  # the true poles, 3 % off in frequency, 50 % in damping
 
     def cost(pl):
-        Phi = np.hstack([_basis(s, pl), np.ones((s.size, 1))])
+        Phi = np.hstack([partial_fraction_basis(s, pl), np.ones((s.size, 1))])
         A = np.vstack([Phi.real, Phi.imag])
         return sum(np.linalg.lstsq(A, np.concatenate([h.real, h.imag]), rcond=None)[1].sum() for h in H)
 
@@ -247,7 +250,7 @@ def test_pair_poles_moves_unresolved_pairs_left_onto_the_floor():
     w = np.linspace(0.0, 10.0, 11)  # spacing 1: floor 0.5 everywhere inside
     floor = resolution_floor(w, 0.5)
     lam = np.array([-0.01 + 4.2j, -0.01 - 4.2j, -2.0 + 6.0j, -2.0 - 6.0j, -0.05])
-    out = _pair_poles(lam, 10.0, (-1e6, 1e6 - 1e-6, 1e3, floor))
+    out = pair_poles(lam, 10.0, (-1e6, 1e6 - 1e-6, 1e3, floor))
     np.testing.assert_allclose(out, [-0.05, -0.5 + 4.2j, -0.5 - 4.2j, -2.0 + 6.0j, -2.0 - 6.0j])
 
 
@@ -257,15 +260,15 @@ def test_floored_parametrisation_derivatives_match_finite_differences():
     w = np.concatenate([[0.0], 3.0 * np.tan(np.linspace(0.0, 1.5, 30))[1:]])
     s = 1j * w
     floor = resolution_floor(w, 0.5)
-    poles = _pair_poles(np.array([-0.5, -0.3 + 1j, -0.3 - 1j, -2 + 9j, -2 - 9j]), 10.0, (-1e3, 1e3 - 1e-3, 1e3, floor))
+    poles = pair_poles(np.array([-0.5, -0.3 + 1j, -0.3 - 1j, -2 + 9j, -2 - 9j]), 10.0, (-1e3, 1e3 - 1e-3, 1e3, floor))
     theta = np.random.default_rng(0).standard_normal(poles.size)
-    x = _stable_params(poles, floor)
-    J = _derivative_columns(s, poles, theta, floor)
+    x = stable_params(poles, floor)
+    J = derivative_columns(s, poles, theta, floor)
     for q in range(x.size):
         e = np.zeros_like(x)
         e[q] = 1e-7
-        fd = (_basis(s, _params_to_poles(x + e, poles, floor)) @ theta
-              - _basis(s, _params_to_poles(x - e, poles, floor)) @ theta) / 2e-7
+        fd = (partial_fraction_basis(s, params_to_poles(x + e, poles, floor)) @ theta
+              - partial_fraction_basis(s, params_to_poles(x - e, poles, floor)) @ theta) / 2e-7
         assert np.abs(fd - J[:, q]).max() <= 1e-6 * np.abs(J[:, q]).max()
 
 
