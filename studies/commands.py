@@ -25,13 +25,12 @@ from pathlib import Path
 
 from .cases import TEST_CASES, case_table
 from .config import StudyConfig, StudyConfigError, load_study, parse_study
+from .exit_codes import EXIT_FAILED, EXIT_INCOMPLETE, EXIT_INTERRUPTED, EXIT_NOT_WRITTEN, EXIT_OK, EXIT_UNAVAILABLE
 
 __all__ = ["add_subcommands", "dispatch", "cmd_cases", "cmd_run", "cmd_report", "cmd_rom", "rom_study", "COMMANDS",
            "EXIT_OK", "EXIT_FAILED", "EXIT_UNAVAILABLE", "EXIT_INCOMPLETE", "EXIT_NOT_WRITTEN", "EXIT_INTERRUPTED",
            "run_status", "rom_summary_line", "report_page"]
 
-EXIT_OK, EXIT_FAILED, EXIT_UNAVAILABLE, EXIT_INCOMPLETE, EXIT_NOT_WRITTEN = 0, 1, 2, 3, 4
-EXIT_INTERRUPTED = 130  # the shell's convention for Ctrl-C (128 + SIGINT)
 COMMANDS = ("cases", "run", "report", "rom", "fit")
 
 

@@ -90,8 +90,8 @@ from .cases import (
     GridSpec,
     GustCase,
     UnknownCaseError,
-    _check_name,
-    _naca_code,
+    check_name,
+    naca_code,
     flow_case,
     gust_case,
 )
@@ -884,7 +884,7 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
         mtab = P.table(mtab, prefix)
         P.check_keys(mtab, METHOD_KEYS, prefix)
         try:
-            _check_name("method", mname)
+            check_name("method", mname)
         except CaseError as e:
             raise P.err(prefix, str(e)) from None
         dc = mtab.get("dc_gain", "none")
@@ -1045,7 +1045,7 @@ def _parse_case(P: _Parser, entry, key, base_grid, g_orders, g_T, g_M, parse_ord
                 f"missing: {name!r} is not a paper case ({', '.join(TEST_CASES)}), so it needs naca and mach "
                 "(and optionally alpha_deg, grid)"))
         try:
-            naca = _naca_code(f"case {name!r}", entry["naca"])
+            naca = naca_code(f"case {name!r}", entry["naca"])
         except CaseError as e:
             raise P.err(f"{key}.naca", str(e)) from None
         mach = P.number(entry["mach"], f"{key}.mach")

@@ -435,7 +435,7 @@ def _case_T_count(results, case) -> int:
 def _frf_figures(results, fig_dir: Path, dpi: int, say, paper: bool = False) -> list:
     figs = []
     methods = _methods(results)
-    colours = plots._colours()
+    colours = plots.colours()
     outs = _outputs(results)
     groups: dict = {}
     for r in results.roms:
@@ -543,7 +543,7 @@ def _error_figures(results, fig_dir: Path, dpi: int, say, paper: bool = False) -
 def _history_figures(results, fig_dir: Path, dpi: int, say, paper: bool = False) -> list:
     figs = []
     methods = _methods(results)
-    colours = plots._colours()
+    colours = plots.colours()
     souts = _sim_outputs(results)
     by_pair: dict = {}
     for s in results.sims:
@@ -637,7 +637,7 @@ def _heatmap_figures(results, fig_dir: Path, dpi: int, say, paper: bool = False)
         pos = fin[fin > 0]
         vmin = max(float(pos.min()), ERROR_RANGE[0]) if pos.size else ERROR_RANGE[0]
         vmax = min(max(float(fin.max()), vmin * 10), ERROR_RANGE[1])
-        plt = plots._plt()
+        plt = plots.pyplot()
         heights = [len(pts) + 1.5 for _ in methods]
         fig, axes = plt.subplots(len(methods), 1, figsize=(0.95 * len(gusts) + 4.2, 0.36 * sum(heights) + 0.8),
                                  squeeze=False, layout="constrained", gridspec_kw=dict(height_ratios=heights))

@@ -126,7 +126,7 @@ def synthetic_results(config: Optional[StudyConfig] = None, *, noise: float = 2e
     """
     import control
 
-    from .demo import _continuous_frf, gust_like_system
+    from .demo import continuous_frf, gust_like_system
 
     config = config or synthetic_config()
     rng = np.random.default_rng(seed)
@@ -152,7 +152,7 @@ def synthetic_results(config: Optional[StudyConfig] = None, *, noise: float = 2e
                                              seconds=time.perf_counter() - t0)
         for T in cs.T:
             omega_d, omega = sysid.mckelvey_grid(config.M_base, T)
-            H_true = _continuous_frf(A, B, C, D, omega)
+            H_true = continuous_frf(A, B, C, D, omega)
             peak = np.abs(H_true).max(axis=2, keepdims=True)
             H = H_true + noise * peak * (rng.standard_normal(H_true.shape)
                                          + 1j * rng.standard_normal(H_true.shape)) / np.sqrt(2)
