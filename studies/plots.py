@@ -32,7 +32,7 @@ __all__ = [
     "reduced_frequency",
     "unwrapped_phase_deg",
     "pyplot",
-    "colours",
+    "colour_cycle",
     "LINESTYLES",
 ]
 
@@ -111,7 +111,7 @@ def _style(i: int, extra: Mapping | None, colours) -> dict:
     return st
 
 
-def colours():
+def colour_cycle():
     """The colours of matplotlib's current property cycle (list of colour strings)."""
     plt = pyplot()
     return plt.rcParams["axes.prop_cycle"].by_key()["color"]
@@ -254,7 +254,7 @@ def frf_plot(omega, H_ref, models=(), *, outputs: Sequence[str] = ("Cl", "Cm"), 
     if fig is None:
         fig = plt.figure(figsize=(5.2 * len(outputs) + 0.6, 2.6 * nrow + 0.9))
     axes = np.asarray(fig.subplots(nrow, len(outputs), sharex=True, squeeze=False))
-    colours = colours()
+    colours = colour_cycle()
     ks = k[sel]
     mask = None
     if samples is not None:
@@ -341,7 +341,7 @@ def hankel_plot(sv, *, orders: Sequence[int] = (), normalise: bool = True, title
         fig, ax = plt.subplots(figsize=(6.4, 4.2))
     else:
         fig = ax.figure
-    colours = colours()
+    colours = colour_cycle()
     for i, item in enumerate(sets):
         lab, s, st = _unpack(item, 2, "singular-value")
         s = np.asarray(s, dtype=float)
@@ -438,7 +438,7 @@ def error_vs_order_plot(rows: Sequence[Mapping[str, Any]], metrics: Sequence[str
     if fig is None:
         fig = plt.figure(figsize=(5.0 * ncols + 1.0, 3.6 * nrows + 0.8))
     axes = np.asarray(fig.subplots(nrows, ncols, squeeze=False)).ravel()
-    colours = colours()
+    colours = colour_cycle()
     # colour: the group without its method; line style: the method (in order of first appearance)
     mi = list(group_by).index("method") if "method" in group_by else None
     methods, ckeys = [], []
@@ -591,7 +591,7 @@ def history_plot(t, reference: Mapping[str, Any] | None, models=(), *, outputs: 
         fig = plt.figure(figsize=(5.4 * len(outputs) + 0.6, 1.0 + 3.3 * sum(heights)))
     axes = np.asarray(fig.subplots(len(rows), len(outputs), sharex=True, squeeze=False,
                                    gridspec_kw=dict(height_ratios=heights)))
-    colours = colours()
+    colours = colour_cycle()
     for j, o in enumerate(outputs):
         col = {r: axes[i, j] for i, r in enumerate(rows)}
         if "u" in col:
