@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from .errors import AeroModelError
-from .fit import LOAD_OUTPUTS, MOTION_INPUTS, _indices
+from .fit import LOAD_OUTPUTS, MOTION_INPUTS, channel_indices
 
 __all__ = ["change_axes", "to_elastic_axis"]
 
@@ -68,7 +68,7 @@ def change_axes(frf, *, pivot: float, moment_axis: float, new_axis: float):
     if not isinstance(frf, sysid.FrequencyResponse):
         raise AeroModelError(f"change_axes() expects a sysid.FrequencyResponse, got {type(frf).__name__}")
     xp, xm, xe = _x("pivot", pivot), _x("moment_axis", moment_axis), _x("new_axis", new_axis)
-    oi = _indices(frf.outputs, LOAD_OUTPUTS, "outputs")
+    oi = channel_indices(frf.outputs, LOAD_OUTPUTS, "outputs")
     H = np.array(frf.H, copy=True)
     # outputs: Cm_e = Cm_m + (x_e - x_m) Cl
     H[oi[1]] = H[oi[1]] + (xe - xm) * H[oi[0]]

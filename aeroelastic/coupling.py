@@ -33,12 +33,28 @@ from .errors import AeroModelError, SpeedError
 from .fit import MotionModel, fit_motion
 from .section import TypicalSection
 
-__all__ = ["coupled_model", "state_matrix", "as_motion_model", "STATE_OUTPUTS"]
+__all__ = ["coupled_model", "state_matrix", "as_motion_model", "check_speed", "STATE_OUTPUTS"]
 
 STATE_OUTPUTS = ["plunge", "pitch", "plunge_rate", "pitch_rate", "plunge_acc", "pitch_acc"]
 
 
-def _check_speed(speed: Any) -> float:
+def check_speed(speed: Any) -> float:
+    """A speed index checked: a positive, finite number.
+
+    Parameters
+    ----------
+    speed : any
+        The speed index ``U / (b omega_alpha)`` (dimensionless).
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    SpeedError
+        Not a number, not finite or not positive.
+    """
     try:
         V = float(speed)
     except (TypeError, ValueError):
@@ -97,7 +113,7 @@ def coupled_model(aero: Any, section: TypicalSection, speed: float, *, gust: boo
 
     if not isinstance(section, TypicalSection):
         raise TypeError(f"section must be an aeroelastic.TypicalSection, got {type(section).__name__}")
-    V = _check_speed(speed)
+    V = check_speed(speed)
     model = as_motion_model(aero)
     if gust is None:
         gust = model.has_gust
@@ -150,7 +166,7 @@ def state_matrix(aero: Any, section: TypicalSection, speed: float) -> np.ndarray
     -------
     ndarray, shape (4 + 2 n_lags, 4 + 2 n_lags)
     """
-    V = _check_speed(speed)
+    V = check_speed(speed)
     model = as_motion_model(aero)
     lag = model.lag_model()
     Al, Bl, Cl, Dl = (np.asarray(x) for x in (lag.A, lag.B, lag.C, lag.D))

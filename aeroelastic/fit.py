@@ -41,7 +41,7 @@ from scipy import optimize
 
 from .errors import AeroModelError, FitError
 
-__all__ = ["MotionModel", "fit_motion", "MOTION_INPUTS", "LOAD_OUTPUTS"]
+__all__ = ["MotionModel", "fit_motion", "channel_indices", "MOTION_INPUTS", "LOAD_OUTPUTS"]
 
 MOTION_INPUTS = ("plunge", "pitch")
 LOAD_OUTPUTS = ("Cl", "Cm")
@@ -143,7 +143,28 @@ class MotionModel:
         return control.ss(A, B, C, D, inputs=list(MOTION_INPUTS), outputs=list(LOAD_OUTPUTS))
 
 
-def _indices(names, wanted, what):
+def channel_indices(names, wanted, what):
+    """Positions of the channels ``wanted`` among ``names``.
+
+    Parameters
+    ----------
+    names : sequence of str
+        The data's channel names (``frf.outputs`` or ``frf.inputs``).
+    wanted : sequence of str
+        The channels needed, in the order wanted.
+    what : str
+        ``"outputs"`` or ``"inputs"``, for the error message.
+
+    Returns
+    -------
+    list of int
+        ``len(wanted)`` indices into ``names``.
+
+    Raises
+    ------
+    AeroModelError
+        A wanted channel is missing.
+    """
     names = list(names)
     missing = [w for w in wanted if w not in names]
     if missing:
@@ -220,8 +241,8 @@ def fit_motion(frf, order: int = 4, *, gust_order: int = 8, T: float | None = No
         raise AeroModelError("the data have no continuous frequencies; build them with FrequencyResponse.from_continuous")
     if isinstance(order, bool) or not isinstance(order, (int, np.integer)) or order < 0:
         raise FitError(f"order (number of lag roots) must be an integer >= 0, got {order!r}")
-    oi = _indices(frf.outputs, LOAD_OUTPUTS, "outputs")
-    ii = _indices(frf.inputs, MOTION_INPUTS, "inputs")
+    oi = channel_indices(frf.outputs, LOAD_OUTPUTS, "outputs")
+    ii = channel_indices(frf.inputs, MOTION_INPUTS, "inputs")
     omega = np.asarray(frf.omega, dtype=float)
     finite = np.isfinite(omega)
     w = omega[finite]

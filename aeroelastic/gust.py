@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from .coupling import _check_speed, as_motion_model, coupled_model
+from .coupling import check_speed, as_motion_model, coupled_model
 from .errors import AeroModelError
 from .section import TypicalSection
 
@@ -81,7 +81,7 @@ def simulate(sys, section: TypicalSection, speed: float, t: np.ndarray, u: np.nd
     """
     import control
 
-    V = _check_speed(speed)
+    V = check_speed(speed)
     tau = 2.0 * (t - t[0]) / V
     r = control.forced_response(sys, T=tau, U=u[None, :])
     names = list(sys.output_labels)

@@ -2,7 +2,7 @@
 
 The ROM is identified from the LFD response on McKelvey's grid (M = 32 by default, T = 70 / (2 pi)), mapped to
 continuous time (paper Eq. 26), re-discretised at the LTD step by Tustin and simulated with python-control
-(``studies.runner.rom_simulation``, exactly what a study does); the LTD response is the BDF2 march of
+(``sysid.rom_simulation``, exactly what a study does); the LTD response is the BDF2 march of
 ``cfd.ltd_response`` at the same step. Both start from rest with the gust front at x0 = -2. Prints a table:
 the wall time of each (the ROM's best of ``--repeat`` runs), their ratio (target >= 1e4), and the peak Cl
 and Cm of both. The identification and the LFD sweep are one-off costs and are printed for context.
@@ -24,10 +24,9 @@ import numpy as np
 import cfd
 import sysid
 from studies.cases import flow_case, gust_case, to_gust
-from studies.config import T_PAPER
-from studies.results import peak
-from studies.runner import _lfd, rom_simulation
-from studies.config import CFDOptions
+from studies.schema import T_PAPER, CFDOptions
+from studies.tasks import lfd_on_mckelvey_grid
+from sysid import peak, rom_simulation
 
 
 def timed(f):
@@ -54,7 +53,7 @@ def main(argv=None):
     gust = to_gust(gust_case("G3"), x0=-2.0)
 
     t_ltd, hist = timed(lambda: cfd.ltd_response(lin, gust, args.dt, args.t_end))
-    t_frf, (frf, how) = timed(lambda: _lfd(lin, T_PAPER, args.M, CFDOptions()))
+    t_frf, (frf, how) = timed(lambda: lfd_on_mckelvey_grid(lin, T_PAPER, args.M, CFDOptions()))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         t_id, res = timed(lambda: sysid.identify(frf, args.order))

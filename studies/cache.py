@@ -3,13 +3,13 @@
 Keys
 ----
 ``key = sha256(canonical JSON of {"piece", "config", "code"})`` where ``config`` is the piece's own
-sub-configuration (``studies.config.steady_piece``, ``frf_piece``, ``rom_piece``, ``ltd_piece``,
+sub-configuration (``studies.pieces.steady_piece``, ``frf_piece``, ``rom_piece``, ``ltd_piece``,
 ``sim_piece``: an FRF's key holds the aerofoil, Mach, grid, T and M_base but not N_r, so changing N_r keeps
 the FRF) and ``code`` is :func:`studies.provenance.code_version` of the code the piece depends on: the
 lfdrom version and a sha256 of the Python sources of those packages and modules (``PIECE_DEPENDENCIES``:
-``cfd`` for the steady flow, FRF and LTD pieces; ``cfd``, ``sysid``, ``studies.config`` and
-``studies.runner`` for the ROM and ROM-simulation pieces). Editing ``cfd/`` thus invalidates everything,
-editing ``sysid/`` or the runner only the (cheap) identifications and ROM simulations. The git commit is recorded in the provenance,
+``cfd`` for the steady flow, FRF and LTD pieces; ``cfd``, ``sysid`` and the study modules that define
+and compute them for the ROM and ROM-simulation pieces). Editing ``cfd/`` thus invalidates everything,
+editing ``sysid/`` or the ROM tasks only the (cheap) identifications and ROM simulations. The git commit is recorded in the provenance,
 not in the key (see ``studies.provenance``).
 
 Layout and atomicity
@@ -44,7 +44,7 @@ from typing import Any, Callable, Iterator, Mapping, Optional
 
 import numpy as np
 
-from .config import canonical_json
+from .hashing import canonical_json
 from .files import TEMP_PREFIX, atomic_write_bytes, jsonable
 from .provenance import code_version, provenance
 
@@ -54,6 +54,7 @@ __all__ = [
     "ResultStore",
     "PIECE_DEPENDENCIES",
     "DEFAULT_DEPENDENCIES",
+    "ROM_DEPENDENCIES",
     "FORMAT_VERSION",
     "atomic_write_bytes",
     "export_rom_npz",
@@ -65,19 +66,25 @@ log = logging.getLogger(__name__)
 
 FORMAT_VERSION = 1
 
+ROM_DEPENDENCIES = ("cfd", "sysid", "studies.config", "studies.numbers", "studies.schema", "studies.pieces",
+                    "studies.tasks")
+"""Sources of the ROM and ROM-simulation pieces: ``cfd`` and ``sysid``, the study file's parser and number
+parser (the values computed with), the configuration objects (method options, weights), the store schema
+(keys, payloads, the simulation metrics) and the tasks that compute them."""
+
 PIECE_DEPENDENCIES: Mapping[str, tuple] = {
     "steady": ("cfd",),
     "frf": ("cfd",),
     "ltd": ("cfd",),
-    "rom": ("cfd", "sysid", "studies.config", "studies.runner"),
-    "sim": ("cfd", "sysid", "studies.config", "studies.runner"),
+    "rom": ROM_DEPENDENCIES,
+    "sim": ROM_DEPENDENCIES,
 }
 """Packages and modules whose sources enter the key of each piece; other pieces depend on
-``DEFAULT_DEPENDENCIES``. The CFD pieces (expensive) depend on ``cfd`` only: the runner's wrappers around
-``cfd`` are expected to be thin. The identification pieces (cheap) also depend on ``studies.config`` (method
-options, weights) and ``studies.runner``."""
+``DEFAULT_DEPENDENCIES``. The CFD pieces (expensive) depend on ``cfd`` only: the tasks' wrappers around
+``cfd`` are expected to be thin. The identification pieces (cheap) also depend on ``sysid`` (identification,
+simulation, metrics) and on the study modules that define and compute them (:data:`ROM_DEPENDENCIES`)."""
 
-DEFAULT_DEPENDENCIES = ("cfd", "sysid", "studies.config", "studies.runner")
+DEFAULT_DEPENDENCIES = ROM_DEPENDENCIES
 
 _PIECE_RE = re.compile(r"^[a-z][a-z0-9_]{0,39}$")
 _ARRAY_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_.\-]{0,99}$")

@@ -67,6 +67,8 @@ __all__ = [
     "flow_case",
     "gust_case",
     "user_case",
+    "check_name",
+    "naca_code",
     "to_gust",
     "case_table",
 ]
@@ -217,7 +219,25 @@ PAPER_GRID = GridSpec()
 _NAME_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.+\-]*$")
 
 
-def _check_name(owner: str, name) -> str:
+def check_name(owner: str, name) -> str:
+    """A case, gust or method name checked: letters, digits and ``_ . + -`` (it names files and table rows).
+
+    Parameters
+    ----------
+    owner : str
+        What is named (``"case"``, ``"gust"``, ``"method"``), for the error message.
+    name : any
+
+    Returns
+    -------
+    str
+        ``name``.
+
+    Raises
+    ------
+    CaseError
+        Not such a string.
+    """
     if not isinstance(name, str) or not _NAME_RE.match(name):
         raise CaseError(
             f"{owner} name {name!r} must be a non-empty string of letters, digits and _ . + - "
@@ -225,8 +245,26 @@ def _check_name(owner: str, name) -> str:
     return name
 
 
-def _naca_code(owner: str, code) -> str:
-    """Validate ``code`` through ``cfd.naca``; return the four digits (e.g. ``"0010"``)."""
+def naca_code(owner: str, code) -> str:
+    """A NACA 4-digit code checked by ``cfd.naca``.
+
+    Parameters
+    ----------
+    owner : str
+        What it belongs to (e.g. ``"case 'mine'"``), for the error message.
+    code : str or int
+        ``"0012"``, ``"NACA 0012"`` or ``12``.
+
+    Returns
+    -------
+    str
+        The four digits, e.g. ``"0012"``.
+
+    Raises
+    ------
+    CaseError
+        Not a valid code.
+    """
     from cfd.geometry import naca  # the submodule: works even where the cfd package namespace is bare
 
     try:
@@ -267,9 +305,9 @@ class FlowCase:
     grid: GridSpec = field(default_factory=GridSpec)
 
     def __post_init__(self):
-        name = _check_name("case", self.name)
+        name = check_name("case", self.name)
         owner = f"case {name!r}"
-        object.__setattr__(self, "naca", _naca_code(owner, self.naca))
+        object.__setattr__(self, "naca", naca_code(owner, self.naca))
         mach = _real(owner, "mach", self.mach)
         if not 0.0 < mach < 1.0:
             raise CaseError(f"{owner}: mach = {mach} is out of range; the solver handles 0 < mach < 1")
@@ -330,7 +368,7 @@ class GustCase:
     angle_deg: float
 
     def __post_init__(self):
-        name = _check_name("gust", self.name)
+        name = check_name("gust", self.name)
         owner = f"gust {name!r}"
         if self.kind not in GUST_KINDS:
             raise CaseError(f"{owner}: kind {self.kind!r} is unknown; use one of {', '.join(GUST_KINDS)}")
@@ -484,7 +522,7 @@ def user_case(naca, mach, alpha_deg: float = 0.0, name: Optional[str] = None,
         except TypeError as e:
             raise CaseError(f"grid: {e}; grid sizes are ni, nj, n_surface, farfield") from None
     if name is None:
-        code = _naca_code("case", naca)
+        code = naca_code("case", naca)
         name = _default_name(code, _real("case", "mach", mach), _real("case", "alpha_deg", alpha_deg))
     return FlowCase(name, naca, mach, alpha_deg, grid)
 

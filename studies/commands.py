@@ -25,13 +25,12 @@ from pathlib import Path
 
 from .cases import TEST_CASES, case_table
 from .config import StudyConfig, StudyConfigError, load_study, parse_study
+from .exit_codes import EXIT_FAILED, EXIT_INCOMPLETE, EXIT_INTERRUPTED, EXIT_NOT_WRITTEN, EXIT_OK, EXIT_UNAVAILABLE
 
 __all__ = ["add_subcommands", "dispatch", "cmd_cases", "cmd_run", "cmd_report", "cmd_rom", "rom_study", "COMMANDS",
            "EXIT_OK", "EXIT_FAILED", "EXIT_UNAVAILABLE", "EXIT_INCOMPLETE", "EXIT_NOT_WRITTEN", "EXIT_INTERRUPTED",
            "run_status", "rom_summary_line", "report_page"]
 
-EXIT_OK, EXIT_FAILED, EXIT_UNAVAILABLE, EXIT_INCOMPLETE, EXIT_NOT_WRITTEN = 0, 1, 2, 3, 4
-EXIT_INTERRUPTED = 130  # the shell's convention for Ctrl-C (128 + SIGINT)
 COMMANDS = ("cases", "run", "report", "rom", "fit")
 
 
@@ -290,10 +289,10 @@ def _plan(config: StudyConfig) -> str:
     lines = [f"study {config.name!r} ({config.source}): {len(config.cases)} case(s), {len(config.gusts)} gust(s), "
              f"{len(config.methods)} method variant(s), {len(config.points())} identifications",
              f"  output {config.output_dir}", f"  store  {config.store_dir}", f"  hash   {config.hash()[:16]}"]
-    for cs in config.cases:
-        c = cs.case
+    for case_sweep in config.cases:
+        c = case_sweep.case
         lines.append(f"  {c.name}: {c.aerofoil} M{c.mach:g} alpha {c.alpha_deg:g} deg, grid {c.grid.ni} x {c.grid.nj};"
-                     f" N_r {list(cs.orders)}, T {[round(t, 6) for t in cs.T]}, M {list(cs.M)}")
+                     f" N_r {list(case_sweep.orders)}, T {[round(t, 6) for t in case_sweep.T]}, M {list(case_sweep.M)}")
     lines.append(f"  gusts: {', '.join(g.name for g in config.gusts) or '-'}; methods: "
                  f"{', '.join(m.name for m in config.methods)}")
     return "\n".join(lines)

@@ -69,18 +69,15 @@ changing ``N_r`` keeps the FRF.
 
 from __future__ import annotations
 
-import ast
 import difflib
-import hashlib
-import json
 import math
-import numbers
-import operator
 import re
 import tomllib
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 from pathlib import Path
 from typing import Any, Mapping, Optional
+
+from sysid.order_limits import max_order, min_order, order_supported
 
 from .cases import (
     GUST_CASES,
@@ -90,10 +87,31 @@ from .cases import (
     GridSpec,
     GustCase,
     UnknownCaseError,
-    _check_name,
-    _naca_code,
+    check_name,
     flow_case,
     gust_case,
+    naca_code,
+)
+from .hashing import canonical_json, config_hash
+from .numbers import normalise_float, parse_number
+from .pieces import frf_piece, ltd_piece, rom_piece, sim_piece, steady_piece
+from .schema import (
+    ALGORITHMS,
+    DISCRETISATIONS,
+    GUST_METHODS,
+    MAX_M,
+    MAX_STEPS,
+    OUTPUTS,
+    T_PAPER,
+    T_RANGE,
+    WEIGHTS,
+    CaseSweep,
+    CFDOptions,
+    MethodOptions,
+    ReportOptions,
+    SimulationOptions,
+    StudyConfig,
+    SweepPoint,
 )
 
 __all__ = [
@@ -108,6 +126,7 @@ __all__ = [
     "load_study",
     "loads_study",
     "parse_study",
+    "as_config",
     "parse_number",
     "normalise_float",
     "canonical_json",
@@ -125,30 +144,9 @@ __all__ = [
     "min_order",
     "march_memory_bytes",
 ]
-
-T_PAPER = 70.0 / (2.0 * math.pi)
-"""The paper's sampling period of the bilinear map (convective time)."""
-
-T_RANGE = (0.02, 200.0)
-"""Accepted sampling periods of the bilinear map (convective time). The grid's centre frequency is
-``omega = 2 / T`` (at ``omega_d = pi / 2``, half the samples below it); the aerofoil's gust response lives at
-``omega ~ 0.01 .. 100`` (``k = omega / 2 ~ 0.005 .. 50``), so ``2 / T`` must lie in that band: a smaller ``T``
-puts every sample far above the response (only the feedthrough is seen: ``T = 1e-13`` gave a meaningless
-grid and a "0.5 %" fit, ``T = 1e-300`` NaN models), a larger one crowds every sample at ``omega ~ 0``."""
-
-MAX_M = 4096
-"""Largest ``M_base`` (``N_omega = M + 1`` frequencies computed by the LFD per case and ``T``): 16 times the
-paper's 256."""
-
-MAX_STEPS = 1_000_000
-"""Most time steps ``t_end / dt`` a study may ask of the LTD march (one sparse back-substitution per step,
-about 0.03 s on the paper grid: a million steps are some 8 hours per case)."""
-
-DISCRETISATIONS = ("tustin", "zoh")
-WEIGHTS = ("none", "inverse_magnitude")
-ALGORITHMS = ("auto", "relocation", "subspace", "mckelvey1", "mckelvey2")
-GUST_METHODS = ("svm", "fvm")
-OUTPUTS = ("Cl", "Cm", "Cd")
+# The names above that this module does not define are re-exported from their homes: studies.schema (the
+# configuration objects and limits), studies.numbers, studies.hashing, studies.pieces (the store's piece keys)
+# and sysid.order_limits (max_order, min_order).
 
 TOP_KEYS = ("name", "description", "output", "store", "cases", "gusts", "grid", "sweep", "method", "methods",
             "simulation", "cfd", "report")
@@ -193,156 +191,12 @@ class StudyConfigError(ValueError):
         super().__init__(where + problem)
 
 
-# ---------------------------------------------------------------------------------------------
-# Numbers
-# ---------------------------------------------------------------------------------------------
-
-def normalise_float(x: float) -> float:
-    """``x`` rounded to 12 significant digits (``-0.0`` -> ``0.0``): the form stored and hashed."""
-    v = float(f"{float(x):.12g}")
-    return 0.0 if v == 0.0 else v
-
-
-_BINOPS = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul, ast.Div: operator.truediv,
-           ast.Pow: operator.pow}
-_UNOPS = {ast.UAdd: operator.pos, ast.USub: operator.neg}
-_NAMES = {"pi": math.pi, "e": math.e, "tau": 2.0 * math.pi}
-
-
-def parse_number(value) -> float:
-    """A real number from a TOML value: a number, or a string of plain arithmetic.
-
-    Strings may contain numbers, the names ``pi``, ``e`` and ``tau``, the operators ``+ - * / **`` and
-    parentheses, e.g. ``"70/(2*pi)"``. Nothing else is evaluated (no calls, attributes or other names).
-
-    Raises
-    ------
-    ValueError
-        Anything else, a division by zero, an overflow or a non-finite result.
-    """
-    if isinstance(value, bool):
-        raise ValueError(f"expected a number, got {value!r}")
-    if isinstance(value, numbers.Real):
-        v = float(value)
-    elif isinstance(value, str):
-        text = value.strip()
-        if not text or len(text) > 100:
-            raise ValueError(f"expected a number or a short arithmetic expression, got {value!r}")
-        try:
-            tree = ast.parse(text, mode="eval")
-        except SyntaxError:
-            raise ValueError(f"{value!r} is not an arithmetic expression (e.g. \"70/(2*pi)\")") from None
-
-        def ev(node) -> float:
-            if isinstance(node, ast.Expression):
-                return ev(node.body)
-            if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) \
-                    and not isinstance(node.value, bool):
-                return float(node.value)
-            if isinstance(node, ast.Name) and node.id in _NAMES:
-                return _NAMES[node.id]
-            if isinstance(node, ast.BinOp) and type(node.op) in _BINOPS:
-                return _BINOPS[type(node.op)](ev(node.left), ev(node.right))
-            if isinstance(node, ast.UnaryOp) and type(node.op) in _UNOPS:
-                return _UNOPS[type(node.op)](ev(node.operand))
-            raise ValueError(f"{value!r}: only numbers, pi, e, tau, + - * / ** and parentheses are allowed")
-
-        try:
-            v = ev(tree)
-        except ZeroDivisionError:
-            raise ValueError(f"{value!r} divides by zero") from None
-        except OverflowError:
-            raise ValueError(f"{value!r} overflows") from None
-        if isinstance(v, complex):
-            raise ValueError(f"{value!r} is not a real number")
-    else:
-        raise ValueError(f"expected a number or an arithmetic string, got {type(value).__name__} {value!r}")
-    if not math.isfinite(v):
-        raise ValueError(f"{value!r} is not finite")
-    return v
-
-
-# ---------------------------------------------------------------------------------------------
-# The subspace order limit (mirrors sysid.subspace: default_q and HankelSVD.max_order)
-# ---------------------------------------------------------------------------------------------
-
-def max_order(M: int, algorithm: str = "auto", p: int = 2, m: int = 1, order: Optional[int] = None) -> int:
-    """Largest model order ``sysid.identify`` accepts on McKelvey's grid with ``M + 1`` frequencies.
-
-    Uses ``sysid.subspace.default_q`` for the Hankel sizes that ``identify`` picks for a target ``order``
-    and the bounds of ``HankelSVD.max_order``: for Algorithm 1 (``"auto"`` on the equispaced grid and
-    ``"mckelvey1"``) ``q = min(M, 2 n + 2)``, ``r = 2 M - q`` and ``n <= min(q - 1, (q - 1) p, r m, #sv)``,
-    which is ``M - 1`` for the large orders; for Algorithm 2 ``q = min(q_max, 2 n + 2)``,
-    ``q_max = floor(2 K m / (m + p)) - 1`` and ``n <= q - 1``.
-
-    Parameters
-    ----------
-    M : int
-        Grid intervals (``N_omega = M + 1``).
-    algorithm : {"auto", "mckelvey1", "mckelvey2"}
-    p, m : int
-        Outputs and inputs.
-    order : int, optional
-        The target order (the Hankel sizes depend on it); default the largest the grid could support.
-
-    Returns
-    -------
-    int
-        0 when no order is possible.
-    """
-    from sysid.subspace import default_q
-
-    K = M + 1
-    method = "mckelvey2" if algorithm == "mckelvey2" else "mckelvey1"
-    n = order if order is not None else M  # large target: the sizes saturate
-    q, r = default_q(method, p, m, K, n)
-    if method == "mckelvey1":
-        if q < 2 or r < 1 or q + r > 2 * M:
-            return 0
-        return max(0, min(q - 1, (q - 1) * p, r * m, min(q * p, r * m)))
-    if q < 2 or q * (m + p) > 2 * K * m:
-        return 0
-    return max(0, min(q - 1, (q - 1) * p, q * p))
-
-
-def _order_ok(order: int, M: int, algorithm: str, p: int, m: int = 1) -> bool:
-    return order <= max_order(M, algorithm, p, m, order=order)
-
-
-def min_order(p: int, m: int = 1, dc_gain: str = "none", algorithm: str = "subspace") -> int:
-    """Smallest model order whose identification can meet the method's equality constraints.
-
-    Subspace path: the refit of ``B`` and ``D`` (``sysid.refit.fit_bd``) has ``(n + p) m`` unknowns; on
-    McKelvey's grid the ``omega = inf`` sample is always present and fixes the feedthrough (``p m``
-    equations), and ``dc_gain = "match"`` adds the DC gain (``p m`` more). With both, ``n m >= p m``: at
-    least ``p`` states (order 1 with two outputs and the exact DC gain has 3 unknowns for 4 equations).
-    Relocation path (``sysid.relocation``): residues per pole and output, the feedthrough given, one DC
-    equation per output and input: at least one state per input column (``min(p, m)``, it fits the transpose
-    when ``p < m``).
-
-    Parameters
-    ----------
-    p, m : int
-        Outputs and inputs.
-    dc_gain : {"none", "match"}
-    algorithm : {"subspace", "relocation"}
-        As :meth:`MethodOptions.resolved_algorithm` gives it.
-
-    Returns
-    -------
-    int
-    """
-    if algorithm == "relocation":
-        return max(1, min(p, m))
-    return max(1, p) if dc_gain == "match" else 1
-
-
 def march_memory_bytes(steps: int, gusts: int) -> tuple:
     """Memory the LTD march and the ROM simulations of one case hold for ``steps`` time steps.
 
     The march keeps the time grid and three load histories per gust (``cfd.ltd_responses``); each stored
     history has five arrays (time, input, Cl, Cm, Cd), and a ROM simulation (FFT convolution of the Markov
-    parameters, ``studies.runner.rom_simulation``) about four complex arrays of twice the length. Returns
+    parameters, ``sysid.simulate.rom_simulation``) about four complex arrays of twice the length. Returns
     ``(bytes, formula)``: an estimate that is right to a factor of two, enough to refuse what cannot fit.
     """
     n = steps + 1
@@ -351,300 +205,6 @@ def march_memory_bytes(steps: int, gusts: int) -> tuple:
 
 def _size_text(gib: float) -> str:
     return f"{gib * 1024:.3g} MiB" if gib < 1 else (f"{gib:.3g} GiB" if gib < 1024 else f"{gib / 1024:.3g} TiB")
-
-
-# ---------------------------------------------------------------------------------------------
-# Frozen configuration objects
-# ---------------------------------------------------------------------------------------------
-
-@dataclass(frozen=True)
-class MethodOptions:
-    """One identification variant (arguments of ``sysid.identify``).
-
-    Attributes
-    ----------
-    name : str
-    dc_gain : {"none", "match"}
-    stable : bool
-    margin : float
-    weights : {"none", "inverse_magnitude"}
-        ``"inverse_magnitude"``: weights ``1 / max(|H|, floor)^2`` of the B/D refit (relative errors).
-    algorithm : {"auto", "mckelvey1", "mckelvey2"}
-    """
-
-    name: str = "default"
-    dc_gain: str = "none"
-    stable: bool = False
-    margin: float = 1e-3
-    weights: str = "none"
-    algorithm: str = "auto"
-
-    def identify_kwargs(self, H=None) -> dict:
-        """Keyword arguments of ``sysid.identify``.
-
-        Parameters
-        ----------
-        H : array_like, shape (p, m, K), optional
-            The data; needed for ``weights = "inverse_magnitude"`` (see :meth:`weights_for`).
-        """
-        kw = dict(dc_gain="match" if self.dc_gain == "match" else None, stable=self.stable, margin=self.margin)
-        if self.algorithm in ("mckelvey1", "mckelvey2"):
-            kw.update(algorithm="subspace", method=self.algorithm)
-        else:
-            kw.update(algorithm=self.algorithm, method="auto")
-        if self.weights != "none":
-            if H is None:
-                raise ValueError(f"method {self.name!r}: weights = {self.weights!r} needs the data H")
-            kw["weights"] = self.weights_for(H)
-        return kw
-
-    def resolved_algorithm(self, p: int, m: int = 1) -> str:
-        """``"relocation"`` or ``"subspace"``: what ``sysid.identify`` runs for this variant on data with ``p``
-        outputs and ``m`` inputs (``"auto"``: relocation when the DC gain or stability is imposed and
-        ``min(p, m) == 1``, as :func:`sysid.identify` decides)."""
-        from sysid.identify import resolve_algorithm
-
-        algorithm = "subspace" if self.algorithm in ("mckelvey1", "mckelvey2") else self.algorithm
-        return resolve_algorithm(algorithm, p, m, stable=self.stable, dc_gain=self.dc_gain == "match")
-
-    def weights_for(self, H, floor: float = 1e-3):
-        """Refit weights for data ``H`` (shape (p, m, K)), or None for ``weights = "none"``.
-
-        ``"inverse_magnitude"``: ``1 / max(|H|, floor * max_k |H|)^2`` per channel, so that the B/D refit
-        minimises relative errors; ``floor`` keeps zeros of ``H`` (e.g. the ``omega = inf`` sample) finite.
-        """
-        if self.weights == "none":
-            return None
-        import numpy as np
-
-        a = np.abs(np.asarray(H))
-        peak = a.max(axis=-1, keepdims=True)
-        peak = np.where(peak > 0.0, peak, 1.0)
-        return 1.0 / np.maximum(a, floor * peak) ** 2
-
-    def canonical(self) -> dict:
-        """Everything but the name (the name does not change the result)."""
-        return dict(dc_gain=self.dc_gain, stable=self.stable, margin=self.margin, weights=self.weights,
-                    algorithm=self.algorithm)
-
-
-@dataclass(frozen=True)
-class SimulationOptions:
-    """Gust-response settings (ROM against LTD)."""
-
-    discretisation: str = "tustin"
-    dt: float = 0.02
-    t_end: float = 40.0
-    x0: float = -2.0
-
-
-@dataclass(frozen=True)
-class CFDOptions:
-    """Settings of the LFD and LTD solves."""
-
-    gust_method: str = "svm"
-    outputs: tuple = ("Cl", "Cm")
-
-
-@dataclass(frozen=True)
-class ReportOptions:
-    """Where the study's report goes (not part of any hash: it changes no result).
-
-    Attributes
-    ----------
-    page : pathlib.Path or None
-        The Markdown page; None: ``<output>/report.md``.
-    prose : pathlib.Path or None
-        TOML file of prose-slot texts.
-    figures : bool
-    title : str or None
-    paper : bool or None
-        None: the report decides (on for the paper's cases).
-    """
-
-    page: Optional[Path] = None
-    prose: Optional[Path] = None
-    figures: bool = True
-    title: Optional[str] = None
-    paper: Optional[bool] = None
-
-
-@dataclass(frozen=True)
-class CaseSweep:
-    """A test case with its sweep axes (sorted, unique)."""
-
-    case: FlowCase
-    orders: tuple
-    T: tuple
-    M: tuple
-
-
-@dataclass(frozen=True)
-class SweepPoint:
-    """One identification: a case, ``T``, ``M`` (``N_omega = M + 1``), an order and a method variant."""
-
-    case: FlowCase
-    T: float
-    M: int
-    order: int
-    method: MethodOptions
-
-    @property
-    def n_omega(self) -> int:
-        return self.M + 1
-
-
-@dataclass(frozen=True)
-class StudyConfig:
-    """A validated study (see the module docstring for the file format).
-
-    Attributes
-    ----------
-    name : str
-    description : str
-    source : str
-        The study file, or ``"<string>"``.
-    output_dir, store_dir : pathlib.Path
-    cases : tuple of CaseSweep
-    gusts : tuple of GustCase
-    M_base : int
-    methods : tuple of MethodOptions
-    simulation : SimulationOptions
-    cfd : CFDOptions
-    report : ReportOptions
-    """
-
-    name: str
-    description: str
-    source: str
-    output_dir: Path
-    store_dir: Path
-    cases: tuple
-    gusts: tuple
-    M_base: int
-    methods: tuple
-    simulation: SimulationOptions = field(default_factory=SimulationOptions)
-    cfd: CFDOptions = field(default_factory=CFDOptions)
-    report: ReportOptions = field(default_factory=ReportOptions)
-
-    def case(self, name: str) -> CaseSweep:
-        """The case sweep named ``name`` (case-insensitive)."""
-        for cs in self.cases:
-            if cs.case.name.casefold() == name.casefold():
-                return cs
-        raise UnknownCaseError("case of this study", name, [cs.case.name for cs in self.cases])
-
-    def points(self) -> tuple:
-        """Every identification of the study, in file order (case, T, M, order, method)."""
-        pts = []
-        for cs in self.cases:
-            for T in cs.T:
-                for M in cs.M:
-                    for n in cs.orders:
-                        for meth in self.methods:
-                            pts.append(SweepPoint(cs.case, T, M, n, meth))
-        return tuple(pts)
-
-    def canonical(self) -> dict:
-        """The hashable content: everything that changes results (no paths, no description)."""
-        return dict(
-            name=self.name,
-            cases=[dict(case=_case_canonical(cs.case), name=cs.case.name, orders=list(cs.orders), T=list(cs.T),
-                        M=list(cs.M)) for cs in self.cases],
-            gusts=[g.to_dict() for g in self.gusts],
-            M_base=self.M_base,
-            methods={m.name: m.canonical() for m in self.methods},
-            simulation=_dc_dict(self.simulation),
-            cfd=dict(gust_method=self.cfd.gust_method, outputs=list(self.cfd.outputs)),
-        )
-
-    def canonical_json(self) -> str:
-        """:func:`canonical_json` of :meth:`canonical`."""
-        return canonical_json(self.canonical())
-
-    def hash(self) -> str:
-        """sha256 (hex) of :meth:`canonical_json`."""
-        return hashlib.sha256(self.canonical_json().encode()).hexdigest()
-
-
-def _dc_dict(obj) -> dict:
-    return {k: getattr(obj, k) for k in obj.__dataclass_fields__}
-
-
-def _case_canonical(case: FlowCase) -> dict:
-    return dict(naca=case.naca, mach=case.mach, alpha_deg=case.alpha_deg, grid=case.grid.kwargs())
-
-
-def _canon(obj):
-    if isinstance(obj, bool) or obj is None or isinstance(obj, str):
-        return obj
-    if isinstance(obj, numbers.Integral):
-        return int(obj)
-    if isinstance(obj, numbers.Real):
-        v = float(obj)
-        if not math.isfinite(v):
-            raise ValueError(f"canonical_json: non-finite number {v!r}")
-        return normalise_float(v)
-    if isinstance(obj, Mapping):
-        out = {}
-        for k, v in obj.items():
-            if not isinstance(k, str):
-                raise TypeError(f"canonical_json: keys must be strings, got {k!r}")
-            out[k] = _canon(v)
-        return out
-    if isinstance(obj, (list, tuple)):
-        return [_canon(v) for v in obj]
-    if isinstance(obj, Path):
-        return str(obj)
-    if hasattr(obj, "__dataclass_fields__"):
-        return _canon(_dc_dict(obj))
-    raise TypeError(f"canonical_json: cannot encode {type(obj).__name__} {obj!r}")
-
-
-def canonical_json(obj) -> str:
-    """Canonical JSON: sorted keys, no spaces, floats normalised to 12 significant digits, ASCII.
-
-    Accepts dicts, lists, tuples, strings, numbers, booleans, None, paths and dataclasses.
-    """
-    return json.dumps(_canon(obj), sort_keys=True, separators=(",", ":"), ensure_ascii=True, allow_nan=False)
-
-
-def config_hash(obj) -> str:
-    """sha256 (hex) of :func:`canonical_json`."""
-    return hashlib.sha256(canonical_json(obj).encode()).hexdigest()
-
-
-# ---------------------------------------------------------------------------------------------
-# Piece sub-configurations (cache keys): each holds only what changes that piece
-# ---------------------------------------------------------------------------------------------
-
-def steady_piece(case: FlowCase) -> dict:
-    """Steady flow: aerofoil, Mach, incidence, grid (not the case's name)."""
-    return _case_canonical(case)
-
-
-def frf_piece(case: FlowCase, T: float, M_base: int, cfd: CFDOptions) -> dict:
-    """LFD frequency response on ``sysid.mckelvey_grid(M_base, T)``; subsampled grids reuse it."""
-    return dict(steady=steady_piece(case), T=T, M=M_base, gust_method=cfd.gust_method, outputs=list(cfd.outputs))
-
-
-def rom_piece(point: SweepPoint, M_base: int, cfd: CFDOptions) -> dict:
-    """Identified ROM of one sweep point."""
-    return dict(frf=frf_piece(point.case, point.T, M_base, cfd), M=point.M, order=point.order,
-                method=point.method.canonical())
-
-
-def ltd_piece(case: FlowCase, gust: GustCase, sim: SimulationOptions, cfd: CFDOptions) -> dict:
-    """LTD reference history of a case and gust."""
-    return dict(steady=steady_piece(case), gust=dict(kind=gust.kind, length=gust.length, angle_deg=gust.angle_deg),
-                dt=sim.dt, t_end=sim.t_end, x0=sim.x0, gust_method=cfd.gust_method, outputs=list(cfd.outputs))
-
-
-def sim_piece(point: SweepPoint, gust: GustCase, M_base: int, sim: SimulationOptions, cfd: CFDOptions) -> dict:
-    """ROM gust history of one sweep point and gust."""
-    return dict(rom=rom_piece(point, M_base, cfd),
-                gust=dict(kind=gust.kind, length=gust.length, angle_deg=gust.angle_deg),
-                discretisation=sim.discretisation, dt=sim.dt, t_end=sim.t_end, x0=sim.x0)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -760,6 +320,31 @@ def load_study(path) -> StudyConfig:
     except (OSError, UnicodeDecodeError) as e:
         raise StudyConfigError(str(path), None, f"cannot read the study file: {e}") from None
     return loads_study(text, source=str(path), base_dir=path.resolve().parent, default_name=path.stem)
+
+
+def as_config(study) -> StudyConfig:
+    """A study as a :class:`StudyConfig`: returned as is, or read from its file (:func:`load_study`).
+
+    Parameters
+    ----------
+    study : StudyConfig or path-like
+
+    Returns
+    -------
+    StudyConfig
+
+    Raises
+    ------
+    StudyConfigError
+        The study file is invalid.
+    TypeError
+        Neither a StudyConfig nor a path.
+    """
+    if isinstance(study, StudyConfig):
+        return study
+    if isinstance(study, (str, Path)):
+        return load_study(study)
+    raise TypeError(f"expected a StudyConfig or the path of a study file, got {type(study).__name__}")
 
 
 def loads_study(text: str, source: str = "<string>", base_dir=None, default_name: str = "study") -> StudyConfig:
@@ -884,7 +469,7 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
         mtab = P.table(mtab, prefix)
         P.check_keys(mtab, METHOD_KEYS, prefix)
         try:
-            _check_name("method", mname)
+            check_name("method", mname)
         except CaseError as e:
             raise P.err(prefix, str(e)) from None
         dc = mtab.get("dc_gain", "none")
@@ -910,7 +495,7 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
     for i, entry in enumerate(raw_cases):
         key = f"cases[{i}]"
         sweeps.append(_parse_case(P, entry, key, base_grid, g_orders, g_T, g_M, parse_order, parse_T, parse_M))
-    names = [cs.case.name.casefold() for cs in sweeps]
+    names = [case_sweep.case.name.casefold() for case_sweep in sweeps]
     for i, n in enumerate(names):
         if names.index(n) != i:
             raise P.err(f"cases[{i}].name", f"case {sweeps[i].case.name!r} appears twice; give each case once")
@@ -957,24 +542,26 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
 
     # impossible sweep points, before any computation
     p = len(cfd.outputs)
-    for i, cs in enumerate(sweeps):
-        okey = f"cases[{i}].orders" if cs.orders is not g_orders else "sweep.orders"
-        for meth in methods:
-            low = min_order(p, 1, meth.dc_gain, meth.resolved_algorithm(p, 1))
-            if min(cs.orders) < low:
+    for i, case_sweep in enumerate(sweeps):
+        okey = f"cases[{i}].orders" if case_sweep.orders is not g_orders else "sweep.orders"
+        for variant in methods:
+            low = min_order(p, 1, variant.dc_gain, variant.resolved_algorithm(p, 1))
+            if min(case_sweep.orders) < low:
                 raise P.err(okey, (
-                    f"order {min(cs.orders)} cannot meet method {meth.name!r}'s constraints for case {cs.case.name}: "
+                    f"order {min(case_sweep.orders)} cannot meet method {variant.name!r}'s constraints for case "
+                    f"{case_sweep.case.name}: "
                     f"the exact DC gain and the omega = inf value of {p} outputs fix {2 * p} coefficients of B and "
                     f"D, which an order below {low} does not have; use orders >= {low}, dc_gain = \"none\" or "
                     f"algorithm = \"relocation\""))
-        for M in cs.M:
-            for meth in methods:
-                for n in cs.orders:
-                    if not _order_ok(n, M, meth.algorithm, p):
-                        lim = max_order(M, meth.algorithm, p)
+        for M in case_sweep.M:
+            for variant in methods:
+                for n in case_sweep.orders:
+                    if not order_supported(n, M, variant.algorithm, p):
+                        lim = max_order(M, variant.algorithm, p)
                         raise P.err(okey, (
-                            f"order {n} is impossible for case {cs.case.name} with M = {M} (N_omega = {M + 1}) and "
-                            f"algorithm {meth.algorithm!r} (method {meth.name!r}): the subspace step supports at most "
+                            f"order {n} is impossible for case {case_sweep.case.name} with M = {M} (N_omega = "
+                            f"{M + 1}) and algorithm {variant.algorithm!r} (method {variant.name!r}): the subspace "
+                            "step supports at most "
                             f"{lim} states there; lower the order or use a larger M"))
 
     out = data.get("output")
@@ -1045,7 +632,7 @@ def _parse_case(P: _Parser, entry, key, base_grid, g_orders, g_T, g_M, parse_ord
                 f"missing: {name!r} is not a paper case ({', '.join(TEST_CASES)}), so it needs naca and mach "
                 "(and optionally alpha_deg, grid)"))
         try:
-            naca = _naca_code(f"case {name!r}", entry["naca"])
+            naca = naca_code(f"case {name!r}", entry["naca"])
         except CaseError as e:
             raise P.err(f"{key}.naca", str(e)) from None
         mach = P.number(entry["mach"], f"{key}.mach")

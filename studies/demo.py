@@ -37,7 +37,7 @@ import sysid
 from .files import atomic_write_text
 from .plots import save_figure
 
-__all__ = ["gust_like_system", "make_data", "run_demo", "DemoResult", "main"]
+__all__ = ["gust_like_system", "continuous_frf", "make_data", "run_demo", "DemoResult", "main"]
 
 T_DEMO = 70.0 / (2.0 * np.pi)
 MACH = 0.735
@@ -73,7 +73,19 @@ def gust_like_system(mach: float = MACH):
     return A, B, C, np.zeros((2, 1))
 
 
-def _continuous_frf(A, B, C, D, omega):
+def continuous_frf(A, B, C, D, omega):
+    """Frequency response ``C (i omega I - A)^-1 B + D`` of a continuous state-space model.
+
+    Parameters
+    ----------
+    A, B, C, D : ndarray, shapes (n, n), (n, m), (p, n), (p, m)
+    omega : ndarray, shape (K,)
+        Angular frequencies (U/c units); ``inf`` gives ``D``.
+
+    Returns
+    -------
+    ndarray, complex, shape (p, m, K)
+    """
     H = np.zeros((C.shape[0], B.shape[1], omega.size), dtype=complex)
     fin = np.isfinite(omega)
     s = 1j * omega[fin]
@@ -95,7 +107,7 @@ def make_data(M: int = 256, T: float = T_DEMO, noise: float = 2e-3, seed: int = 
     """
     omega_d, omega = sysid.mckelvey_grid(M, T)
     A, B, C, D = gust_like_system()
-    H_true = _continuous_frf(A, B, C, D, omega)
+    H_true = continuous_frf(A, B, C, D, omega)
     rng = np.random.default_rng(seed)
     peak = np.abs(H_true).max(axis=2, keepdims=True)
     H = H_true + noise * peak * (rng.standard_normal(H_true.shape) + 1j * rng.standard_normal(H_true.shape)) / np.sqrt(2)

@@ -75,9 +75,9 @@ import numpy as np
 __all__ = ["FitInputError", "FitOutcome", "load_data", "holdout_order", "fit_data", "write_outputs",
            "add_parser", "cmd_fit", "FREQ_UNITS"]
 
-from .commands import EXIT_FAILED, EXIT_NOT_WRITTEN, EXIT_OK
+from .exit_codes import EXIT_FAILED, EXIT_NOT_WRITTEN, EXIT_OK
+from .exit_codes import EXIT_UNAVAILABLE as EXIT_BAD_INPUT  # 2: bad input, found before anything is computed
 from .files import atomic_write_text
-from .commands import EXIT_UNAVAILABLE as EXIT_BAD_INPUT  # 2: bad input, found before anything is computed
 FREQ_UNITS = ("omega", "k", "omega_d")
 HOLDOUT_RTOL, HOLDOUT_ATOL = 0.1, 1e-6
 

@@ -31,6 +31,8 @@ __all__ = [
     "percent_formatter",
     "reduced_frequency",
     "unwrapped_phase_deg",
+    "pyplot",
+    "colour_cycle",
     "LINESTYLES",
 ]
 
@@ -43,7 +45,8 @@ class PlotDataError(ValueError):
     """Arrays given to a plot do not fit together (shapes, lengths, empty data)."""
 
 
-def _plt():
+def pyplot():
+    """``matplotlib.pyplot``, imported on first use (so that importing this module stays light)."""
     import matplotlib.pyplot as plt
 
     return plt
@@ -108,8 +111,9 @@ def _style(i: int, extra: Mapping | None, colours) -> dict:
     return st
 
 
-def _colours():
-    plt = _plt()
+def colour_cycle():
+    """The colours of matplotlib's current property cycle (list of colour strings)."""
+    plt = pyplot()
     return plt.rcParams["axes.prop_cycle"].by_key()["color"]
 
 
@@ -246,11 +250,11 @@ def frf_plot(omega, H_ref, models=(), *, outputs: Sequence[str] = ("Cl", "Cm"), 
     if len(outputs) < H_ref.shape[0]:
         outputs += [f"y{i}" for i in range(len(outputs), H_ref.shape[0])]
     nrow = 3 if error and mods else 2
-    plt = _plt()
+    plt = pyplot()
     if fig is None:
         fig = plt.figure(figsize=(5.2 * len(outputs) + 0.6, 2.6 * nrow + 0.9))
     axes = np.asarray(fig.subplots(nrow, len(outputs), sharex=True, squeeze=False))
-    colours = _colours()
+    colours = colour_cycle()
     ks = k[sel]
     mask = None
     if samples is not None:
@@ -332,12 +336,12 @@ def hankel_plot(sv, *, orders: Sequence[int] = (), normalise: bool = True, title
         sets = [("Hankel singular values", sv)]
     if not sets:
         raise PlotDataError("no singular values to plot")
-    plt = _plt()
+    plt = pyplot()
     if ax is None:
         fig, ax = plt.subplots(figsize=(6.4, 4.2))
     else:
         fig = ax.figure
-    colours = _colours()
+    colours = colour_cycle()
     for i, item in enumerate(sets):
         lab, s, st = _unpack(item, 2, "singular-value")
         s = np.asarray(s, dtype=float)
@@ -430,11 +434,11 @@ def error_vs_order_plot(rows: Sequence[Mapping[str, Any]], metrics: Sequence[str
     n = len(labels)
     ncols = max(1, min(ncols, n))
     nrows = -(-n // ncols)
-    plt = _plt()
+    plt = pyplot()
     if fig is None:
         fig = plt.figure(figsize=(5.0 * ncols + 1.0, 3.6 * nrows + 0.8))
     axes = np.asarray(fig.subplots(nrows, ncols, squeeze=False)).ravel()
-    colours = _colours()
+    colours = colour_cycle()
     # colour: the group without its method; line style: the method (in order of first appearance)
     mi = list(group_by).index("method") if "method" in group_by else None
     methods, ckeys = [], []
@@ -582,12 +586,12 @@ def history_plot(t, reference: Mapping[str, Any] | None, models=(), *, outputs: 
         raise PlotDataError("nothing to plot: give a reference or at least one model")
     rows = (["u"] if u is not None else []) + ["y"] + (["e"] if error and ref is not None and mods else [])
     heights = [0.45 if r == "u" else 1.0 if r == "y" else 0.6 for r in rows]
-    plt = _plt()
+    plt = pyplot()
     if fig is None:
         fig = plt.figure(figsize=(5.4 * len(outputs) + 0.6, 1.0 + 3.3 * sum(heights)))
     axes = np.asarray(fig.subplots(len(rows), len(outputs), sharex=True, squeeze=False,
                                    gridspec_kw=dict(height_ratios=heights)))
-    colours = _colours()
+    colours = colour_cycle()
     for j, o in enumerate(outputs):
         col = {r: axes[i, j] for i, r in enumerate(rows)}
         if "u" in col:
@@ -684,7 +688,7 @@ def heatmap_plot(values, row_labels: Sequence[str], col_labels: Sequence[str], *
     fin = np.isfinite(v)
     if (v[fin] < 0).any():
         raise PlotDataError("heat-map values must be non-negative errors")
-    plt = _plt()
+    plt = pyplot()
     own = ax is None
     if own:
         fig, ax = plt.subplots(figsize=(1.1 * len(col_labels) + 3.2, 0.42 * len(row_labels) + 1.8))
@@ -778,5 +782,5 @@ def save_figure(fig, path, *, dpi: int = 120, palette: bool = True) -> Path:
                                                    dither=Image.Dither.NONE)
                 q.save(tmp, format="PNG", optimize=True)
     finally:
-        _plt().close(fig)
+        pyplot().close(fig)
     return path

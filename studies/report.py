@@ -435,7 +435,7 @@ def _case_T_count(results, case) -> int:
 def _frf_figures(results, fig_dir: Path, dpi: int, say, paper: bool = False) -> list:
     figs = []
     methods = _methods(results)
-    colours = plots._colours()
+    colours = plots.colour_cycle()
     outs = _outputs(results)
     groups: dict = {}
     for r in results.roms:
@@ -543,7 +543,7 @@ def _error_figures(results, fig_dir: Path, dpi: int, say, paper: bool = False) -
 def _history_figures(results, fig_dir: Path, dpi: int, say, paper: bool = False) -> list:
     figs = []
     methods = _methods(results)
-    colours = plots._colours()
+    colours = plots.colour_cycle()
     souts = _sim_outputs(results)
     by_pair: dict = {}
     for s in results.sims:
@@ -637,7 +637,7 @@ def _heatmap_figures(results, fig_dir: Path, dpi: int, say, paper: bool = False)
         pos = fin[fin > 0]
         vmin = max(float(pos.min()), ERROR_RANGE[0]) if pos.size else ERROR_RANGE[0]
         vmax = min(max(float(fin.max()), vmin * 10), ERROR_RANGE[1])
-        plt = plots._plt()
+        plt = plots.pyplot()
         heights = [len(pts) + 1.5 for _ in methods]
         fig, axes = plt.subplots(len(methods), 1, figsize=(0.95 * len(gusts) + 4.2, 0.36 * sum(heights) + 0.8),
                                  squeeze=False, layout="constrained", gridspec_kw=dict(height_ratios=heights))
@@ -1219,7 +1219,7 @@ def make_report(study_or_path, output_dir=None, *, store_dir=None, page=None, pr
     OSError
         A file cannot be written (the files already there are left whole).
     """
-    from .config import StudyConfig, load_study
+    from .config import as_config
 
     if output_dir is not None and out_dir is not None and Path(output_dir) != Path(out_dir):
         raise ReportError(f"output_dir ({output_dir}) and out_dir ({out_dir}) disagree; give one of them")
@@ -1227,13 +1227,11 @@ def make_report(study_or_path, output_dir=None, *, store_dir=None, page=None, pr
     if hasattr(study_or_path, "roms") and hasattr(study_or_path, "config"):
         results = study_or_path
     else:
-        if isinstance(study_or_path, StudyConfig):
-            config = study_or_path
-        elif isinstance(study_or_path, (str, Path)):
-            config = load_study(study_or_path)
-        else:
+        try:
+            config = as_config(study_or_path)
+        except TypeError:
             raise ReportError(f"expected a StudyConfig, a study file or StudyResults, got "
-                              f"{type(study_or_path).__name__}")
+                              f"{type(study_or_path).__name__}") from None
         if store_dir is not None:
             config = replace(config, store_dir=Path(store_dir))
         from .results import load_results

@@ -11,8 +11,9 @@ Records
 - :class:`RomRecord` (case, T, M, order, method): one identification, ``status`` ``"ok"`` or ``"failed"``.
 - :class:`SimRecord` (case, T, M, order, method, gust): the ROM's gust history against the LTD one.
 
-Metrics (all computed by the runner with the functions of this module and stored with the pieces)
---------------------------------------------------------------------------------------------------
+Metrics (computed by the tasks with :func:`sysid.metrics.rom_metrics` and :func:`studies.pieces.sim_metrics`,
+stored with the pieces)
+------------------------------------------------------------------------------------------------------------
 ``RomRecord.metrics`` (``X`` is each output of the study, ``Cl`` and ``Cm`` by default):
 
 - ``frf_max_err_X``, ``frf_rms_err_X``: relative FRF errors of the ROM against the LFD response on the full
@@ -29,29 +30,13 @@ envelope (the largest positive and the largest negative load of a history, as lo
   the two extremes, relative to the LTD's largest magnitude (so a history whose positive and negative extremes
   have nearly equal magnitudes is not judged by which of the two happens to be larger);
 - ``t_peak_err_X = |t_peak_rom - t_peak_ltd|`` (convective time): ``t_peak_ltd`` is the time of the LTD's
-  largest magnitude (:func:`peak`), ``t_peak_rom`` the time of the ROM's extreme of the same sign;
+  largest magnitude (:func:`sysid.history_metrics.peak`), ``t_peak_rom`` the time of the ROM's extreme of the same sign;
 - ``rms_err_X = rms(y_rom - y_ltd) / rms(y_ltd)``;
 - ``seconds_rom`` (re-discretisation and simulation) and ``seconds_ltd`` (the LTD march of that gust; when
   several gusts were marched together, their shared time divided by their number).
 
-Store layout (written by the runner through these functions, see :mod:`studies.cache` for the keys)
---------------------------------------------------------------------------------------------------
-====== ===================================== ===========================================================
-piece  arrays                                metadata
-====== ===================================== ===========================================================
-steady ``q`` (ni-1, nj-1, 4)                 ``cl``, ``cd``, ``cm``, ``converged``, ``iterations``, ``seconds``
-frf    ``H`` (p, 1, K), ``omega_d``,          ``T``, ``M``, ``outputs``, ``inputs``, ``method``, ``seconds``,
-       ``omega`` (K,), K = M_base + 1         ``lfd`` (the solver's own metadata, e.g. the fast sweep's estimate)
-ltd    ``t``, ``u``, ``cl``, ``cm``, ``cd``   ``seconds``, ``dt``, ``gust_method``
-       (n + 1,)
-rom    ``A`` (n, n), ``B`` (n, 1),            ``metrics``, ``identify_method``, ``enforced``, ``outputs``
-       ``C`` (p, n), ``D`` (p, 1),
-       ``hankel_sv`` (q,), ``frf_rom``
-       (p, 1, M_base + 1)
-sim    ``t``, ``cl``, ``cm`` (n + 1,)         ``metrics``
-====== ===================================== ===========================================================
-
-Every piece's metadata also holds ``status`` (``"ok"`` or ``"failed"``); a failed piece has no arrays and an
+The store layout (arrays and metadata of each piece) is documented in :mod:`studies.pieces`. Every piece's
+metadata also holds ``status`` (``"ok"`` or ``"failed"``); a failed piece has no arrays and an
 ``error`` (``"ExceptionType: message"``). A failed steady flow or FRF marks the ROMs that need it failed (with
 that reason); a failed LTD or ROM simulation is listed in :attr:`StudyResults.failed`.
 """
@@ -59,14 +44,35 @@ that reason); a failed LTD or ROM simulation is listed in :attr:`StudyResults.fa
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from pathlib import Path
-from typing import Any, Mapping, Optional
+from typing import Any, Optional
 
 import numpy as np
 
 from sysid import FrequencyResponse
+from sysid.history_metrics import envelope_errors, peak
+from sysid.metrics import rom_metrics
 
-from .config import StudyConfig, SweepPoint, frf_piece, load_study, ltd_piece, rom_piece, sim_piece, steady_piece
+from .config import as_config
+from .pieces import (
+    SIM_OUTPUTS,
+    error_text,
+    failure_payload,
+    frf_payload,
+    frf_piece,
+    is_failed,
+    ltd_payload,
+    ltd_piece,
+    open_store,
+    rom_payload,
+    rom_piece,
+    sim_metrics,
+    sim_payload,
+    sim_piece,
+    steady_payload,
+    steady_piece,
+    store_dependencies,
+)
+from .schema import StudyConfig, SweepPoint
 
 __all__ = [
     "FRFRecord",
@@ -91,10 +97,8 @@ __all__ = [
     "error_text",
     "SIM_OUTPUTS",
 ]
-
-SIM_OUTPUTS = ("Cl", "Cm")
-"""Outputs whose gust histories are compared (when the study computes them)."""
-
+# The store's payloads and keys live in studies.pieces, the metrics in sysid.metrics, sysid.history_metrics and
+# studies.pieces; they are re-exported here, where they used to be.
 
 # ---------------------------------------------------------------------------------------------
 # Records
@@ -384,228 +388,6 @@ def _union_keys(dicts) -> list:
     return keys
 
 
-# ---------------------------------------------------------------------------------------------
-# Metrics (used by the runner, stored with the pieces)
-# ---------------------------------------------------------------------------------------------
-
-def peak(t, y) -> tuple:
-    """The signed extreme of a history and its time: ``(y[k], t[k])`` with ``k = argmax |y|``.
-
-    Parameters
-    ----------
-    t, y : array_like, shape (n,)
-
-    Returns
-    -------
-    tuple of float
-    """
-    y = np.asarray(y, dtype=float)
-    k = int(np.argmax(np.abs(y)))
-    return float(y[k]), float(np.asarray(t, dtype=float)[k])
-
-
-def envelope_errors(t, y_model, y_ref) -> tuple:
-    """Errors of a history's load envelope: ``(peak_err, t_peak_err)`` (see the module docstring).
-
-    Parameters
-    ----------
-    t : array_like, shape (n,)
-        Time (convective).
-    y_model, y_ref : array_like, shape (n,)
-        The model's and the reference's history (finite).
-
-    Returns
-    -------
-    peak_err : float
-        ``max(|max y_model - max y_ref|, |min y_model - min y_ref|) / max |y_ref|``; ``inf`` when the
-        reference is identically zero and the model is not, 0 when both are.
-    t_peak_err : float
-        Time between the reference's largest magnitude and the model's extreme of the same sign.
-    """
-    t = np.asarray(t, dtype=float)
-    ym = np.asarray(y_model, dtype=float)
-    yr = np.asarray(y_ref, dtype=float)
-    err = max(abs(ym.max() - yr.max()), abs(ym.min() - yr.min()))
-    p_ref, t_ref = peak(t, yr)
-    sign = 1.0 if p_ref >= 0.0 else -1.0
-    t_model = float(t[int(np.argmax(sign * ym))])
-    return _ratio(err, abs(p_ref)), abs(t_model - t_ref)
-
-
-def rom_metrics(frf_rom, H, fit_index, outputs, dc_model, spectral_radius: float, seconds: float) -> dict:
-    """Metrics of one identified ROM (see the module docstring).
-
-    Parameters
-    ----------
-    frf_rom : array_like, complex, shape (p, 1, K)
-        ROM on the base grid (``K = M_base + 1``).
-    H : array_like, complex, shape (p, 1, K)
-        LFD response on the base grid.
-    fit_index : array_like of int
-        Indices of the ``M + 1`` points identified from.
-    outputs : sequence of str
-        Names of the ``p`` outputs.
-    dc_model : array_like, shape (p, 1)
-        ``G_rom(z = 1)``.
-    spectral_radius : float
-    seconds : float
-
-    Returns
-    -------
-    dict of str -> float or bool
-    """
-    from sysid.metrics import max_relative_error, rms_relative_error
-
-    Hm = np.asarray(frf_rom, dtype=complex)
-    Hd = np.asarray(H, dtype=complex)
-    mx = max_relative_error(Hm, Hd, per_output=True)
-    rms = rms_relative_error(Hm, Hd, per_output=True)
-    out: dict = {}
-    for i, name in enumerate(outputs):
-        out[f"frf_max_err_{name}"] = float(mx[i])
-        out[f"frf_rms_err_{name}"] = float(rms[i])
-    idx = np.asarray(fit_index, dtype=int)
-    out["frf_max_err_fit"] = max_relative_error(Hm[:, :, idx], Hd[:, :, idx])
-    out["frf_rms_err_fit"] = rms_relative_error(Hm[:, :, idx], Hd[:, :, idx])
-    dc = np.asarray(dc_model, dtype=float).reshape(len(outputs), -1)
-    for i, name in enumerate(outputs):
-        out[f"dc_err_{name}"] = float(np.abs(dc[i, 0] - Hd[i, 0, 0].real))
-    out["spectral_radius"] = float(spectral_radius)
-    out["stable"] = bool(spectral_radius < 1.0)
-    out["seconds"] = float(seconds)
-    return out
-
-
-def sim_metrics(t, rom: Mapping[str, Any], ltd: Mapping[str, Any], seconds_rom: float, seconds_ltd: float) -> dict:
-    """Metrics of a ROM gust history against the LTD one (see the module docstring).
-
-    Parameters
-    ----------
-    t : array_like, shape (n + 1,)
-        The common time grid (convective time).
-    rom, ltd : mapping of output name -> array_like, shape (n + 1,)
-        Histories, e.g. ``{"Cl": cl, "Cm": cm}``; the outputs compared are those in both.
-    seconds_rom, seconds_ltd : float
-
-    Returns
-    -------
-    dict of str -> float
-        ``inf`` relative errors where the LTD history is identically zero and the ROM's is not (0 where both
-        are), and every error ``inf`` for an output whose ROM history is not finite (an unstable ROM
-        overflowed).
-    """
-    out: dict = {}
-    for name in SIM_OUTPUTS:
-        if name not in rom or name not in ltd:
-            continue
-        yr = np.asarray(rom[name], dtype=float)
-        yl = np.asarray(ltd[name], dtype=float)
-        if not np.all(np.isfinite(yr)):  # an unstable ROM overflowed: its errors are infinite
-            out.update({f"peak_err_{name}": float("inf"), f"t_peak_err_{name}": float("inf"),
-                        f"rms_err_{name}": float("inf")})
-            continue
-        out[f"peak_err_{name}"], out[f"t_peak_err_{name}"] = envelope_errors(t, yr, yl)
-        out[f"rms_err_{name}"] = _ratio(float(np.sqrt(np.mean((yr - yl) ** 2))), float(np.sqrt(np.mean(yl ** 2))))
-    out["seconds_rom"] = float(seconds_rom)
-    out["seconds_ltd"] = float(seconds_ltd)
-    return out
-
-
-def _ratio(num: float, den: float) -> float:
-    if den > 0.0:
-        return float(num / den)
-    return 0.0 if num == 0.0 else float("inf")
-
-
-# ---------------------------------------------------------------------------------------------
-# Store payloads: (arrays, metadata) of each piece, written by the runner, read below
-# ---------------------------------------------------------------------------------------------
-
-def error_text(exc: BaseException) -> str:
-    """``"ExceptionType: message"`` (first 2000 characters)."""
-    return f"{type(exc).__name__}: {exc}"[:2000]
-
-
-def failure_payload(exc_or_text, **extra) -> tuple:
-    """``(arrays, metadata)`` of a failed piece: no arrays, ``status = "failed"`` and the error text."""
-    text = exc_or_text if isinstance(exc_or_text, str) else error_text(exc_or_text)
-    return {}, dict(extra, status="failed", error=text)
-
-
-def steady_payload(sol, seconds: float) -> tuple:
-    """``(arrays, metadata)`` of a ``cfd.SteadySolution``."""
-    return ({"q": np.asarray(sol.q)},
-            dict(status="ok", cl=float(sol.cl), cd=float(sol.cd), cm=float(sol.cm), converged=bool(sol.converged),
-                 iterations=int(sol.iterations), seconds=float(seconds)))
-
-
-def frf_payload(frf: FrequencyResponse, M: int, method: str, seconds: float) -> tuple:
-    """``(arrays, metadata)`` of an LFD response on McKelvey's grid of ``M`` intervals."""
-    return ({"H": np.asarray(frf.H), "omega_d": np.asarray(frf.omega_d), "omega": np.asarray(frf.omega)},
-            dict(status="ok", T=float(frf.T), M=int(M), outputs=list(frf.outputs), inputs=list(frf.inputs),
-                 method=str(method), seconds=float(seconds), lfd=dict(frf.metadata)))
-
-
-def ltd_payload(hist, seconds: float, gust_method: str) -> tuple:
-    """``(arrays, metadata)`` of a ``cfd.LTDHistory`` (or any object with ``t, u, cl, cm, cd, dt``)."""
-    return ({"t": np.asarray(hist.t), "u": np.asarray(hist.u), "cl": np.asarray(hist.cl), "cm": np.asarray(hist.cm),
-             "cd": np.asarray(hist.cd)},
-            dict(status="ok", seconds=float(seconds), dt=float(hist.dt), gust_method=str(gust_method)))
-
-
-def rom_payload(A, B, C, D, hankel_sv, frf_rom, metrics: Mapping, *, identify_method: str = "",
-                enforced: Optional[Mapping] = None, outputs=()) -> tuple:
-    """``(arrays, metadata)`` of an identified ROM (see the module docstring for shapes)."""
-    return ({"A": np.asarray(A, dtype=float), "B": np.asarray(B, dtype=float), "C": np.asarray(C, dtype=float),
-             "D": np.asarray(D, dtype=float), "hankel_sv": np.asarray(hankel_sv, dtype=float),
-             "frf_rom": np.asarray(frf_rom, dtype=complex)},
-            dict(status="ok", metrics=dict(metrics), identify_method=str(identify_method),
-                 enforced=dict(enforced or {}), outputs=list(outputs)))
-
-
-def sim_payload(t, cl, cm, metrics: Mapping) -> tuple:
-    """``(arrays, metadata)`` of a ROM gust history."""
-    return ({"t": np.asarray(t, dtype=float), "cl": np.asarray(cl, dtype=float), "cm": np.asarray(cm, dtype=float)},
-            dict(status="ok", metrics=dict(metrics)))
-
-
-def is_failed(entry) -> bool:
-    """Whether a store entry records a failure."""
-    return entry is not None and entry.metadata.get("status") == "failed"
-
-
-# ---------------------------------------------------------------------------------------------
-# Reading
-# ---------------------------------------------------------------------------------------------
-
-def store_dependencies() -> dict:
-    """Piece -> sources in its key: :data:`studies.cache.PIECE_DEPENDENCIES`, plus this module for the ROM
-    and ROM-simulation pieces (their stored metrics are computed by the functions above)."""
-    from .cache import PIECE_DEPENDENCIES
-
-    deps = {k: tuple(v) for k, v in PIECE_DEPENDENCIES.items()}
-    for piece in ("rom", "sim"):
-        deps[piece] = tuple(sorted(set(deps.get(piece, ())) | {"studies.results"}))
-    return deps
-
-
-def open_store(config: StudyConfig, store_dir=None):
-    """The :class:`studies.cache.ResultStore` of a study (``store_dir`` overrides ``config.store_dir``), with
-    the keys of :func:`store_dependencies`."""
-    from .cache import ResultStore
-
-    return ResultStore(Path(store_dir) if store_dir is not None else config.store_dir,
-                       dependencies=store_dependencies())
-
-
-def _as_config(study_or_path) -> StudyConfig:
-    if isinstance(study_or_path, StudyConfig):
-        return study_or_path
-    if isinstance(study_or_path, (str, Path)):
-        return load_study(study_or_path)
-    raise TypeError(f"expected a StudyConfig or the path of a study file, got {type(study_or_path).__name__}")
-
-
 def _fmt_T(T: float) -> str:
     return f"T={T:.6g}"
 
@@ -632,7 +414,7 @@ def load_results(study_or_path, *, store_dir=None) -> StudyResults:
     TypeError
         Neither a StudyConfig nor a path.
     """
-    config = _as_config(study_or_path)
+    config = as_config(study_or_path)
     store = open_store(config, store_dir)
     outputs = list(config.cfd.outputs)
     frfs: dict = {}
@@ -646,8 +428,8 @@ def load_results(study_or_path, *, store_dir=None) -> StudyResults:
     frf_fail: dict = {}    # (case, T) -> reason
     frf_entries: dict = {}
 
-    for cs in config.cases:
-        c = cs.case
+    for case_sweep in config.cases:
+        c = case_sweep.case
         e = store.get("steady", steady_piece(c))
         if e is None:
             missing.append(f"steady {c.name}")
@@ -657,7 +439,7 @@ def load_results(study_or_path, *, store_dir=None) -> StudyResults:
             case_fail[c.name] = reason
         else:
             steady[c.name] = {k: e.metadata.get(k) for k in ("cl", "cd", "cm", "iterations", "converged", "seconds")}
-        for T in cs.T:
+        for T in case_sweep.T:
             e = store.get("frf", frf_piece(c, T, config.M_base, config.cfd))
             if e is None:
                 if c.name not in case_fail:  # without a steady flow there is nothing to compute

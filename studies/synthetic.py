@@ -5,7 +5,7 @@ and two lightly damped modes, input gust angle, outputs Cl and Cm per radian) sa
 a little complex noise; the "LTD" histories are that system's exact responses to the study's gusts (Tustin at
 the simulation step). The ROMs are real :func:`sysid.identify` models at every sweep point of the study, and
 their gust histories and metrics come from the same functions the runner uses
-(:func:`studies.results.rom_metrics`, :func:`studies.results.sim_metrics`), so every table and figure of a
+(:func:`sysid.metrics.rom_metrics`, :func:`studies.pieces.sim_metrics`), so every table and figure of a
 report can be produced and inspected before any CFD has run.
 
 >>> from studies.synthetic import synthetic_results
@@ -24,9 +24,11 @@ from typing import Optional
 import numpy as np
 
 import sysid
+from sysid.metrics import rom_metrics
 
 from .config import StudyConfig, loads_study
-from .results import FRFRecord, LTDRecord, RomRecord, SimRecord, StudyResults, rom_metrics, sim_metrics
+from .pieces import sim_metrics
+from .results import FRFRecord, LTDRecord, RomRecord, SimRecord, StudyResults
 
 __all__ = ["SYNTHETIC_STUDY", "synthetic_config", "synthetic_results", "gust_input", "main"]
 
@@ -126,7 +128,7 @@ def synthetic_results(config: Optional[StudyConfig] = None, *, noise: float = 2e
     """
     import control
 
-    from .demo import _continuous_frf, gust_like_system
+    from .demo import continuous_frf, gust_like_system
 
     config = config or synthetic_config()
     rng = np.random.default_rng(seed)
@@ -140,8 +142,8 @@ def synthetic_results(config: Optional[StudyConfig] = None, *, noise: float = 2e
     fail = {tuple(f) for f in fail}
     drop = {tuple(d) for d in drop}
     gust_u = {g.name: gust_input(t, g, sim.x0) for g in config.gusts}
-    for cs in config.cases:
-        name = cs.case.name
+    for case_sweep in config.cases:
+        name = case_sweep.case.name
         for g in config.gusts:
             if (name, g.name) in drop:
                 missing.append(f"ltd {name} {g.name}")
@@ -150,9 +152,9 @@ def synthetic_results(config: Optional[StudyConfig] = None, *, noise: float = 2e
             y = _simulate(truth_dt, gust_u[g.name])
             ltds[(name, g.name)] = LTDRecord(case=name, gust=g.name, t=t, u=gust_u[g.name], cl=y[0], cm=y[1],
                                              seconds=time.perf_counter() - t0)
-        for T in cs.T:
+        for T in case_sweep.T:
             omega_d, omega = sysid.mckelvey_grid(config.M_base, T)
-            H_true = _continuous_frf(A, B, C, D, omega)
+            H_true = continuous_frf(A, B, C, D, omega)
             peak = np.abs(H_true).max(axis=2, keepdims=True)
             H = H_true + noise * peak * (rng.standard_normal(H_true.shape)
                                          + 1j * rng.standard_normal(H_true.shape)) / np.sqrt(2)
@@ -161,18 +163,18 @@ def synthetic_results(config: Optional[StudyConfig] = None, *, noise: float = 2e
             frf = sysid.FrequencyResponse(H[: len(outputs)], omega_d, T, inputs=["gust"], outputs=outputs,
                                           omega=omega, metadata={"case": name, "source": "studies.synthetic"})
             frfs[(name, T)] = FRFRecord(case=name, T=T, M=config.M_base, frf=frf, seconds=0.0, method="synthetic")
-            for M in cs.M:
+            for M in case_sweep.M:
                 step = config.M_base // M
                 idx = np.arange(0, config.M_base + 1, step)
                 data = frf.subsample(M) if M != config.M_base else frf
-                for n in cs.orders:
-                    for meth in config.methods:
-                        ident = dict(case=name, T=T, M=M, order=n, method=meth.name)
-                        if (name, M, n, meth.name) in fail:
+                for n in case_sweep.orders:
+                    for variant in config.methods:
+                        ident = dict(case=name, T=T, M=M, order=n, method=variant.name)
+                        if (name, M, n, variant.name) in fail:
                             roms.append(RomRecord(status="failed", error="SolverError: synthetic failure", **ident))
                             continue
                         t0 = time.perf_counter()
-                        res = sysid.identify(data, n, **meth.identify_kwargs(data.H))
+                        res = sysid.identify(data, n, **variant.identify_kwargs(data.H))
                         seconds = time.perf_counter() - t0
                         m = res.model
                         frf_rom = res.evaluate(omega_d)
@@ -194,8 +196,8 @@ def synthetic_results(config: Optional[StudyConfig] = None, *, noise: float = 2e
                                              ref.seconds)
                             sims.append(SimRecord(gust=g.name, t=t, cl=y[0], cm=y[1], metrics=sm, **ident))
     return StudyResults(config=config, frf=frfs, ltd=ltds, roms=roms, sims=sims, missing=missing, failed=[],
-                        steady={cs.case.name: dict(cl=0.0, cd=0.0, cm=0.0, iterations=0, seconds=0.0)
-                                for cs in config.cases})
+                        steady={case_sweep.case.name: dict(cl=0.0, cd=0.0, cm=0.0, iterations=0, seconds=0.0)
+                                for case_sweep in config.cases})
 
 
 def main(argv=None) -> int:

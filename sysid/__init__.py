@@ -3,7 +3,9 @@
 Works on any frequency-response data; knows nothing of CFD.
 
 Main entry points: :class:`FrequencyResponse`, :func:`mckelvey_grid`, :func:`identify`,
-:func:`order_sweep`, :func:`d2c_bilinear`, :func:`c2d_bilinear`, :func:`c2d_zoh`.
+:func:`order_sweep`, :func:`d2c_bilinear`, :func:`c2d_bilinear`, :func:`c2d_zoh`; a ROM's time response
+:func:`rom_response` (:mod:`sysid.simulate`) and its errors against a reference history
+(:mod:`sysid.history_metrics`); the order limits :func:`max_order`, :func:`min_order`.
 """
 
 from .errors import ConstraintError, FrequencyDataError, FrequencyGridError, ModelError, OrderError, SolverError
@@ -18,8 +20,19 @@ from .subspace import (
     subspace_identify,
 )
 from .transforms import c2d_bilinear, c2d_zoh, d2c_bilinear
-from .metrics import FitErrors, dc_error, frf_errors, max_relative_error, rms_relative_error, spectral_radius
+from .metrics import (
+    FitErrors,
+    dc_error,
+    frf_errors,
+    max_relative_error,
+    rms_relative_error,
+    rom_metrics,
+    spectral_radius,
+)
+from .history_metrics import envelope_errors, history_errors, peak
+from .simulate import markov_parameters, rediscretise, rom_response, rom_simulation, simulate_discrete
 from .order import OrderSweep, order_sweep
+from .order_limits import max_order, min_order
 from .identify import IdentificationResult, StabilisationReport, identify
 from .diagnostics import DataDiagnostics, diagnose
 from .refit import BDFit, CDFit, fit_alternating, fit_bd, fit_cd
@@ -58,9 +71,21 @@ __all__ = [
     "rms_relative_error",
     "dc_error",
     "spectral_radius",
-    # order selection
+    "rom_metrics",
+    # time histories (sysid.simulate, sysid.history_metrics)
+    "markov_parameters",
+    "simulate_discrete",
+    "rediscretise",
+    "rom_simulation",
+    "rom_response",
+    "peak",
+    "envelope_errors",
+    "history_errors",
+    # order selection and limits
     "OrderSweep",
     "order_sweep",
+    "max_order",
+    "min_order",
     # pipeline
     "identify",
     "IdentificationResult",

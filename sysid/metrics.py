@@ -18,7 +18,8 @@ import numpy as np
 
 from .errors import FrequencyDataError
 
-__all__ = ["FitErrors", "frf_errors", "max_relative_error", "rms_relative_error", "dc_error", "spectral_radius"]
+__all__ = ["FitErrors", "frf_errors", "max_relative_error", "rms_relative_error", "dc_error", "spectral_radius",
+           "rom_metrics"]
 
 _TINY = np.finfo(float).tiny
 
@@ -107,3 +108,51 @@ def spectral_radius(A) -> float:
     """Largest eigenvalue modulus of ``A`` (shape (n, n)); 0 for an empty matrix."""
     A = np.asarray(A)
     return float(np.max(np.abs(np.linalg.eigvals(A)))) if A.size else 0.0
+
+
+def rom_metrics(frf_rom, H, fit_index, outputs, dc_model, spectral_radius: float, seconds: float) -> dict:
+    """Metrics of one identified ROM against the frequency response it was identified from.
+
+    Parameters
+    ----------
+    frf_rom : array_like, complex, shape (p, 1, K)
+        ROM on the base grid (``K = M_base + 1``).
+    H : array_like, complex, shape (p, 1, K)
+        Reference response on the base grid (``H[:, :, 0]`` at ``omega = 0``).
+    fit_index : array_like of int
+        Indices of the ``M + 1`` points identified from.
+    outputs : sequence of str
+        Names of the ``p`` outputs.
+    dc_model : array_like, shape (p, 1)
+        ``G_rom(z = 1)``.
+    spectral_radius : float
+        Of the discrete ROM.
+    seconds : float
+        Identification time (s).
+
+    Returns
+    -------
+    dict of str -> float or bool
+        In this order: ``frf_max_err_X``, ``frf_rms_err_X`` per output ``X`` (:func:`max_relative_error`,
+        :func:`rms_relative_error` on all ``K`` points); ``frf_max_err_fit``, ``frf_rms_err_fit`` (overall, on
+        the points of ``fit_index``); ``dc_err_X = |G_rom(1) - H(0)|`` (absolute, per radian);
+        ``spectral_radius``, ``stable`` (``spectral_radius < 1``) and ``seconds``.
+    """
+    Hm = np.asarray(frf_rom, dtype=complex)
+    Hd = np.asarray(H, dtype=complex)
+    mx = max_relative_error(Hm, Hd, per_output=True)
+    rms = rms_relative_error(Hm, Hd, per_output=True)
+    out: dict = {}
+    for i, name in enumerate(outputs):
+        out[f"frf_max_err_{name}"] = float(mx[i])
+        out[f"frf_rms_err_{name}"] = float(rms[i])
+    idx = np.asarray(fit_index, dtype=int)
+    out["frf_max_err_fit"] = max_relative_error(Hm[:, :, idx], Hd[:, :, idx])
+    out["frf_rms_err_fit"] = rms_relative_error(Hm[:, :, idx], Hd[:, :, idx])
+    dc = np.asarray(dc_model, dtype=float).reshape(len(outputs), -1)
+    for i, name in enumerate(outputs):
+        out[f"dc_err_{name}"] = float(np.abs(dc[i, 0] - Hd[i, 0, 0].real))
+    out["spectral_radius"] = float(spectral_radius)
+    out["stable"] = bool(spectral_radius < 1.0)
+    out["seconds"] = float(seconds)
+    return out

@@ -31,7 +31,7 @@ import numpy as np
 import scipy.linalg
 
 from .errors import OrderError
-from .subspace import HankelSVD, _lstsq_bd_phi, _modal_form, _resolvent_C, hankel_svd
+from .subspace import HankelSVD, hankel_svd, lstsq_bd_phi, modal_form, resolvent_C
 
 __all__ = ["OrderSweep", "order_sweep"]
 
@@ -111,11 +111,11 @@ def _sweep_errors(svd: HankelSVD, orders: np.ndarray, z_fit: np.ndarray, G_fit: 
             A = scipy.linalg.solve_triangular(R[:n, :n], QtU2[:n, :n])
             C = svd.U[:p, :n]
             try:
-                modal = _modal_form(A, C)
-                phi = _resolvent_C(A, C, z_fit, modal)
-                B, D = _lstsq_bd_phi(phi, G_fit)
+                modal = modal_form(A, C)
+                phi = resolvent_C(A, C, z_fit, modal)
+                B, D = lstsq_bd_phi(phi, G_fit)
                 if z_val is not None:
-                    phi = _resolvent_C(A, C, z_val, modal)
+                    phi = resolvent_C(A, C, z_val, modal)
                 dH = (phi @ B + D[None]).transpose(1, 2, 0) - G_val
                 lam = modal[0] if modal else np.linalg.eigvals(A)
             except np.linalg.LinAlgError:

@@ -43,6 +43,12 @@ __all__ = [
     "mckelvey2",
     "subspace_identify",
     "default_q",
+    "order_hint",
+    "modal_form",
+    "resolvent_C",
+    "lstsq_bd_phi",
+    "lstsq_bd",
+    "evaluate_ss",
 ]
 
 _GRID_ATOL = 1e-9 * np.pi
@@ -387,7 +393,7 @@ def mckelvey1(G: Any, order: int, *, q: int | None = None, r: int | None = None)
     OrderError
         ``order >= q`` or beyond the Hankel rank limit.
     """
-    svd = hankel_svd(G, None, method="mckelvey1", q=q, r=r, order=_order_hint(order))
+    svd = hankel_svd(G, None, method="mckelvey1", q=q, r=r, order=order_hint(order))
     return from_basis(svd, order)
 
 
@@ -404,21 +410,36 @@ def mckelvey2(G: Any, omega_d: Any, order: int, *, q: int | None = None) -> Subs
     q : int, optional
         Block rows; default in :func:`default_q`.
     """
-    svd = hankel_svd(G, omega_d, method="mckelvey2", q=q, order=_order_hint(order))
+    svd = hankel_svd(G, omega_d, method="mckelvey2", q=q, order=order_hint(order))
     return from_basis(svd, order)
 
 
 def subspace_identify(data: Any, order: int, *, omega_d: Any = None, method: str = "auto",
                       q: int | None = None, r: int | None = None) -> SubspaceResult:
     """``A`` and ``C`` by Algorithm 1 or 2 (``method="auto"``: 1 on the equispaced grid, else 2)."""
-    return from_basis(hankel_svd(data, omega_d, method=method, q=q, r=r, order=_order_hint(order)), order)
+    return from_basis(hankel_svd(data, omega_d, method=method, q=q, r=r, order=order_hint(order)), order)
 
 
-def _order_hint(order: Any) -> int | None:
-    """The order as a default-q hint when it is a valid positive integer (else checked later)."""
+def order_hint(order: Any) -> int | None:
+    """The order as a hint for the default Hankel sizes (:func:`default_q`).
+
+    Parameters
+    ----------
+    order : any
+        A requested model order, not yet checked.
+
+    Returns
+    -------
+    int or None
+        ``order`` when it is a positive integer, else None (an invalid order is refused later, with the data
+        at hand to say why).
+    """
     if isinstance(order, (int, np.integer)) and not isinstance(order, bool) and order >= 1:
         return int(order)
     return None
+
+
+_order_hint = order_hint  # the name sysid.identify still imports
 
 
 # --------------------------------------------------------------------------------------------------
@@ -429,8 +450,20 @@ def _order_hint(order: Any) -> int | None:
 _MODAL_COND_MAX = 1e6
 
 
-def _modal_form(A: np.ndarray, C: np.ndarray):
-    """``(lam, C V, V^-1)`` of a diagonalisable, well-conditioned ``A``; ``None`` otherwise."""
+def modal_form(A: np.ndarray, C: np.ndarray):
+    """The modal form of ``(A, C)`` when ``A`` is diagonalisable and its eigenvectors well conditioned.
+
+    Parameters
+    ----------
+    A : ndarray, shape (n, n)
+    C : ndarray, shape (p, n)
+
+    Returns
+    -------
+    tuple or None
+        ``(lam, C V, V^-1)``: eigenvalues (n,), (p, n) and (n, n) with ``A = V diag(lam) V^-1``; None when
+        ``n = 0``, ``V`` is singular or its 1-norm condition number exceeds ``_MODAL_COND_MAX``.
+    """
     if A.shape[0] == 0:
         return None
     lam, V = np.linalg.eig(A)
@@ -444,16 +477,28 @@ def _modal_form(A: np.ndarray, C: np.ndarray):
     return lam, C @ V, Vinv
 
 
-def _resolvent_C(A: np.ndarray, C: np.ndarray, z: np.ndarray, modal=None) -> np.ndarray:
-    """``C (z_k I - A)^-1`` for all k: shape (K, p, n).
+def resolvent_C(A: np.ndarray, C: np.ndarray, z: np.ndarray, modal=None) -> np.ndarray:
+    """``C (z_k I - A)^-1`` for all k.
 
     Uses the modal form ``(C V) diag(1 / (z - lam)) V^-1`` (``O(K p n^2)``) when the eigenvector matrix is
-    well conditioned, else one batched linear solve (``O(K n^3)``). ``modal`` may be passed precomputed
-    (:func:`_modal_form`); pass ``False`` to force the solve.
+    well conditioned, else one batched linear solve (``O(K n^3)``).
+
+    Parameters
+    ----------
+    A : ndarray, shape (n, n)
+    C : ndarray, shape (p, n)
+    z : ndarray, complex, shape (K,)
+        Points of the z-plane (``exp(i omega_d)`` on the unit circle).
+    modal : tuple, None or False
+        :func:`modal_form` precomputed; None computes it; False forces the solve.
+
+    Returns
+    -------
+    ndarray, complex, shape (K, p, n)
     """
     n = A.shape[0]
     if modal is None:
-        modal = _modal_form(A, C)
+        modal = modal_form(A, C)
     if modal:
         lam, CV, Vinv = modal
         return (CV[None, :, :] / (z[:, None, None] - lam[None, None, :])) @ Vinv
@@ -462,8 +507,23 @@ def _resolvent_C(A: np.ndarray, C: np.ndarray, z: np.ndarray, modal=None) -> np.
     return np.swapaxes(np.linalg.solve(np.swapaxes(Z, 1, 2), np.broadcast_to(C.T, (z.size, n, C.shape[0]))), 1, 2)
 
 
-def _lstsq_bd_phi(phi: np.ndarray, G: np.ndarray, weights: np.ndarray | None = None):
-    """B, D from the regressor ``phi = C (z_k I - A)^-1`` (K, p, n) and data G (p, m, K)."""
+def lstsq_bd_phi(phi: np.ndarray, G: np.ndarray, weights: np.ndarray | None = None):
+    """Unconstrained least-squares ``B, D`` with ``C (z_k I - A)^-1 B + D ~ G_k``, from the regressor.
+
+    Parameters
+    ----------
+    phi : ndarray, complex, shape (K, p, n)
+        :func:`resolvent_C` at the data's points.
+    G : ndarray, complex, shape (p, m, K)
+        The data.
+    weights : ndarray, shape (K,), optional
+        Per-frequency weights of the squared residuals.
+
+    Returns
+    -------
+    B : ndarray, shape (n, m)
+    D : ndarray, shape (p, m)
+    """
     p, m, K = G.shape
     n = phi.shape[2]
     X = np.concatenate([phi, np.broadcast_to(np.eye(p), (K, p, p))], axis=2).reshape(K * p, n + p)
@@ -495,11 +555,11 @@ def lstsq_bd(A: np.ndarray, C: np.ndarray, z: np.ndarray, G: np.ndarray,
     -------
     B : ndarray (n, m), D : ndarray (p, m)
     """
-    return _lstsq_bd_phi(_resolvent_C(np.asarray(A, float), np.asarray(C, float), np.asarray(z, complex)),
+    return lstsq_bd_phi(resolvent_C(np.asarray(A, float), np.asarray(C, float), np.asarray(z, complex)),
                          np.asarray(G, complex), weights)
 
 
 def evaluate_ss(A: np.ndarray, B: np.ndarray, C: np.ndarray, D: np.ndarray, z: np.ndarray) -> np.ndarray:
     """``G(z_k) = C (z_k I - A)^-1 B + D`` for all k: shape (p, m, K)."""
-    phi = _resolvent_C(A, C, np.asarray(z, dtype=complex).reshape(-1))  # (K, p, n)
+    phi = resolvent_C(A, C, np.asarray(z, dtype=complex).reshape(-1))  # (K, p, n)
     return (phi @ B + D[None]).transpose(1, 2, 0)

@@ -19,7 +19,7 @@ import pytest
 from tinystudy import N_POINTS, copy_study
 
 import sysid
-from studies import commands, runner
+from studies import commands, executors, runner
 from studies.config import MAX_STEPS, T_RANGE, StudyConfigError, loads_study, min_order
 from studies.results import RomRecord
 from studies.runner import RunInterrupted, RunSummary, run_study
@@ -270,13 +270,13 @@ def test_workers_are_capped_at_the_study_width(computed, tmp_path):
 WORKER_SCRIPT = textwrap.dedent("""
     import os, sys, time
     from pathlib import Path
-    from studies import runner
+    from studies import executors
 
     def sleeper(path):
         Path(path).write_text(str(os.getpid()))
         time.sleep(60)
 
-    pool = runner._ProcessPool(2)
+    pool = executors.ProcessPool(2)
     futures = [pool.submit(sleeper, sys.argv[1] + str(i)) for i in range(2)]
     print("ready", flush=True)
     try:
@@ -300,8 +300,9 @@ def _alive(pid: int) -> bool:
 def _start_pool_script(tmp_path):
     script = tmp_path / "pool.py"
     script.write_text(WORKER_SCRIPT)
-    proc = subprocess.Popen([sys.executable, str(script), str(tmp_path / "pid")], cwd=REPO, stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True)
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [str(REPO), os.environ.get("PYTHONPATH")])))
+    proc = subprocess.Popen([sys.executable, str(script), str(tmp_path / "pid")], cwd=REPO, env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     assert proc.stdout.readline().strip() == "ready"
     files = [tmp_path / f"pid{i}" for i in range(2)]
     deadline = time.monotonic() + 60
@@ -324,8 +325,8 @@ def test_workers_die_with_their_parent(tmp_path):
     proc, pids = _start_pool_script(tmp_path)
     proc.send_signal(signal.SIGKILL)
     proc.wait(timeout=10)
-    # PR_SET_PDEATHSIG ends them at once; the parent-pid poll within runner.PARENT_POLL_S otherwise
-    left = _wait_gone(pids, 10 * runner.PARENT_POLL_S)
+    # PR_SET_PDEATHSIG ends them at once; the parent-pid poll within executors.PARENT_POLL_S otherwise
+    left = _wait_gone(pids, 10 * executors.PARENT_POLL_S)
     for p in left:
         os.kill(p, signal.SIGKILL)
     assert left == []
@@ -369,10 +370,10 @@ def test_rediscretisation_error_names_the_simulation_step(monkeypatch):
     def singular(model, T):
         raise sysid.ModelError(f"c2d_bilinear(): a pole at s = 2/T = {2.0 / T:g}; choose a different T")
 
-    monkeypatch.setattr(sysid, "c2d_bilinear", singular)
+    monkeypatch.setattr(sysid.simulate, "c2d_bilinear", singular)
     t = 0.1 * np.arange(10)
     with pytest.raises(sysid.ModelError, match=r"identified with T = 1 .* simulation step dt = 0\.1 .* s = 2/dt = 20"):
-        runner.rom_simulation([[0.5]], [[1.0]], [[1.0]], [[0.0]], 1.0, t, np.ones_like(t))
+        sysid.simulate.rom_simulation([[0.5]], [[1.0]], [[1.0]], [[0.0]], 1.0, t, np.ones_like(t))
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="kill -9")

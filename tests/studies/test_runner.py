@@ -11,27 +11,27 @@ import numpy as np
 import pytest
 
 import sysid
-from studies import commands, runner
+from studies import commands, runner, tasks
 from studies.config import load_study
 from studies.results import load_results
-from studies.runner import RunnerError, auto_workers, rom_simulation, run_study
+from studies.runner import RunnerError, auto_workers, run_study
 from tinystudy import N_POINTS, copy_study
 
 @pytest.fixture
 def counts(monkeypatch):
-    """Count the calls of the runner's compute functions (inline runs only)."""
+    """Count the calls of the tasks' compute functions (inline runs only)."""
     calls = {}
 
     def wrap(name):
-        fn = getattr(runner, name)
+        fn = getattr(tasks, name)
 
         def counted(*a, **k):
             calls[name] = calls.get(name, 0) + 1
             return fn(*a, **k)
 
-        monkeypatch.setattr(runner, name, counted)
+        monkeypatch.setattr(tasks, name, counted)
 
-    for name in ("_steady", "_linear_system", "_lfd", "_ltds", "_identify", "rom_simulation"):
+    for name in ("_steady", "_linear_system", "lfd_on_mckelvey_grid", "_ltds", "_identify", "rom_simulation"):
         wrap(name)
     return calls
 
@@ -94,7 +94,7 @@ def test_failing_point_is_recorded_and_retried(computed, counts, tmp_path, monke
     assert all(r.error == "OrderError: order 4 refused for the test" and r.A is None for r in failed)
     assert sum(r.ok for r in res.roms) == 4 and {s.order for s in res.sims} == {2}
     assert res.complete  # failures count as done
-    assert "_steady" not in counts and "_lfd" not in counts and "_ltds" not in counts
+    assert "_steady" not in counts and "lfd_on_mckelvey_grid" not in counts and "_ltds" not in counts
     rows = res.table("rom")
     assert [r["status"] for r in rows].count("failed") == 4
     # the next run retries the failed points only
@@ -108,7 +108,7 @@ def test_failing_point_is_recorded_and_retried(computed, counts, tmp_path, monke
 def test_interrupted_run_keeps_finished_pieces(computed, counts, tmp_path, monkeypatch):
     config, first, _ = computed
     study = copy_study(config, tmp_path, drop=("ltd", "rom", "sim"))
-    real = runner._identify
+    real = tasks._identify
     n = {"calls": 0}
 
     def interrupt(*a, **k):
@@ -117,16 +117,16 @@ def test_interrupted_run_keeps_finished_pieces(computed, counts, tmp_path, monke
             raise KeyboardInterrupt
         return real(*a, **k)
 
-    monkeypatch.setattr(runner, "_identify", interrupt)
+    monkeypatch.setattr(tasks, "_identify", interrupt)
     with pytest.raises(KeyboardInterrupt):
         run_study(study, progress=False)
     part = load_results(study)
     assert len(part.ltd) == 1 and sum(r.ok for r in part.roms) == 2 and not part.complete
     assert sum(m.startswith("rom ") for m in part.missing) == N_POINTS - 2
-    monkeypatch.setattr(runner, "_identify", real)
+    monkeypatch.setattr(tasks, "_identify", real)
     counts.clear()
     res = run_study(study, progress=False)
-    assert "_ltds" not in counts and "_lfd" not in counts and counts["_identify"] == N_POINTS - 2
+    assert "_ltds" not in counts and "lfd_on_mckelvey_grid" not in counts and counts["_identify"] == N_POINTS - 2
     assert res.complete and len(res.sims) == N_POINTS
     for a in first.sims:  # same numbers as the uninterrupted run
         b = next(s for s in res.sims if (s.M, s.order, s.method) == (a.M, a.order, a.method))
@@ -139,7 +139,7 @@ def test_cfd_failure_marks_the_case_failed(computed, tmp_path, monkeypatch):
     def diverge(case):
         raise RuntimeError(f"steady solver diverged for {case.name}")
 
-    monkeypatch.setattr(runner, "_steady", diverge)
+    monkeypatch.setattr(tasks, "_steady", diverge)
     study = copy_study(config, tmp_path, drop=("steady", "frf", "ltd", "rom", "sim"))
     res = run_study(study, progress=False)
     assert len(res.roms) == N_POINTS and not any(r.ok for r in res.roms)
@@ -191,54 +191,6 @@ def test_auto_workers(study, cpus, expected):
 def test_bad_study_argument():
     with pytest.raises(TypeError, match="StudyConfig or the path"):
         run_study(3.5)
-
-
-# ZOH is exact for a step input; Tustin treats the input as piecewise linear, so the jump at t = 0 costs
-# about dt / 2 times the initial slope (1) at the first samples, and O(dt^2) afterwards
-@pytest.mark.parametrize("disc, tol", [("tustin", 0.51e-2), ("zoh", 1e-10)])
-def test_rom_simulation_first_order(disc, tol):
-    """dx/dt = -x + u sampled at T = 0.5 (bilinear), re-discretised at dt = 0.01: step response 1 - exp(-t)."""
-    cont = control.ss([[-1.0]], [[1.0]], [[1.0], [2.0]], [[0.0], [0.0]])
-    rom = sysid.c2d_bilinear(cont, 0.5)
-    t = np.arange(0, 801) * 0.01
-    y = rom_simulation(rom.A, rom.B, rom.C, rom.D, 0.5, t, np.ones_like(t), disc)
-    assert y.shape == (2, t.size)
-    np.testing.assert_allclose(y[0], 1 - np.exp(-t), atol=tol)
-    np.testing.assert_allclose(y[1], 2 * y[0], rtol=1e-12)
-
-
-@pytest.mark.parametrize("rho, method", [(0.95, "auto"), (0.95, "convolution"), (0.95, "control"), (1.02, "auto")])
-def test_simulate_discrete_matches_python_control(rho, method):
-    rng = np.random.default_rng(3)
-    n, N = 12, 1500
-    Q, _ = np.linalg.qr(rng.normal(size=(n, n)))
-    A = Q @ np.diag(rho * np.cos(np.linspace(0, 3, n))) @ Q.T  # spectral radius rho
-    B, C, D = rng.normal(size=(n, 1)), rng.normal(size=(2, n)), rng.normal(size=(2, 1))
-    u = np.sin(0.05 * np.arange(N)) * (np.arange(N) > 20)
-    ref = np.asarray(control.forced_response(control.ss(A, B, C, D, True), U=u).outputs)
-    y = runner.simulate_discrete(A, B, C, D, u, method)
-    assert y.shape == (2, N)
-    np.testing.assert_allclose(y, ref, rtol=0, atol=1e-11 * np.abs(ref).max())
-
-
-def test_markov_parameters():
-    A = np.array([[0.5, 1.0], [0.0, 0.25]])
-    B = np.array([[0.0], [1.0]])
-    C = np.eye(2)
-    G = runner.markov_parameters(A, B, C, 5)
-    expected = [np.linalg.matrix_power(A, k) @ B for k in range(5)]
-    np.testing.assert_allclose(G[:, 0, :], np.hstack(expected), rtol=1e-15)
-    with pytest.raises(ValueError, match="method must be"):
-        runner.simulate_discrete(A, B, C, np.zeros((2, 1)), np.ones(4), "rk4")
-
-
-@pytest.mark.parametrize("t, disc, match", [
-    (np.array([0.0]), "tustin", "at least two time points"),
-    (np.arange(3.0), "euler", "discretisation must be"),
-])
-def test_rom_simulation_bad_input(t, disc, match):
-    with pytest.raises(ValueError, match=match):
-        rom_simulation(np.eye(1) * 0.5, np.ones((1, 1)), np.ones((1, 1)), np.zeros((1, 1)), 1.0, t, t, disc)
 
 
 def test_lfdrom_rom_writes_npz_and_mat(computed, tmp_path, monkeypatch, capsys):

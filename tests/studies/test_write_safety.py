@@ -189,7 +189,7 @@ def test_a_failed_table_write_keeps_the_tables(tmp_path, monkeypatch, fault):
 
 
 def _figure():
-    plt = plots._plt()
+    plt = plots.pyplot()
     fig, ax = plt.subplots(figsize=(2, 2))
     ax.plot([0, 1], [0, 1])
     return fig
@@ -214,7 +214,7 @@ def test_a_failed_figure_write_keeps_the_figure(tmp_path, monkeypatch, suffix, p
     with pytest.raises(RuntimeError, match="drawing failed"):
         plots.save_figure(fig, path, dpi=50, palette=palette)
     assert path.read_bytes() == before and temp_files(tmp_path) == []
-    assert not plots._plt().fignum_exists(fig.number)  # closed even when saving failed
+    assert not plots.pyplot().fignum_exists(fig.number)  # closed even when saving failed
 
 
 def test_atomic_savefig_keeps_the_format_of_the_suffix(tmp_path):

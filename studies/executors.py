@@ -1,0 +1,206 @@
+"""Executors of a study run's tasks: this process, local worker processes, or a Dask cluster.
+
+Each pool has ``name`` (for the progress line), ``submit(fn, *args)`` -> future, ``wait(pending)`` ->
+``(done, rest)`` and ``close(abort=False)``. :func:`make_pool` picks one:
+
+- this process (``workers=1``, the default: the machine this was written on has two cores shared);
+- local processes (``workers=N > 1``, :class:`concurrent.futures.ProcessPoolExecutor`), each with
+  ``cores // workers`` BLAS threads, each ending when the process that started it ends;
+- a Dask cluster (``scheduler="tcp://host:port"``, or ``"local"`` for a :class:`distributed.LocalCluster`
+  of ``workers`` processes); the store folder must then be on a file system the workers share.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor
+from concurrent.futures import wait as cf_wait
+from typing import Optional
+
+__all__ = ["InlinePool", "ProcessPool", "DaskPool", "make_pool", "RunnerError", "PARENT_POLL_S"]
+
+
+class RunnerError(ValueError):
+    """Bad runner options (workers, scheduler), or Dask asked for but not installed."""
+
+
+class InlinePool:
+    """Runs each task at once in this process (``workers=1``); futures are already done."""
+
+    name = "this process"
+
+    def submit(self, fn, *args):
+        """Run ``fn(*args)`` now; return a future that holds its result or its exception."""
+        f: Future = Future()
+        try:
+            f.set_result(fn(*args))
+        except Exception as e:  # noqa: BLE001 - reported by the caller; KeyboardInterrupt propagates
+            f.set_exception(e)
+        return f
+
+    @staticmethod
+    def wait(pending):
+        return set(pending), set()
+
+    def close(self, abort: bool = False):
+        pass
+
+
+def _limit_blas_threads(n: int) -> None:
+    """At most ``n`` BLAS threads in this process (``threadpoolctl``)."""
+    from threadpoolctl import threadpool_limits
+
+    threadpool_limits(limits=n, user_api="blas")
+
+
+PARENT_POLL_S = 1.0
+"""How often a worker process checks that the process that started it is still alive (seconds)."""
+
+
+def _exit_with_parent(parent_pid: int) -> None:
+    """Make this worker process end when ``parent_pid`` ends, however it ends (``kill -9`` included).
+
+    Linux: ``prctl(PR_SET_PDEATHSIG, SIGKILL)``, immediate. Everywhere: a daemon thread that polls the parent
+    pid every :data:`PARENT_POLL_S` seconds (a worker blocked on the task pipe would otherwise wait forever,
+    reparented). Both end the worker at once: it holds no results of its own (every piece is written to the
+    store atomically before its task returns).
+    """
+    import signal
+    import threading
+
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes
+
+            ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG = 1
+        except (OSError, AttributeError):  # pragma: no cover - other libc
+            pass
+    if os.getppid() != parent_pid:  # the parent died before the hook was set
+        os._exit(1)
+
+    def watch():
+        while True:
+            time.sleep(PARENT_POLL_S)
+            if os.getppid() != parent_pid:
+                os._exit(1)
+
+    threading.Thread(target=watch, name="lfdrom-parent-watch", daemon=True).start()
+
+
+def _init_worker(threads: int, parent_pid: int) -> None:
+    """Worker initializer: BLAS threads, Ctrl-C left to the parent (which stops the workers), exit with it."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    _exit_with_parent(parent_pid)
+    _limit_blas_threads(threads)
+
+
+class ProcessPool:
+    """Local worker processes, each limited to ``cores // workers`` BLAS threads.
+
+    Without the limit every worker's BLAS starts one thread per core: on two cores the demo's fast LFD sweep
+    (dense Gram-Schmidt) and its LTD march (block solves) beside it took 262 s and 129 s and the study 341 s;
+    with one BLAS thread per worker 176 s and 98 s, the study 263 s (measured one after the other, same
+    machine, empty store each time).
+    """
+
+    def __init__(self, workers: int):
+        import multiprocessing
+
+        ctx = multiprocessing.get_context("fork") if "fork" in multiprocessing.get_all_start_methods() else None
+        threads = max(1, (os.cpu_count() or 1) // workers)
+        self.ex = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
+                                      initargs=(threads, os.getpid()))
+        self.name = f"{workers} local processes ({threads} BLAS thread{'s' if threads > 1 else ''} each)"
+
+    def submit(self, fn, *args):
+        return self.ex.submit(fn, *args)
+
+    @staticmethod
+    def wait(pending):
+        done, rest = cf_wait(pending, return_when=FIRST_COMPLETED)
+        return done, rest
+
+    def close(self, abort: bool = False):
+        """Wait for the running tasks, or (``abort``) stop the workers at once (what they stored is kept)."""
+        if abort:
+            for proc in list((getattr(self.ex, "_processes", None) or {}).values()):
+                proc.terminate()
+            self.ex.shutdown(wait=False, cancel_futures=True)
+            return
+        self.ex.shutdown(wait=True, cancel_futures=True)
+
+
+class DaskPool:
+    """Tasks on a Dask cluster: a scheduler's address, or a LocalCluster of ``workers`` processes."""
+
+    def __init__(self, scheduler: str, workers: Optional[int]):
+        try:
+            from distributed import Client, LocalCluster
+        except ImportError:
+            raise RunnerError(f"scheduler={scheduler!r} needs Dask distributed; install it with "
+                              "pip install 'lfdrom[dask]' (or pip install 'dask[distributed]')") from None
+        self.cluster = None
+        if scheduler == "local":
+            n = workers or 1
+            self.cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None)
+            self.client = Client(self.cluster)
+            self.name = f"Dask LocalCluster of {n} process(es)"
+        else:
+            try:
+                self.client = Client(scheduler, timeout="10s")
+            except (OSError, TimeoutError) as e:
+                raise RunnerError(f"scheduler {scheduler!r}: cannot connect ({e}); check the address (the Dask "
+                                  "scheduler must be running) or leave --scheduler out for local processes") from None
+            self.name = f"Dask scheduler {scheduler}"
+
+    def submit(self, fn, *args):
+        return self.client.submit(fn, *args, pure=False)
+
+    @staticmethod
+    def wait(pending):
+        from distributed import wait
+
+        done, rest = wait(list(pending), return_when="FIRST_COMPLETED")
+        return set(done), set(rest)
+
+    def close(self, abort: bool = False):
+        self.client.close()
+        if self.cluster is not None:
+            self.cluster.close()
+
+
+
+
+def make_pool(scheduler: Optional[str], workers: Optional[int]):
+    """The pool for a run's options (see the module docstring).
+
+    Parameters
+    ----------
+    scheduler : str or None
+        A Dask scheduler's address (``"tcp://host:port"``) or ``"local"``; None: no Dask.
+    workers : int or None
+        Worker processes; None or 1: this process.
+
+    Returns
+    -------
+    InlinePool, ProcessPool or DaskPool
+
+    Raises
+    ------
+    RunnerError
+        Bad ``workers`` or ``scheduler``; Dask asked for but not installed, or its scheduler unreachable.
+    """
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        raise RunnerError(f"workers must be a positive integer, got {workers!r}")
+    if scheduler is not None:
+        if not isinstance(scheduler, str) or not (scheduler == "local" or "://" in scheduler):
+            raise RunnerError(f"scheduler must be a Dask address such as 'tcp://host:8786' or 'local', got "
+                              f"{scheduler!r}")
+        return DaskPool(scheduler, workers)
+    if workers is None or workers == 1:
+        return InlinePool()
+    return ProcessPool(workers)

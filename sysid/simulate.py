@@ -1,0 +1,217 @@
+"""Time simulation of a discrete ROM: Markov parameters, FFT convolution, python-control fallback.
+
+A ROM identified at sampling period ``T`` (dt = T) is simulated at another step ``dt`` by mapping it to
+continuous time (inverse bilinear map, paper Eq. 26) and re-discretising it at ``dt`` by Tustin (Eq. 31) or
+zero-order hold (Eq. 32). The discrete model is then driven from rest by an FFT convolution of its impulse
+response (:func:`markov_parameters`), or by ``control.forced_response`` when it is unstable.
+
+As in python-control, :func:`rom_response` returns the data (a ``control.TimeResponseData``); plotting is
+left to the caller. :func:`rom_simulation` is the same computation on bare matrices, returning the outputs.
+Time is convective (s = t U / c); inputs and outputs are in the model's units (gust angle in radians, load
+coefficients per radian for the gust ROMs).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .errors import ModelError
+from .transforms import c2d_bilinear, c2d_zoh, d2c_bilinear
+
+__all__ = ["markov_parameters", "simulate_discrete", "rediscretise", "rom_simulation", "rom_response",
+           "DISCRETISATIONS", "SIMULATION_METHODS"]
+
+DISCRETISATIONS = ("tustin", "zoh")
+"""Re-discretisations of a ROM at the simulation step: Tustin (paper Eq. 31) or zero-order hold (Eq. 32)."""
+
+SIMULATION_METHODS = ("auto", "convolution", "control")
+"""How :func:`simulate_discrete` drives a discrete model (see there)."""
+
+
+def markov_parameters(A, B, C, N):
+    """The first ``N`` Markov parameters ``C A^k B``, ``k = 0 .. N - 1``, by doubling.
+
+    ``[B, AB, ..., A^(2L-1) B] = [X, A^L X]`` with ``X = [B, ..., A^(L-1) B]``: ``log2 N`` matrix products
+    instead of ``N`` matrix-vector products in Python.
+
+    Parameters
+    ----------
+    A, B, C : ndarray, shapes (n, n), (n, m), (p, n)
+    N : int
+
+    Returns
+    -------
+    ndarray, shape (p, m, N)
+    """
+    A = np.asarray(A, dtype=float)
+    B = np.asarray(B, dtype=float)
+    C = np.asarray(C, dtype=float)
+    n, m = B.shape
+    X = B.T.reshape(m, n, 1)  # per input: columns A^k b
+    P = A
+    while X.shape[2] < N:
+        X = np.concatenate([X, np.einsum("ij,mjk->mik", P, X)], axis=2)
+        P = P @ P
+    return np.einsum("pi,mik->pmk", C, X[:, :, :N])
+
+
+def simulate_discrete(A, B, C, D, u, method="auto"):
+    """Response of ``x[k+1] = A x[k] + B u[k], y[k] = C x[k] + D u[k]`` from rest, as python-control's
+    ``forced_response`` gives it.
+
+    ``"convolution"``: ``y = D u + g * u`` with the impulse response ``g[0] = 0``, ``g[k] = C A^(k-1) B``
+    (:func:`markov_parameters`) and an FFT convolution: the same numbers to round-off, about 20 times
+    faster than the step-by-step recursion of ``control.forced_response`` for 2000 steps. ``"control"``:
+    ``control.forced_response``. ``"auto"``: the convolution when ``A`` is stable (spectral radius
+    ``< 1``), else python-control (the impulse response of an unstable model grows without bound and its
+    FFT would lose the small early values).
+
+    Parameters
+    ----------
+    A, B, C, D : ndarray, shapes (n, n), (n, m), (p, n), (p, m)
+    u : ndarray, shape (N,) or (m, N)
+        Input samples, one per step.
+    method : {"auto", "convolution", "control"}
+
+    Returns
+    -------
+    ndarray, shape (p, N)
+        Output samples.
+
+    Raises
+    ------
+    ValueError
+        Unknown ``method``.
+    """
+    import control
+    from scipy.signal import fftconvolve
+
+    A, B, C, D = (np.atleast_2d(np.asarray(x, dtype=float)) for x in (A, B, C, D))
+    U = np.atleast_2d(np.asarray(u, dtype=float))
+    N = U.shape[1]
+    if method not in SIMULATION_METHODS:
+        raise ValueError(f"method must be 'auto', 'convolution' or 'control', got {method!r}")
+    if method == "auto":
+        rho = float(np.max(np.abs(np.linalg.eigvals(A)))) if A.size else 0.0
+        method = "convolution" if rho < 1.0 else "control"
+    if method == "control":
+        out = control.forced_response(control.ss(A, B, C, D, True), U=U)
+        return np.atleast_2d(np.asarray(out.outputs))
+    G = markov_parameters(A, B, C, max(N - 1, 1))  # (p, m, N - 1): g[1:]
+    Y = D @ U
+    for j in range(U.shape[0]):
+        Y[:, 1:] += fftconvolve(G[:, j, :], U[j][None, :], axes=1)[:, :N - 1]
+    return Y
+
+
+def rediscretise(model, dt: float, discretisation: str = "tustin"):
+    """A discrete model at another sampling period: inverse bilinear map (Eq. 26), then Tustin or ZOH at ``dt``.
+
+    Parameters
+    ----------
+    model : control.StateSpace
+        Discrete, ``model.dt`` its sampling period ``T`` (convective time).
+    dt : float
+        The new sampling period (convective time).
+    discretisation : {"tustin", "zoh"}
+
+    Returns
+    -------
+    control.StateSpace
+        Discrete, ``dt``.
+
+    Raises
+    ------
+    ValueError
+        Unknown ``discretisation``.
+    ModelError
+        The continuous form has a pole at ``s = 2 / dt`` (Tustin cannot map it).
+    """
+    if discretisation not in DISCRETISATIONS:
+        raise ValueError(f"discretisation must be 'tustin' or 'zoh', got {discretisation!r}")
+    continuous = d2c_bilinear(model)
+    try:
+        return c2d_bilinear(continuous, dt) if discretisation == "tustin" else c2d_zoh(continuous, dt)
+    except ModelError as e:  # name the simulation step, not the identification's T
+        raise ModelError(
+            f"the ROM identified with T = {model.dt:g} cannot be re-discretised at the simulation step dt = "
+            f"{dt:g} ({discretisation}): its continuous form has a pole at s = 2/dt = {2.0 / dt:g} ({e}); "
+            "change simulation.dt (or the identification's T)") from None
+
+
+def rom_simulation(A, B, C, D, T, t, u, discretisation="tustin", method="auto"):
+    """Simulate a discrete ROM (sampling period ``T``) at the time step of ``t``.
+
+    The ROM is re-discretised at ``dt = t[1] - t[0]`` (:func:`rediscretise`: paper Eqs. 26 then 31 or 32),
+    then driven by ``u`` from rest (:func:`simulate_discrete`: an FFT convolution with its impulse response,
+    or ``control.forced_response`` for an unstable model).
+
+    Parameters
+    ----------
+    A, B, C, D : ndarray, shapes (n, n), (n, 1), (p, n), (p, 1)
+    T : float
+        Sampling period of the ROM (convective time).
+    t : ndarray, shape (N,)
+        Equispaced times from 0 (convective time).
+    u : ndarray, shape (N,)
+        Input (gust angle ``v_g / U`` at the reference point, radians).
+    discretisation : {"tustin", "zoh"}
+    method : {"auto", "convolution", "control"}
+        See :func:`simulate_discrete`.
+
+    Returns
+    -------
+    ndarray, shape (p, N)
+        Outputs.
+
+    Raises
+    ------
+    ValueError
+        Fewer than two time points, or an unknown discretisation.
+    ModelError
+        The ROM cannot be re-discretised at that step.
+    """
+    import control
+
+    t = np.asarray(t, dtype=float)
+    if t.size < 2:
+        raise ValueError(f"need at least two time points, got {t.size}")
+    discrete = rediscretise(control.ss(A, B, C, D, T), float(t[1] - t[0]), discretisation)
+    return simulate_discrete(discrete.A, discrete.B, discrete.C, discrete.D, np.asarray(u, dtype=float), method)
+
+
+def rom_response(model, t, u, *, discretisation: str = "tustin", method: str = "auto"):
+    """Response of a discrete ROM from rest to the input ``u`` sampled at the times ``t``.
+
+    Parameters
+    ----------
+    model : control.StateSpace
+        Discrete ROM, ``model.dt = T`` (convective time), ``m`` inputs and ``p`` outputs.
+    t : array_like, shape (N,)
+        Equispaced times from 0 (convective time); the model is re-discretised at their step.
+    u : array_like, shape (N,) or (m, N)
+        Input samples.
+    discretisation : {"tustin", "zoh"}
+    method : {"auto", "convolution", "control"}
+        See :func:`simulate_discrete`.
+
+    Returns
+    -------
+    control.TimeResponseData
+        ``time`` (N,), ``outputs`` (p, N), ``inputs`` (m, N), with the model's signal names.
+
+    Raises
+    ------
+    ValueError
+        Fewer than two time points, or an unknown discretisation or method.
+    ModelError
+        The ROM cannot be re-discretised at that step.
+    """
+    import control
+
+    t = np.asarray(t, dtype=float)
+    U = np.atleast_2d(np.asarray(u, dtype=float))
+    Y = rom_simulation(model.A, model.B, model.C, model.D, model.dt, t, U, discretisation, method)
+    return control.TimeResponseData(t, Y, inputs=U, output_labels=list(model.output_labels),
+                                    input_labels=list(model.input_labels), sysname=model.name, issiso=False,
+                                    plot_inputs=True)

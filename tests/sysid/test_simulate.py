@@ -1,0 +1,68 @@
+"""sysid.simulate: a discrete ROM's time response (Markov parameters, FFT convolution, python-control)."""
+
+import control
+import numpy as np
+import pytest
+
+import sysid
+from sysid.simulate import markov_parameters, rom_response, rom_simulation, simulate_discrete
+
+
+# ZOH is exact for a step input; Tustin treats the input as piecewise linear, so the jump at t = 0 costs
+# about dt / 2 times the initial slope (1) at the first samples, and O(dt^2) afterwards
+@pytest.mark.parametrize("disc, tol", [("tustin", 0.51e-2), ("zoh", 1e-10)])
+def test_rom_simulation_first_order(disc, tol):
+    """dx/dt = -x + u sampled at T = 0.5 (bilinear), re-discretised at dt = 0.01: step response 1 - exp(-t)."""
+    cont = control.ss([[-1.0]], [[1.0]], [[1.0], [2.0]], [[0.0], [0.0]])
+    rom = sysid.c2d_bilinear(cont, 0.5)
+    t = np.arange(0, 801) * 0.01
+    y = rom_simulation(rom.A, rom.B, rom.C, rom.D, 0.5, t, np.ones_like(t), disc)
+    assert y.shape == (2, t.size)
+    np.testing.assert_allclose(y[0], 1 - np.exp(-t), atol=tol)
+    np.testing.assert_allclose(y[1], 2 * y[0], rtol=1e-12)
+
+
+@pytest.mark.parametrize("rho, method", [(0.95, "auto"), (0.95, "convolution"), (0.95, "control"), (1.02, "auto")])
+def test_simulate_discrete_matches_python_control(rho, method):
+    rng = np.random.default_rng(3)
+    n, N = 12, 1500
+    Q, _ = np.linalg.qr(rng.normal(size=(n, n)))
+    A = Q @ np.diag(rho * np.cos(np.linspace(0, 3, n))) @ Q.T  # spectral radius rho
+    B, C, D = rng.normal(size=(n, 1)), rng.normal(size=(2, n)), rng.normal(size=(2, 1))
+    u = np.sin(0.05 * np.arange(N)) * (np.arange(N) > 20)
+    ref = np.asarray(control.forced_response(control.ss(A, B, C, D, True), U=u).outputs)
+    y = simulate_discrete(A, B, C, D, u, method)
+    assert y.shape == (2, N)
+    np.testing.assert_allclose(y, ref, rtol=0, atol=1e-11 * np.abs(ref).max())
+
+
+def test_markov_parameters():
+    A = np.array([[0.5, 1.0], [0.0, 0.25]])
+    B = np.array([[0.0], [1.0]])
+    C = np.eye(2)
+    G = markov_parameters(A, B, C, 5)
+    expected = [np.linalg.matrix_power(A, k) @ B for k in range(5)]
+    np.testing.assert_allclose(G[:, 0, :], np.hstack(expected), rtol=1e-15)
+    with pytest.raises(ValueError, match="method must be"):
+        simulate_discrete(A, B, C, np.zeros((2, 1)), np.ones(4), "rk4")
+
+
+@pytest.mark.parametrize("t, disc, match", [
+    (np.array([0.0]), "tustin", "at least two time points"),
+    (np.arange(3.0), "euler", "discretisation must be"),
+])
+def test_rom_simulation_bad_input(t, disc, match):
+    with pytest.raises(ValueError, match=match):
+        rom_simulation(np.eye(1) * 0.5, np.ones((1, 1)), np.ones((1, 1)), np.zeros((1, 1)), 1.0, t, t, disc)
+
+
+def test_rom_response_returns_python_control_data():
+    """rom_response: the same outputs as rom_simulation, as a control.TimeResponseData with the model's names."""
+    rom = control.ss([[0.5]], [[1.0]], [[1.0], [2.0]], [[0.0], [0.0]], 0.5, inputs=["gust"], outputs=["Cl", "Cm"])
+    t = np.arange(0, 101) * 0.05
+    u = np.sin(t)
+    data = rom_response(rom, t, u, discretisation="zoh")
+    assert isinstance(data, control.TimeResponseData)
+    assert data.outputs.shape == (2, t.size) and list(data.output_labels) == ["Cl", "Cm"]
+    np.testing.assert_allclose(data.outputs, rom_simulation(rom.A, rom.B, rom.C, rom.D, 0.5, t, u, "zoh"))
+    np.testing.assert_allclose(data.time, t)
