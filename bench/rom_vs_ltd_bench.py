@@ -3,7 +3,7 @@
 For each paper case asked (``docs/data/frf-T*.npz``, T = 70/(2 pi)) and each order, the ROM of
 ``sysid.identify(frf, n, dc_gain="match", stable=True, algorithm=...)`` for each algorithm asked is driven by
 the gust inputs of the LTD histories in a study store (the paper study's: ``lfdrom run studies/paper.toml``
-first) and compared with them: the load-envelope error (``studies.results.envelope_errors``) and the RMS
+first) and compared with them: the load-envelope error (``sysid.history_metrics.envelope_errors``) and the RMS
 error, both in % of the LTD's peak, Cl / Cm, per gust.
 
 Run: .venv/bin/python bench/rom_vs_ltd_bench.py --cases T4,T5 --orders 15,25,55
@@ -23,8 +23,8 @@ sys.path.insert(0, str(ROOT))
 
 import sysid  # noqa: E402
 from studies.cases import GUST_CASES, TEST_CASES  # noqa: E402
-from studies.results import envelope_errors  # noqa: E402
-from studies.runner import rom_simulation  # noqa: E402
+from sysid.history_metrics import envelope_errors  # noqa: E402
+from sysid.simulate import rom_simulation  # noqa: E402
 
 
 def ltd_histories(store):

@@ -47,7 +47,7 @@ import numpy as np
 from .errors import ConstraintError, FrequencyGridError
 from .frd import FrequencyResponse
 from .metrics import FitErrors, dc_error, frf_errors, spectral_radius
-from .subspace import SubspaceResult, _order_hint, evaluate_ss, from_basis, hankel_svd
+from .subspace import SubspaceResult, evaluate_ss, from_basis, hankel_svd, order_hint
 
 __all__ = ["identify", "IdentificationResult", "StabilisationReport", "unobserved_gain", "UNOBSERVED_GAIN_LIMIT", "resolve_algorithm"]
 
@@ -389,10 +389,10 @@ def identify(
         from threadpoolctl import threadpool_limits
 
         with threadpool_limits(limits=1, user_api="blas"):
-            svd = hankel_svd(frf, method=method, q=q, r=r, order=_order_hint(order))
+            svd = hankel_svd(frf, method=method, q=q, r=r, order=order_hint(order))
             sub = from_basis(svd, order)
     else:
-        svd = hankel_svd(frf, method=method, q=q, r=r, order=_order_hint(order))
+        svd = hankel_svd(frf, method=method, q=q, r=r, order=order_hint(order))
         sub = from_basis(svd, order)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")

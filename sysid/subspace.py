@@ -439,7 +439,6 @@ def order_hint(order: Any) -> int | None:
     return None
 
 
-_order_hint = order_hint  # the name sysid.identify still imports
 
 
 # --------------------------------------------------------------------------------------------------

@@ -10,9 +10,8 @@ from pathlib import Path
 
 import pytest
 
-KNOWN = ("sysid.identify:",)
-"""Known exceptions, each to be removed with its module's next edit: sysid/identify.py still takes
-``sysid.subspace._order_hint``, an alias kept for it of the public :func:`sysid.subspace.order_hint`."""
+KNOWN = ()
+"""Known exceptions (module prefixes), each to be removed with its module's next edit; none now."""
 
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGES = ("cfd", "sysid", "studies", "aeroelastic", "bench")
