@@ -357,6 +357,9 @@ def test_bad_algorithm_and_margin():
         fit_relocated(frf.omega, frf.z, np.asarray(frf.H), frf.T, 4, margin=0.0)
     with pytest.raises(ValueError, match="rho"):
         stability_region(1.0, 1.0)
+    for bad in (-0.5, np.nan, np.inf):
+        with pytest.raises(ValueError, match="resolution must be a finite number >= 0"):
+            fit_relocated(frf.omega, frf.z, np.asarray(frf.H), frf.T, 4, resolution=bad)
 
 
 def test_weights_reach_the_relocation():
