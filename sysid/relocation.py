@@ -68,7 +68,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import FrequencyDataError, OrderError
+from .errors import FrequencyDataError, OrderError, SolverError
 from .pole_refinement import refine_poles
 from .poles import (RESOLUTION, discrete_basis, initial_poles, input_normal, modal_realisation,
                     partial_fraction_basis, pole_distance, resolution_floor, stability_region)
@@ -298,8 +298,11 @@ def _bound_gaps(c, z, G, dc, ft, weights, zb, ub, peak, rounds: int = 4):
 
     active = ratio(c["C"], c["D"]) > 0.9
     for _ in range(rounds):
-        C, D, _ = minimax_cd(c["A"], c["B"], z, G, dc_gain=dc, feedthrough=ft, weights=weights,
-                             bound=(zb[active], ub[:, :, active]))
+        try:
+            C, D, _ = minimax_cd(c["A"], c["B"], z, G, dc_gain=dc, feedthrough=ft, weights=weights,
+                                 bound=(zb[active], ub[:, :, active]))
+        except SolverError:  # infeasible or numerically failed bounds: the candidate stays as it is (inadmissible)
+            return
         if not np.all(np.isfinite(C)):
             return
         r = ratio(C, D)
