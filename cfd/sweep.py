@@ -511,9 +511,9 @@ class SweepBasis:
                 self._B[key] = gust_operator(self.lin, gust)
                 self._d[key] = np.zeros(3)
             return key
-        f = motion_forcing(self.lin, input, pivot)
-        key = (f.name, f.pivot)
+        key = (input, check_pivot(pivot) if input == "pitch" else None)
         if key not in self._B:
+            f = motion_forcing(self.lin, input, pivot)
             self._B[key] = f.operator
             self._d[key] = f.d
         return key
