@@ -1,4 +1,4 @@
-"""Frequency arguments of the linearised solvers: checked frequency arrays, McKelvey pairs and ``x_ref``.
+"""Arguments of the linearised solvers: checked frequency arrays, McKelvey pairs, ``x_ref`` and the pivot.
 
 Shared by the direct path (:mod:`cfd.lfd`) and the fast sweep (:mod:`cfd.sweep`), which accept the same forms.
 """
@@ -7,7 +7,8 @@ import numpy as np
 
 from .linear import LinearError
 
-__all__ = ["frequencies", "frequency_grid", "check_x_ref"]
+__all__ = ["frequencies", "frequency_grid", "check_position", "check_x_ref", "check_pivot",
+           "check_motion_frequencies"]
 
 
 def frequencies(omega):
@@ -42,9 +43,32 @@ def frequency_grid(omega, T):
     return w, T
 
 
+def check_position(name, value):
+    """A position on the chord line (chords from the leading edge), checked real and finite."""
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise LinearError(f"{name} must be a real number (chords from the leading edge); got {value!r}") from None
+    if not np.isfinite(x):
+        raise LinearError(f"{name} must be finite (chords); got {value!r}")
+    return x
+
+
 def check_x_ref(x_ref):
     """The gust reference point (chords), checked finite."""
-    x_ref = float(x_ref)
-    if not np.isfinite(x_ref):
-        raise LinearError(f"x_ref must be finite (chords); got {x_ref!r}")
-    return x_ref
+    return check_position("x_ref", x_ref)
+
+
+def check_pivot(pivot):
+    """The pitch axis (chords from the leading edge, on the chord line), checked finite."""
+    return check_position("pivot", pivot)
+
+
+def check_motion_frequencies(inputs, w):
+    """Refuse ``omega = inf`` for motion inputs (their loads grow with the frequency: no finite feedthrough)."""
+    moving = [i for i in inputs if i != "gust"]
+    if moving and np.any(np.isinf(w)):
+        raise LinearError(
+            f"omega = inf has no finite response for the motion input(s) {moving}: the loads of a moving section grow "
+            "with the frequency (apparent mass, piston theory). Give finite frequencies (e.g. sysid.mckelvey_grid's "
+            "omega[:-1] with T=T) and fit the motion columns with aeroelastic.fit_motion")

@@ -15,6 +15,15 @@ phase error: the discrete derivative is ``i omega (1 + (omega dt)^2 / 3 + ...)``
 warns (RuntimeWarning) when ``(omega_g dt)^2 / 3`` exceeds 1 % for the gust's characteristic
 frequency ``omega_g`` (the sine's frequency, ``2 pi / length`` for the 1-cosine gust, and ``2 pi``, one
 chord, for the sharp-edged gust).
+
+Prescribed motion (:func:`ltd_response` with ``plunge`` and/or ``pitch``): the forcing of ``cfd.motion``,
+``b0 x + b1 x'`` per motion input ``x`` (``h`` in chords, ``alpha`` in radians about ``pivot``), and the output
+adds ``d x`` (the wind axes turning with the pitch). The rate ``x'`` is the BDF2 difference of the samples,
+``(3 x^{n+1} - 4 x^n + x^{n-1}) / (2 dt)`` with ``x = 0`` before ``s = 0``: the same formula as the state's, so
+the march is exactly BDF2 applied to the system written for ``q + V^-1 b1 x`` (no separate error from the
+rate). A history should start from rest (``x(0) = 0``, and smoothly) for a clean start: a jump at ``s = 0`` is
+an impulsive start, as for the sharp-edged gust. No phase-error warning is given for a motion (no frequency
+scale is known); the BDF2 phase-rate error at a frequency ``omega`` is ``(omega dt)^2 / 3``.
 """
 
 import math
@@ -24,7 +33,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from .gust import OneMinusCosine, SharpEdged, SineGust, face_gust
+from .frequencies import check_pivot
 from .linear import LinearError, check_gust_method
+from .motion import motion_forcing
 
 __all__ = ["LTDHistory", "ltd_response", "ltd_responses", "phase_error_estimate"]
 
@@ -38,7 +49,7 @@ class LTDHistory:
     t : ndarray, shape (n + 1,)
         Convective time ``s = t U / c``, from 0 to ``t_end``.
     u : ndarray, shape (n + 1,)
-        Gust input ``v_g(x_ref, s) / U``.
+        Gust input ``v_g(x_ref, s) / U`` (zeros without a gust).
     cl, cm, cd : ndarray, shape (n + 1,)
         Load coefficient perturbations (``cm`` about the quarter chord, nose up positive).
     method : str
@@ -47,6 +58,10 @@ class LTDHistory:
         Convective time step.
     q : ndarray, shape (4N,)
         Final state (solver units).
+    h, alpha : ndarray, shape (n + 1,)
+        Prescribed plunge (chords, up) and pitch (radians, nose up about ``pivot``); zeros when not given.
+    pivot : float or None
+        Pitch axis (chords from the leading edge) when a pitch was prescribed.
     """
 
     t: np.ndarray
@@ -57,6 +72,9 @@ class LTDHistory:
     method: str
     dt: float
     q: np.ndarray
+    h: np.ndarray = None
+    alpha: np.ndarray = None
+    pivot: float = None
 
 
 def phase_error_estimate(gust, dt):
@@ -99,14 +117,46 @@ def _warn_phase(gust, dt, max_phase_error):
         )
 
 
-def _march(lin, gusts, dt, t_end, method, x_ref, initial):
-    """BDF2 for a list of gusts at once; returns a list of :class:`LTDHistory`."""
+def _motion_samples(name, history, t):
+    """Samples of a prescribed motion at the times ``t`` (array of n + 1 values, or a callable of ``s``)."""
+    x = history(t) if callable(history) else history
+    try:
+        x = np.array(np.broadcast_to(np.asarray(x, dtype=float), t.shape) if np.ndim(x) == 0 else x, dtype=float)
+    except (TypeError, ValueError):
+        raise LinearError(f"{name} must be an array of {t.size} samples or a callable of s; got {history!r}") from None
+    if x.shape != t.shape:
+        raise LinearError(f"{name} has shape {x.shape}; the march needs {t.size} samples, at s = 0, dt, ..., t_end "
+                          "(or give a callable of s)")
+    if not np.all(np.isfinite(x)):
+        raise LinearError(f"{name} holds NaN or infinite values")
+    return x
+
+
+def _motions(lin, t, plunge, pitch, pivot):
+    """``[(MotionForcing, x, x')]`` for the prescribed motions; ``x'`` the BDF2 difference with rest before 0."""
+    out = []
+    for name, history in (("plunge", plunge), ("pitch", pitch)):
+        if history is None:
+            continue
+        x = _motion_samples(name, history, t)
+        xp = np.concatenate([[0.0, 0.0], x])
+        rate = (3.0 * xp[2:] - 4.0 * xp[1:-1] + xp[:-2]) / (2.0 * (t[1] - t[0]))
+        out.append((motion_forcing(lin, name, pivot), x, rate))
+    return out
+
+
+def _march(lin, gusts, dt, t_end, method, x_ref, initial, motion=None):
+    """BDF2 for a list of gusts at once (or one column of motion alone); returns a list of :class:`LTDHistory`.
+
+    ``motion``: None or ``(plunge, pitch, pivot)`` (see :func:`_motions`), forcing every column.
+    """
     n = int(round(t_end / dt))
     t = dt * np.arange(n + 1)
     h = lin.to_solver_time(dt)
     V = lin.V[:, None]
     solve = lin.solver(1.5 * lin.V / h)
-    g = len(gusts)
+    moves = [] if motion is None else _motions(lin, t, *motion)
+    g = max(len(gusts), 1)
     if initial is None:
         q_prev = np.zeros((lin.n, g))
         q = np.zeros((lin.n, g))
@@ -115,18 +165,28 @@ def _march(lin, gusts, dt, t_end, method, x_ref, initial):
     Y = np.zeros((n + 1, 3, g))
     Y[0] = lin.C @ q
     for k in range(1, n + 1):  # time steps: each one back-substitution of g right-hand sides
-        faces = [face_gust(lin.grid, gust, t[k]) for gust in gusts]
-        b = lin.forcing(np.stack([f[0] for f in faces]), np.stack([f[1] for f in faces]), method)  # (g, 4N)
-        q_prev, q = q, solve(V * (4.0 * q - q_prev) / (2.0 * h) - b.T)
+        b = np.zeros((lin.n, g))
+        if gusts:
+            faces = [face_gust(lin.grid, gust, t[k]) for gust in gusts]
+            b = lin.forcing(np.stack([f[0] for f in faces]), np.stack([f[1] for f in faces]), method).T  # (4N, g)
+        for f, x, rate in moves:
+            b = b + (f.b0 * x[k] + f.b1 * rate[k])[:, None]
+        q_prev, q = q, solve(V * (4.0 * q - q_prev) / (2.0 * h) - b)
         Y[k] = lin.C @ q
+    for f, x, _ in moves:
+        Y += np.multiply.outer(x, f.d)[:, :, None]       # the explicit load term d x
+    x_of = {f.name: x for f, x, _ in moves}
+    pivot = next((f.pivot for f, _, _ in moves if f.name == "pitch"), None)
+    zero = np.zeros(n + 1)
     out = []
-    for j, gust in enumerate(gusts):
-        arrays = [np.ascontiguousarray(a) for a in (t, gust.input(t, x_ref), Y[:, 0, j], Y[:, 1, j], Y[:, 2, j],
-                                                    q[:, j])]
+    for j in range(g):
+        u = gusts[j].input(t, x_ref) if gusts else zero
+        arrays = [np.ascontiguousarray(a) for a in (t, u, Y[:, 0, j], Y[:, 1, j], Y[:, 2, j], q[:, j],
+                                                    x_of.get("plunge", zero), x_of.get("pitch", zero))]
         for a in arrays:
             a.setflags(write=False)
         out.append(LTDHistory(t=arrays[0], u=arrays[1], cl=arrays[2], cm=arrays[3], cd=arrays[4], method=method,
-                              dt=dt, q=arrays[5]))
+                              dt=dt, q=arrays[5], h=arrays[6], alpha=arrays[7], pivot=pivot))
     return out
 
 
@@ -166,37 +226,56 @@ def ltd_responses(lin, gusts, dt, t_end, method="svm", x_ref=0.0, max_phase_erro
     return _march(lin, gusts, dt, t_end, method, x_ref, None)
 
 
-def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, max_phase_error=0.01):
-    """Linear response to a gust by BDF2 time marching (one factorisation).
+def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, max_phase_error=0.01, *,
+                 plunge=None, pitch=None, pivot=0.25):
+    """Linear response to a gust and/or a prescribed rigid motion by BDF2 time marching (one factorisation).
 
     Parameters
     ----------
     lin : LinearSystem
         From ``cfd.linearise``.
-    gust : SineGust, OneMinusCosine or SharpEdged
+    gust : SineGust, OneMinusCosine, SharpEdged or None
+        None: no gust (then give ``plunge`` or ``pitch``).
     dt : float
         Convective time step (chords / U), ``> 0``.
     t_end : float
         Final convective time, ``>= dt``.
     method : {"svm", "fvm"}
     x_ref : float
-        Where the input signal is measured (chords).
+        Where the gust input signal is measured (chords).
     initial : tuple (q_prev, q_now) of ndarray, shape (4N,), optional
         State at ``s = -dt`` and ``s = 0`` (solver units); default at rest (zeros).
     max_phase_error : float
-        Warn when :func:`phase_error_estimate` exceeds this.
+        Warn when :func:`phase_error_estimate` of the gust exceeds this.
+    plunge : ndarray, shape (n + 1,), or callable, optional
+        Prescribed plunge ``h(s)`` in chords, positive up, at ``s = 0, dt, ..., t_end`` (``n = round(t_end /
+        dt)``), or a callable ``h(s)`` of an array of times. Zero before ``s = 0``.
+    pitch : ndarray, shape (n + 1,), or callable, optional
+        Prescribed pitch ``alpha(s)`` in radians, nose up about ``(pivot, 0)``; as ``plunge``.
+    pivot : float
+        Pitch axis, chords from the leading edge.
 
     Returns
     -------
     LTDHistory
+        Loads of the gust and the motion together (the system is linear: marched once); ``h`` and ``alpha`` hold
+        the prescribed samples.
 
     Raises
     ------
     LinearError
-        Non-positive or non-finite ``dt``, ``t_end < dt``, unknown method, not a gust.
+        Non-positive or non-finite ``dt``, ``t_end < dt``, unknown method, not a gust, neither a gust nor a
+        motion, a motion history of the wrong length or with non-finite values, a non-finite pivot.
     """
     check_gust_method(method)
-    _check_gust(gust)
+    if gust is None and plunge is None and pitch is None:
+        raise LinearError("nothing to march: give a gust, or a plunge or pitch history (ltd_response(lin, None, dt, "
+                          "t_end, pitch=...))")
+    if gust is not None:
+        _check_gust(gust)
     dt, t_end = _check_times(dt, t_end)
-    _warn_phase(gust, dt, max_phase_error)
-    return _march(lin, [gust], dt, t_end, method, x_ref, initial)[0]
+    pivot = check_pivot(pivot)
+    if gust is not None:
+        _warn_phase(gust, dt, max_phase_error)
+    motion = None if plunge is None and pitch is None else (plunge, pitch, pivot)
+    return _march(lin, [] if gust is None else [gust], dt, t_end, method, x_ref, initial, motion)[0]

@@ -51,8 +51,9 @@ from sysid import FrequencyResponse
 
 from .superlu import splu_nested, splu_pivoted
 from .gust import face_gust_harmonic
-from .frequencies import check_x_ref, frequency_grid
+from .frequencies import check_motion_frequencies, check_pivot, check_x_ref, frequency_grid
 from .linear import LinearError, check_gust_method, check_outputs
+from .motion import check_inputs, motion_forcing
 from .ordering import nested_dissection, unknown_permutation
 
 __all__ = ["SweepBasis", "fast_sweep", "gust_operator", "face_gust_vector", "SAFETY"]
@@ -391,8 +392,9 @@ class SweepBasis:
         self._last = np.zeros(0, bool)                 # columns of the last block of their shift
         self._at_shift = []                            # Z(sigma) (n, p) of every shift
         self._shift_of = np.zeros(0, int)
-        self._WB = {}                                   # gust -> (W^T B) (m, n_faces)
-        self._B = {}
+        self._WB = {}                                   # forcing key -> W^T B, (m, r)
+        self._B = {}                                    # forcing key -> B (n, r): b(omega) = B g(omega)
+        self._d = {}                                    # forcing key -> explicit output term, (3,)
         self.timings = {"factorise": 0.0, "back_substitute": 0.0, "orthogonalise": 0.0, "reduce": 0.0,
                         "n_factor": 0, "n_back_substitute": 0}
 
@@ -501,16 +503,29 @@ class SweepBasis:
         self.shifts.append(float(omega))
         return self.size - m0
 
-    def _projected_forcing(self, gust):
-        """``W^T B`` for the gust method, shape (m, n_faces), extended row-wise as the basis grows."""
-        if gust not in self._B:
-            self._B[gust] = gust_operator(self.lin, gust)
-        old = self._WB.get(gust)
+    def _forcing_key(self, input, gust, pivot):
+        """The key of an input's forcing operator, built on first use: the gust method, or the motion and pivot."""
+        if input == "gust":
+            key = check_gust_method(gust)
+            if key not in self._B:
+                self._B[key] = gust_operator(self.lin, gust)
+                self._d[key] = np.zeros(3)
+            return key
+        key = (input, check_pivot(pivot) if input == "pitch" else None)
+        if key not in self._B:
+            f = motion_forcing(self.lin, input, pivot)
+            self._B[key] = f.operator
+            self._d[key] = f.d
+        return key
+
+    def _projected_forcing(self, key):
+        """``W^T B`` for one forcing operator, shape (m, r), extended row-wise as the basis grows."""
+        old = self._WB.get(key)
         k = 0 if old is None else old.shape[0]
         if k < self.size:
-            new = np.asarray((self._B[gust].T @ self._W[:, k:]).T)
-            self._WB[gust] = new if old is None else np.vstack([old, new])
-        return self._WB[gust]
+            new = np.asarray((self._B[key].T @ self._W[:, k:]).T)
+            self._WB[key] = new if old is None else np.vstack([old, new])
+        return self._WB[key]
 
     def _reduced_operator(self, cols):
         """Schur form of the Galerkin operator on the basis columns ``cols``.
@@ -528,7 +543,7 @@ class SweepBasis:
         return dict(S=S, Z=Zy, a=Z.conj().T @ (Li @ self._Cr[cols]), RJZ=self._RJ[:, cols] @ Zy,
                     RVZ=self._RV[:, cols] @ Zy)
 
-    def evaluate(self, omega, gust="svm", x_ref=0.0, cache=None):
+    def evaluate(self, omega, gust="svm", x_ref=0.0, cache=None, *, input="gust", pivot=0.25):
         """Outputs, error estimates and dual residual norms at finite frequencies.
 
         Parameters
@@ -538,13 +553,18 @@ class SweepBasis:
         gust : {"svm", "fvm"}
         x_ref : float
         cache : dict, optional
-            Reused between calls with the same ``omega``, ``gust`` and ``x_ref`` (face gusts and their
-            projections); pass an empty dict to start one.
+            Reused between calls with the same ``omega``, input, ``gust``, ``x_ref`` and ``pivot`` (face gusts
+            and their projections); pass an empty dict to start one.
+        input : {"gust", "plunge", "pitch"}
+            The input whose response is evaluated (``cfd.motion`` for the motions: ``b(omega) = b0 + i omega
+            b1``, a two-column operator, and the explicit output term ``d`` added exactly).
+        pivot : float
+            Pitch axis (chords from the leading edge), for ``input="pitch"``.
 
         Returns
         -------
         y : ndarray, complex, shape (p, K)
-            Outputs per unit gust angle.
+            Outputs per unit input (gust angle, plunge in chords, pitch in radians).
         est : ndarray, shape (p, K)
             Error estimate of ``y`` (absolute).
         res : ndarray, shape (p, K)
@@ -555,11 +575,12 @@ class SweepBasis:
         if self.size == 0:
             raise LinearError("the sweep basis is empty; call add_shift first")
         t0 = time.perf_counter()
+        key = self._forcing_key(input, gust, pivot)
         cache = {} if cache is None else cache
         if "G" not in cache:
-            cache["G"] = np.stack([face_gust_vector(self.lin.grid, wk, x_ref) for wk in w], axis=1)  # (nf, K)
+            cache["G"] = _forcing_coefficients(self.lin.grid, input, w, x_ref)  # (r, K)
             cache["F"] = np.zeros((0, w.size), complex)
-        WB = self._projected_forcing(gust)
+        WB = self._projected_forcing(key)
         k = cache["F"].shape[0]
         if k < self.size:
             cache["F"] = np.vstack([cache["F"], WB[k:] @ cache["G"]])                         # W^T b, (m, K)
@@ -577,11 +598,20 @@ class SweepBasis:
         for s, Z in zip(self.shifts, self._at_shift):
             at = np.flatnonzero(np.isclose(w, s, rtol=1e-12, atol=1e-14))
             if at.size:
-                y_dir = -(Z.T @ (self._B[gust] @ cache["G"][:, at]))   # (p, n_at)
+                y_dir = -(Z.T @ (self._B[key] @ cache["G"][:, at]))   # (p, n_at)
                 est[:, at] = SAFETY * np.abs(yf[:, at] - y_dir)
                 yf[:, at] = y_dir
+        if input != "gust":
+            yf = yf + self._d[key][self.rows][:, None]   # the explicit load derivative: exact, no error
         self.timings["reduce"] += time.perf_counter() - t0
         return yf, est, rf / self._c_norm[:, None]
+
+
+def _forcing_coefficients(grid, input, w, x_ref):
+    """``g(omega)`` of ``b(omega) = B g(omega)``, shape (r, K): the face gusts, or ``[1, i omega]`` of a motion."""
+    if input == "gust":
+        return np.stack([face_gust_vector(grid, wk, x_ref) for wk in w], axis=1)
+    return np.stack([np.ones(w.size, complex), 1j * w])
 
 
 def _galerkin(red, ws, F, Rc):
@@ -636,20 +666,31 @@ def _check_tol(tol):
     return t
 
 
+def _evaluate_inputs(basis, wf, gust, x_ref, inputs, pivot, caches, sel):
+    """Every input's reduced outputs and estimates, shapes (p, m, K), the dual residuals (p, K) (input
+    independent), and the worst ratio of estimate to allowance per frequency, shape (K,)."""
+    out = [basis.evaluate(wf, gust, x_ref, caches[name], input=name, pivot=pivot) for name in inputs]
+    y = np.stack([o[0][sel] for o in out], axis=1)
+    est = np.stack([o[1][sel] for o in out], axis=1)
+    scale = np.maximum(np.abs(y), 1e-3 * np.abs(y).max(axis=-1, keepdims=True)) + 1e-300
+    return y, est, out[0][2][sel], (est / scale).max(axis=(0, 1))
+
+
 def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shifts=24, x_ref=0.0, T=None,
-               basis=None, n_moments=16, progress=None):
-    """Gust frequency response over many frequencies from a few factorisations (see the module docstring).
+               basis=None, n_moments=16, progress=None, inputs=("gust",), pivot=0.25):
+    """Frequency response to a gust and rigid motions over many frequencies from a few factorisations (see the
+    module docstring).
 
     Parameters
     ----------
     lin : LinearSystem
     omega : array_like, shape (K,), or tuple (omega_d, omega)
-        As :func:`cfd.lfd.lfd_response`: U/c units, ``>= 0``, ``inf`` allowed (feedthrough, no solve);
-        the pair from ``sysid.mckelvey_grid`` is accepted and gives ``T``.
+        As :func:`cfd.lfd.lfd_response`: U/c units, ``>= 0``, ``inf`` allowed for the gust alone (feedthrough,
+        no solve); the pair from ``sysid.mckelvey_grid`` is accepted and gives ``T``.
     gust : {"svm", "fvm"}
     outputs : sequence of {"Cl", "Cm", "Cd"}
     tol : float
-        Target relative error of every output at every frequency: the estimate must satisfy
+        Target relative error of every output at every frequency and for every input: the estimate must satisfy
         ``est <= tol * max(|y(omega)|, 1e-3 max_omega |y|)``.
     max_shifts : int
         Budget of shifted factorisations in this call (the basis may already hold some).
@@ -666,17 +707,24 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
         Called after every evaluation of the reduced model as ``progress(basis, worst, failing)``: ``worst``
         the largest ratio of the error estimate to its allowance (``<= tol`` when done), ``failing`` the
         frequencies above ``tol``.
+    inputs : sequence of {"gust", "plunge", "pitch"}
+        As :func:`cfd.lfd.lfd_response`. The dual basis depends on the outputs only, so one basis serves every
+        input: a motion's forcing ``b0 + i omega b1`` is two more projected vectors.
+    pivot : float
+        Pitch axis, chords from the leading edge.
 
     Returns
     -------
     sysid.FrequencyResponse
-        As ``lfd_response``; ``metadata`` adds ``"method": "fast"``, ``"error_estimate"`` (p, K) absolute,
-        ``"residual_norm"`` (p, K) relative dual residuals, ``"shifts"``, ``"basis_size"``, ``"tol"``.
+        As ``lfd_response``; ``metadata`` adds ``"method": "fast"``, ``"error_estimate"`` absolute, shape (p, K)
+        for one input and (p, m, K) for several, ``"residual_norm"`` (p, K) relative dual residuals (the same
+        for every input), ``"shifts"``, ``"basis_size"``, ``"tol"``.
 
     Raises
     ------
     LinearError
-        Bad tolerance, frequencies, gust or output names, or a basis of another system.
+        Bad tolerance, frequencies (``inf`` with a motion input), gust, input or output names, or a basis of
+        another system.
 
     Warns
     -----
@@ -686,10 +734,13 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
     tol = _check_tol(tol)
     check_gust_method(gust)
     names, rows = check_outputs(outputs)
+    inputs = check_inputs(inputs)
+    pivot = check_pivot(pivot)
     if int(max_shifts) != max_shifts or max_shifts < 1:
         raise LinearError(f"max_shifts must be a positive integer (factorisations allowed); got {max_shifts!r}")
     w, T = frequency_grid(omega, T)
     x_ref = check_x_ref(x_ref)
+    check_motion_frequencies(inputs, w)
     if basis is None:
         basis = SweepBasis(lin, names, n_moments=n_moments)
     elif basis.lin is not lin:
@@ -700,21 +751,19 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
     t_start = time.perf_counter()
     finite = np.isfinite(w)
     wf = w[finite]
-    H = np.zeros((len(rows), 1, w.size), complex)
-    H[:, 0, ~finite] = lin.D[rows, 0][:, None]
-    est_all = np.zeros((len(rows), w.size))
+    m = len(inputs)
+    H = np.zeros((len(rows), m, w.size), complex)
+    H[:, 0, ~finite] = lin.D[rows, 0][:, None]  # the gust alone reaches here (check_motion_frequencies)
+    est_all = np.zeros((len(rows), m, w.size))
     res_all = np.zeros((len(rows), w.size))
     missed, why = np.zeros(0), ""
     if wf.size:
         if basis.size == 0:
             basis.add_shift(0.0 if wf.min() == 0.0 else float(wf.min()))
         added = 0
-        cache = {}
+        caches = {name: {} for name in inputs}
         while True:
-            y, est, res = basis.evaluate(wf, gust, x_ref, cache)
-            y, est, res = y[sel], est[sel], res[sel]
-            scale = np.maximum(np.abs(y), 1e-3 * np.abs(y).max(axis=1, keepdims=True)) + 1e-300
-            ratio = (est / scale).max(axis=0)
+            y, est, res, ratio = _evaluate_inputs(basis, wf, gust, x_ref, inputs, pivot, caches, sel)
             bad = ratio > tol
             if progress is not None:
                 progress(basis, float(ratio.max()), wf[bad])
@@ -733,14 +782,12 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
             added += 1
             if n_new < 2 * len(basis.rows):  # the new shift's space is (nearly) in the basis already: the
                 # remaining estimates are at the round-off floor
-                y, est, res = basis.evaluate(wf, gust, x_ref, cache)
-                y, est, res = y[sel], est[sel], res[sel]
-                scale = np.maximum(np.abs(y), 1e-3 * np.abs(y).max(axis=1, keepdims=True)) + 1e-300
-                missed = wf[(est / scale).max(axis=0) > tol]
+                y, est, res, ratio = _evaluate_inputs(basis, wf, gust, x_ref, inputs, pivot, caches, sel)
+                missed = wf[ratio > tol]
                 why = f"the basis stopped growing (round-off floor of the estimate, about {tol:g} here)"
                 break
-        H[:, 0, finite] = y
-        est_all[:, finite] = est
+        H[:, :, finite] = y
+        est_all[:, :, finite] = est
         res_all[:, finite] = res
     if missed.size:
         warnings.warn(
@@ -749,7 +796,9 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
             "n_moments, loosen tol, or use method='direct' there", RuntimeWarning, stacklevel=2)
     meta = {"gust": gust, "x_ref": x_ref, "mach": lin.mach, "alpha_deg": lin.flow.alpha_deg,
             "grid": list(map(int, lin.grid.shape)), "method": "fast", "tol": tol,
-            "error_estimate": est_all.tolist(), "residual_norm": res_all.tolist(),
+            "error_estimate": (est_all[:, 0] if m == 1 else est_all).tolist(), "residual_norm": res_all.tolist(),
             "shifts": list(basis.shifts), "basis_size": int(basis.size),
             "tol_met": bool(missed.size == 0), "seconds": time.perf_counter() - t_start}
-    return FrequencyResponse.from_continuous(H, w, T, inputs=["gust"], outputs=list(names), metadata=meta)
+    if "pitch" in inputs:
+        meta["pivot"] = pivot
+    return FrequencyResponse.from_continuous(H, w, T, inputs=list(inputs), outputs=list(names), metadata=meta)
