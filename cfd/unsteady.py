@@ -24,13 +24,16 @@ Per step: inexact (chord) Newton
 ``x <- x - M^-1 F(x)`` from the predictor ``x_0 = 2 q^n - q^{n-1}``, with ``M = 3 V / (2 h) + J`` factorised
 once (``J`` the exact Jacobian of the steady state, ``cfd.jacobian``; nested dissection, ``cfd.linear``'s
 checked ``factorise``). Each iteration costs one residual and one back-substitution. The step has converged
-when ``|F(x)| <= max(rtol |F(x_0)|, atol r_free)`` (L2 norms over all cells and variables; ``r_free`` the
-residual norm of the free stream on this grid, the reference of ``cfd.solve_steady``'s ``tol``). When an
+when ``|F(x)| <= max(rtol |F(x_0)|, atol r_free, 16 eps |3 V x / (2 h)|)`` (L2 norms over all cells and
+variables; ``r_free`` the residual norm of the free stream on this grid, the reference of
+``cfd.solve_steady``'s ``tol``; the last term is the round-off level of ``F``, whose largest term is the mass
+term). When an
 iteration does not cut ``|F|`` by ``stall_ratio`` (1/3), ``M`` is refactorised with the Jacobian at the
 current iterate (gust face velocities and SVM source included) and that factorisation is kept for the
 following steps. ``krylov=True`` solves each Newton correction by GMRES instead (matrix-free products
-``J(x) v`` by complex step through the residual, ``M^-1`` as the preconditioner): closer to Newton's
-convergence at large amplitudes for one more residual per GMRES iteration.
+``J(x) v`` by complex step through the residual, ``M^-1`` as the preconditioner): fewer iterations at large
+amplitudes, but each GMRES vector costs a complex residual and a back-substitution (2.6-3.3x the chord
+iteration's cost in ``bench/unsteady_bench.py``).
 
 Failures
 --------
@@ -39,8 +42,9 @@ non-positive density or pressure, or a local Mach number (total velocity, gust i
 ``max_local_mach`` raises a subclass of :class:`UnsteadyStepError` that names the step, the time and the
 gust amplitude and carries the history so far (``.partial``). A gust that raises the peak local Mach number
 above ``separation_mach`` (1.3 by default: about the pre-shock Mach number at which a turbulent boundary layer
-separates) and by more than 0.01 above its steady value gives a ``RuntimeWarning``: the Euler equations cannot separate, so the response past that point is that of
-an attached flow that a real aerofoil would not have.
+separates) and by more than 0.01 above its steady value gives a ``RuntimeWarning``: the Euler equations
+cannot separate, so the response past that point is that of an attached flow that a real aerofoil would not
+have. Measurements against the LTD and the cost: ``docs/nonlinear.md``.
 """
 
 import logging
@@ -268,9 +272,11 @@ def unsteady_response(sol, gust, dt, t_end, method="svm", x_ref=0.0, *, rtol=1e-
     x_ref : float
         Where the input signal ``u`` is measured (chords).
     rtol : float
-        Convergence of a step: ``|F|`` below ``rtol`` times its value at the predictor...
+        Convergence of a step: ``|F|`` below ``rtol`` times its value at the predictor, or below ``atol`` times
+        the free-stream residual norm ``r_free``, or below the round-off level of ``F`` (the largest of the
+        three).
     atol : float
-        ... or below ``atol`` times the free-stream residual norm ``r_free`` (whichever is larger).
+        See ``rtol``.
     max_iter : int
         Newton iterations per step at most (over all its refactorisations).
     stall_ratio : float
