@@ -16,3 +16,5 @@ from .gust import GustError, GustPositionError, OneMinusCosine, SharpEdged, Sine
 from .linear import LinearError, LinearSystem, linearise
 from .lfd import lfd_response
 from .ltd import LTDHistory, ltd_response, ltd_responses
+from .unsteady import (LinearityResult, LocalMachError, NonPhysicalStateError, UnsteadyError, UnsteadyHistory,
+                       UnsteadyStepError, linearity, unsteady_response)

@@ -1,0 +1,165 @@
+"""cfd.unsteady: the nonlinear gust response against the LTD at small amplitudes, and its bad inputs."""
+
+import warnings
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from flowgrids import parabolic_c_grid
+
+import cfd
+from cfd import (LocalMachError, NonPhysicalStateError, OneMinusCosine, UnsteadyError, UnsteadyStepError,
+                 linearise, ltd_response, solve_steady, unsteady_response)
+from cfd.unsteady import _source_jacobian
+from cfd.gust import cell_x_gradient, face_gust, svm_source
+
+
+@pytest.fixture(scope="module")
+def subsonic():
+    """NACA0012-like parabolic grid (97 x 17 nodes), M0.5, alpha 1 deg (lifting: no far-field tie, see docs)."""
+    grid = parabolic_c_grid(thickness=0.12, n_surface=48, n_wake=12, nj=17)
+    sol = solve_steady(grid, 0.5, 1.0, tol=1e-12)
+    return sol, linearise(sol)
+
+
+@pytest.fixture(scope="module")
+def coarse():
+    grid = parabolic_c_grid(thickness=0.1, n_surface=32, n_wake=8, nj=13)
+    return solve_steady(grid, 0.5, 0.0, tol=1e-12)
+
+
+def gust(angle_deg):
+    return OneMinusCosine(length=2.0, angle_deg=angle_deg, x0=-1.0)
+
+
+def test_small_amplitudes_follow_the_ltd_and_the_difference_is_linear(subsonic):
+    """Cl / A and Cm / A within 0.5 % of the LTD's peak at 0.01 and 0.1 deg; the difference grows 10x per decade."""
+    sol, lin = subsonic
+    dt, t_end = 0.1, 5.0
+    h = ltd_response(lin, gust(1.0), dt, t_end, max_phase_error=1.0)
+    A1 = gust(1.0).amplitude
+    err = {}
+    for a in (0.01, 0.1):
+        g = gust(a)
+        u = unsteady_response(sol, g, dt, t_end, max_phase_error=1.0)
+        assert u.complete and u.n_factorisations == 1 and u.iterations.max() <= 3
+        np.testing.assert_array_equal(u.t, h.t)
+        np.testing.assert_allclose(u.u / g.amplitude, h.u / A1, rtol=1e-12, atol=1e-15)
+        err[a] = [np.abs(y / g.amplitude - yl / A1).max() / np.abs(yl / A1).max()
+                  for y, yl in ((u.cl, h.cl), (u.cm, h.cm))]
+    # Measured: Cl 6.5e-6 and 6.6e-5 of the peak, Cm 2.6e-5 and 2.6e-4 (the issue's criterion is 5e-3).
+    assert err[0.01][0] < 2e-5 and err[0.1][0] < 2e-4, err
+    assert err[0.01][1] < 1e-4 and err[0.1][1] < 1e-3, err
+    for k in (0, 1):
+        assert 8.0 < err[0.1][k] / err[0.01][k] < 12.0, err  # measured 10.13 and 10.03
+
+
+def test_history_fields_totals_and_snapshots(coarse):
+    g = gust(0.5)
+    u = unsteady_response(coarse, g, 0.1, 1.0, snapshot_times=(0.0, 0.52, 5.0), max_phase_error=1.0)
+    assert u.t.shape == u.cl.shape == u.cd.shape == u.iterations.shape == u.max_mach.shape == (11,)
+    assert u.cl[0] == u.cm[0] == u.cd[0] == 0.0 and u.iterations[0] == 0
+    np.testing.assert_allclose(u.cl_total, coarse.cl + u.cl)
+    np.testing.assert_allclose(u.cd_total - u.cd, coarse.cd, atol=1e-14)
+    assert sorted(u.snapshots) == [0.0, 0.5, 1.0]
+    np.testing.assert_allclose(u.snapshots[1.0].ravel() - coarse.q.ravel(), u.q, atol=1e-15)
+    assert u.amplitude_deg == 0.5 and u.method == "svm" and u.dt == 0.1
+    assert np.all(u.residual[1:] <= 1e-8) and u.info["steady_residual"] < 1e-10
+    with pytest.raises(ValueError):
+        u.cl[0] = 1.0  # read-only, as the LTD's
+
+
+def test_zero_gust_stays_steady_and_progress_is_called(coarse):
+    calls = []
+    u = unsteady_response(coarse, gust(1e-9), 0.1, 0.5, progress=lambda *a: calls.append(a), max_phase_error=1.0)
+    assert [c[0] for c in calls] == [1, 2, 3, 4, 5] and calls[-1][1] == 5 and calls[-1][2] == pytest.approx(0.5)
+    assert np.abs(u.cl).max() < 1e-12
+
+
+def test_fvm_and_krylov_agree_with_their_references(coarse):
+    """FVM against the FVM LTD at 0.01 deg; GMRES corrections give the chord result to the tolerance."""
+    lin = linearise(coarse)
+    g = gust(0.01)
+    h = ltd_response(lin, g, 0.1, 3.0, method="fvm", max_phase_error=1.0)
+    u = unsteady_response(coarse, g, 0.1, 3.0, method="fvm", max_phase_error=1.0)
+    assert np.abs(u.cl - h.cl).max() < 2e-3 * np.abs(h.cl).max()
+    k = unsteady_response(coarse, g, 0.1, 3.0, method="fvm", krylov=True, max_phase_error=1.0)
+    assert k.info["n_gmres"] > 0
+    np.testing.assert_allclose(k.cl, u.cl, atol=1e-6 * np.abs(h.cl).max())
+
+
+def test_svm_source_jacobian_matches_complex_step_of_the_source(coarse):
+    grid = coarse.grid
+    gi, gj = face_gust(grid, gust(3.0), 1.5)
+    dgdx = cell_x_gradient(grid, gi, gj)
+    J = _source_jacobian(coarse.q, 0.5, dgdx, 1.4)
+    rng = np.random.default_rng(1)
+    v = rng.normal(size=coarse.q.shape)
+    e = 1e-7
+    fd = -(svm_source(coarse.q + e * v, 0.5, dgdx) - svm_source(coarse.q - e * v, 0.5, dgdx)) / (2 * e)
+    np.testing.assert_allclose(J @ v.ravel(), fd.ravel(), atol=1e-9 * np.abs(fd).max())
+
+
+def test_stalled_steps_refactorise_and_large_gusts_warn(coarse):
+    """A strong gust makes the frozen Jacobian stall: the matrix is refactorised and the march completes."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        u = unsteady_response(coarse, gust(15.0), 0.1, 2.5, max_phase_error=1.0, stall_ratio=0.05)
+    assert u.complete and u.n_factorisations > 1 and len(u.refactorised_at) == u.n_factorisations - 1
+
+
+def test_dt_too_large_for_the_gust_warns(coarse):
+    with pytest.warns(RuntimeWarning, match=r"phase-rate error .* reduce dt"):
+        unsteady_response(coarse, gust(0.1), 0.5, 0.5)
+
+
+def test_local_mach_beyond_the_limit_is_a_typed_error_with_the_history(coarse):
+    with pytest.raises(LocalMachError, match=r"step \d+ \(s = .*\) of the 30 deg gust: local Mach number") as e:
+        unsteady_response(coarse, gust(30.0), 0.1, 4.0, max_phase_error=1.0, max_local_mach=0.9)
+    err = e.value
+    assert isinstance(err, UnsteadyStepError) and isinstance(err, RuntimeError)
+    assert not err.partial.complete and err.partial.t[-1] == pytest.approx((err.step - 1) * 0.1)
+    assert err.amplitude_deg == 30.0 and err.partial.cl.size == err.step
+
+
+def test_separation_warning(coarse):
+    with pytest.warns(RuntimeWarning, match=r"raises the peak local Mach number .* separate"):
+        unsteady_response(coarse, gust(30.0), 0.1, 2.0, max_phase_error=1.0, separation_mach=0.9)
+
+
+def test_non_physical_state_is_a_typed_error_naming_step_and_amplitude(coarse):
+    """An 89 deg gust (v_g = 57 U): the Newton iterate has negative pressure at step 6."""
+    g = OneMinusCosine(length=2.0, angle_deg=89.0, x0=-1.0)
+    with pytest.raises(NonPhysicalStateError, match=r"step 6 \(s = 1.2\) of the 89 deg svm gust .* non-positive"):
+        unsteady_response(coarse, g, 0.2, 4.0, max_phase_error=np.inf, max_local_mach=np.inf, separation_mach=np.inf)
+
+
+def test_non_converged_steady_solution_is_refused(coarse):
+    rng = np.random.default_rng(0)
+    rough = replace(coarse, q=coarse.q * (1.0 + 1e-6 * rng.normal(size=coarse.q.shape)))
+    with pytest.raises(UnsteadyError, match=r"not converged: \|R\(q\)\| / \|R\(free stream\)\| = .* Re-solve"):
+        unsteady_response(rough, gust(0.1), 0.1, 1.0, max_phase_error=1.0)
+    with pytest.raises(UnsteadyError, match=r"not converged"):
+        unsteady_response(replace(coarse, converged=False), gust(0.1), 0.1, 1.0, max_phase_error=1.0)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(method="xyz"), "method must be one of"),
+    (dict(dt=0.0), "dt = 0.0 must be positive"),
+    (dict(t_end=0.01), "at least one time step"),
+    (dict(gust="1-cos"), "gust must be a cfd"),
+])
+def test_bad_arguments(coarse, kwargs, match):
+    args = dict(gust=gust(0.1), dt=0.1, t_end=1.0)
+    args.update(kwargs)
+    with pytest.raises(UnsteadyError, match=match):
+        unsteady_response(coarse, **args)
+
+
+def test_linearity_returns_peak_ratios_near_one_at_small_amplitudes(coarse):
+    res = cfd.linearity(coarse, gust(1.0), [0.01, 1.0], 0.1, 3.0, max_phase_error=1.0)
+    assert res.cl_peak_ratio.shape == (2,) and len(res.histories) == 2
+    assert abs(res.cl_peak_ratio[0] - 1) < 1e-3 and res.cl_error[0] < 1e-3
+    with pytest.raises(UnsteadyError, match="nonzero"):
+        cfd.linearity(coarse, gust(1.0), [0.0], 0.1, 3.0)
