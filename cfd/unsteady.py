@@ -116,7 +116,7 @@ class LocalMachError(UnsteadyStepError):
     """The local Mach number exceeded ``max_local_mach``: a shock stronger than the study means to resolve."""
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, kw_only=True)  # its fields follow the base class defaults (h, alpha, pivot)
 class UnsteadyHistory(LTDHistory):
     """Nonlinear gust response: an :class:`cfd.ltd.LTDHistory` (same fields, same meaning) with more fields.
 
