@@ -2,16 +2,14 @@
 
 For each paper case asked (``docs/data/frf-T*.npz``, T = 70/(2 pi)) and each order, the ROM of
 ``sysid.identify(frf, n, dc_gain="match", stable=True, algorithm=...)`` for each algorithm asked is driven by
-the gust inputs of the LTD histories in a study store (the paper study's: ``lfdrom run studies/paper.toml``
-first) and compared with them: the load-envelope error (``sysid.history_metrics.envelope_errors``) and the RMS
+the gust inputs of the LTD histories of a computed study (the paper study's: ``lfdrom run studies/paper.toml``
+first; ``studies.results.load_results`` reads them) and compared with them: the load-envelope error (``sysid.history_metrics.envelope_errors``) and the RMS
 error, both in % of the LTD's peak, Cl / Cm, per gust.
 
 Run: .venv/bin/python bench/rom_vs_ltd_bench.py --cases T4,T5 --orders 15,25,55
 """
 
 import argparse
-import glob
-import json
 import sys
 import warnings
 from pathlib import Path
@@ -22,21 +20,17 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 import sysid  # noqa: E402
-from studies.cases import GUST_CASES, TEST_CASES  # noqa: E402
+from studies.results import load_results  # noqa: E402
 from sysid.history_metrics import envelope_errors  # noqa: E402
 from sysid.simulate import rom_simulation  # noqa: E402
 
 
-def ltd_histories(store):
-    """``{(naca, mach): {gust name: (t, u, cl, cm)}}`` from the ``ltd`` entries of a study store."""
-    names = {(g.kind, g.length, g.angle_deg): g.name for g in GUST_CASES.values()}
+def ltd_histories(study):
+    """``{case: {gust: (t, u, cl, cm)}}``: the LTD references of a computed study (``studies.results.load_results``;
+    entries of an older code version are not read)."""
     out = {}
-    for f in glob.glob(str(Path(store) / "ltd" / "*" / "*.json")):
-        cfg = json.loads(Path(f).read_text())["body"]["config"]
-        st, g = cfg["steady"], cfg["gust"]
-        d = np.load(glob.glob(f[:-5] + "*.npz")[0])
-        label = names.get((g["kind"], g["length"], g["angle_deg"]), f"{g['kind']} {g['length']}")
-        out.setdefault((st["naca"], float(st["mach"])), {})[label] = (d["t"], d["u"], d["cl"], d["cm"])
+    for (case, gust), ltd in load_results(study).ltd.items():
+        out.setdefault(case, {})[gust] = (ltd.t, ltd.u, ltd.cl, ltd.cm)
     return out
 
 
@@ -45,15 +39,15 @@ def main(argv=None):
     ap.add_argument("--cases", default="T4,T5")
     ap.add_argument("--orders", default="15,25,55")
     ap.add_argument("--algorithms", default="relocation,subspace")
-    ap.add_argument("--store", default=str(ROOT / "results" / "paper" / "store"))
+    ap.add_argument("--study", default=str(ROOT / "studies" / "paper.toml"), help="a computed study with these cases")
     args = ap.parse_args(argv)
-    hist = ltd_histories(args.store)
+    hist = ltd_histories(args.study)
     print("case N_r algorithm FRF_max_err_Cl/Cm [%] | per gust: envelope Cl/Cm, RMS Cl/Cm [% of LTD peak]")
     for case in args.cases.split(","):
-        spec = TEST_CASES[case]
-        runs = hist.get((spec.naca, float(spec.mach)))
+        runs = hist.get(case)
         if not runs:
-            raise SystemExit(f"no LTD histories of {case} in {args.store}: run lfdrom run studies/paper.toml first")
+            raise SystemExit(f"no LTD histories of {case} in the store of {args.study}: run `lfdrom run {args.study}` "
+                             "first")
         frf = sysid.FrequencyResponse.load(ROOT / "docs" / "data" / f"frf-{case}.npz")
         for n in map(int, args.orders.split(",")):
             for algorithm in args.algorithms.split(","):

@@ -4,7 +4,7 @@ import warnings
 
 import numpy as np
 
-from .poles import floor_at, pair_poles, partial_fraction_basis
+from .poles import floor_at, pair_poles, partial_fraction_basis, pole_groups
 
 __all__ = ["refine_poles", "stable_params", "params_to_poles", "derivative_columns"]
 
@@ -68,12 +68,8 @@ def derivative_columns(s, poles, theta, floor=None):
     """
     fin = np.isfinite(s)
     n = poles.size
-    is_pair = np.abs(poles.imag) > 0
-    first = np.ones(n, dtype=bool)
-    first[1:] = ~(is_pair[1:] & is_pair[:-1] & (np.conj(poles[1:]) == poles[:-1]))
-    idx = np.flatnonzero(first)
+    idx, pair = pole_groups(poles)
     a = poles[idx]
-    pair = is_pair[idx]
     q1 = np.zeros((s.size, idx.size), dtype=complex)
     q2 = np.zeros((s.size, idx.size), dtype=complex)
     q1[fin] = 1.0 / (s[fin, None] - a[None, :]) ** 2

@@ -15,7 +15,7 @@ import numpy as np
 
 from .errors import FrequencyDataError
 
-__all__ = ["stability_region", "resolution_floor", "floor_at", "pair_poles", "initial_poles", "partial_fraction_basis",
+__all__ = ["stability_region", "resolution_floor", "floor_at", "pair_poles", "initial_poles", "pole_groups", "partial_fraction_basis",
            "modal_realisation", "pole_distance", "discrete_basis", "input_normal", "RESOLUTION", "MIN_DAMPING",
            "MIN_SEPARATION"]
 
@@ -178,6 +178,28 @@ def initial_poles(omega: np.ndarray, n: int, spacing: str = "log") -> np.ndarray
     return np.array(out, dtype=complex)
 
 
+def pole_groups(poles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The first column of each real pole or conjugate pair in canonical order.
+
+    Parameters
+    ----------
+    poles : ndarray, shape (n,), complex
+        Canonical order (:func:`pair_poles`): real poles, then pairs ``(a, conj a)``.
+
+    Returns
+    -------
+    idx : ndarray of int, shape (g,)
+        Index of each group's first pole (a pair occupies ``idx`` and ``idx + 1``).
+    pair : ndarray of bool, shape (g,)
+        True where the group is a pair.
+    """
+    is_pair = np.abs(poles.imag) > 0
+    first = np.ones(poles.size, dtype=bool)
+    first[1:] = ~(is_pair[1:] & is_pair[:-1] & (np.conj(poles[1:]) == poles[:-1]))
+    idx = np.flatnonzero(first)
+    return idx, is_pair[idx]
+
+
 def partial_fraction_basis(s: np.ndarray, poles: np.ndarray) -> np.ndarray:
     """Real-parameter partial-fraction basis, shape (K, n), complex.
 
@@ -192,12 +214,8 @@ def partial_fraction_basis(s: np.ndarray, poles: np.ndarray) -> np.ndarray:
     if n == 0:
         return Phi
     sf = s[fin][:, None]
-    is_pair = np.abs(poles.imag) > 0
-    first = np.ones(n, dtype=bool)
-    first[1:] = ~(is_pair[1:] & is_pair[:-1] & (np.conj(poles[1:]) == poles[:-1]))
-    idx = np.flatnonzero(first)
+    idx, pair = pole_groups(poles)
     a = poles[idx]
-    pair = is_pair[idx]
     t1 = 1.0 / (sf - a[None, :])
     t2 = 1.0 / (sf - np.conj(a)[None, :])
     real_cols = idx[~pair]
