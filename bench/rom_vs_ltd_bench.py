@@ -39,6 +39,8 @@ def main(argv=None):
     ap.add_argument("--cases", default="T4,T5")
     ap.add_argument("--orders", default="15,25,55")
     ap.add_argument("--algorithms", default="relocation,subspace")
+    ap.add_argument("--minimax-within", type=float, default=None,
+                    help="sysid.identify(minimax_within=...): least squares within this fraction of the minimax level")
     ap.add_argument("--study", default=str(ROOT / "studies" / "paper.toml"), help="a computed study with these cases")
     args = ap.parse_args(argv)
     hist = ltd_histories(args.study)
@@ -53,7 +55,8 @@ def main(argv=None):
             for algorithm in args.algorithms.split(","):
                 with warnings.catch_warnings():
                     warnings.simplefilter("ignore")
-                    res = sysid.identify(frf, n, dc_gain="match", stable=True, algorithm=algorithm)
+                    res = sysid.identify(frf, n, dc_gain="match", stable=True, algorithm=algorithm,
+                                         minimax_within=args.minimax_within)
                     A, B, C, D = (np.asarray(x, dtype=float) for x in (res.model.A, res.model.B, res.model.C,
                                                                         res.model.D))
                     cells = []

@@ -294,6 +294,7 @@ def identify(
     solver: str = "clarabel",
     refit_c: Any = "auto",
     algorithm: str = "auto",
+    minimax_within: float | None = None,
 ) -> IdentificationResult:
     """Identify a discrete state-space model from frequency-response data.
 
@@ -320,6 +321,9 @@ def identify(
         ``q = min(q_max, 2 order + 2)`` for Algorithm 2 (see :func:`sysid.subspace.default_q`).
     stabilise_method : {"lmi", "reflect"}
         Passed to :func:`sysid.stability.stabilise`.
+    minimax_within : float, optional
+        Relocation path only: least-squares residues within ``1 + minimax_within`` of the minimax level
+        (:func:`sysid.relocation.fit_relocated`; favours low frequencies, i.e. long gusts). Default off.
     fix_feedthrough : bool
         Impose ``G(z=-1) = H(omega_d = pi)`` when the data contain that sample (default True).
     solver : {"clarabel", "numpy"}
@@ -362,6 +366,9 @@ def identify(
 
     if algorithm not in ("auto", "relocation", "subspace"):
         raise ValueError(f"algorithm must be 'auto', 'relocation' or 'subspace'; got {algorithm!r}")
+    if minimax_within is not None and not (isinstance(minimax_within, (int, float)) and np.isfinite(minimax_within)
+                                           and minimax_within > 0):
+        raise ValueError(f"minimax_within must be a positive fraction (e.g. 0.1) or None; got {minimax_within!r}")
     auto_algorithm = algorithm == "auto"
     if algorithm == "auto" and isinstance(frf, FrequencyResponse):
         algorithm = resolve_algorithm(algorithm, frf.shape[0], frf.shape[1], stable=stable, dc_gain=dc_gain is not None)
@@ -406,7 +413,7 @@ def identify(
         ft = np.array(ft, dtype=float)
 
     if algorithm == "relocation":
-        res = _identify_relocation(frf, sub, svd, dc, ft, dc_data, weights, margin, stable)
+        res = _identify_relocation(frf, sub, svd, dc, ft, dc_data, weights, margin, stable, minimax_within)
         if not auto_algorithm:
             return res
         gain = unobserved_gain(res.model, frf)
@@ -481,7 +488,7 @@ def identify(
     )
 
 
-def _identify_relocation(frf, sub, svd, dc, ft, dc_data, weights, margin, stable):
+def _identify_relocation(frf, sub, svd, dc, ft, dc_data, weights, margin, stable, minimax_within=None):
     """The ``algorithm="relocation"`` branch of :func:`identify` (see :mod:`sysid.relocation`)."""
     import control
 
@@ -504,7 +511,7 @@ def _identify_relocation(frf, sub, svd, dc, ft, dc_data, weights, margin, stable
         starts = {"subspace": (2.0 / T) * (lam - 1.0) / (lam + 1.0)}
     mg = float(margin) if margin > 0 else 1e-9
     rl = fit_relocated(frf.omega, z, G, T, sub.order, dc_gain=dc, feedthrough=ft, weights=w, start_poles=starts,
-                       margin=mg)
+                       margin=mg, minimax_within=minimax_within)
     A, B, C, D = rl.A, rl.B, rl.C, rl.D
     model = control.ss(A, B, C, D, T, inputs=list(frf.inputs), outputs=list(frf.outputs))
     Gm = evaluate_ss(A, B, C, D, z)

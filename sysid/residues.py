@@ -14,7 +14,7 @@ GAP_REFINE, GAP_SLACK, GAP_FLOOR = 8, 1.25, 0.05
 
 
 # --------------------------------------------------------------------------------------------- minimax
-def socp_minimax(Q, g, E, f, tol=1e-9, Qb=None, ub=None):
+def socp_minimax(Q, g, E, f, tol=1e-9, Qb=None, ub=None, within=None):
     """Solve ``min_y max_k |Q_k y - g_k|`` s.t. ``E y = f`` (and ``|Qb_j y| <= ub_j``) with Clarabel (conic
     form, one 3-cone per row).
 
@@ -22,6 +22,12 @@ def socp_minimax(Q, g, E, f, tol=1e-9, Qb=None, ub=None):
     complex, ``ub`` (J,) positive. Variables ``x = [y; t]``; Clarabel's form ``A x + s = b``, ``s`` in the
     cones: zero cone for ``E y = f``, for each ``k`` the cone ``s = (t, Re(Q_k y - g_k), Im(Q_k y - g_k))``,
     and for each bound ``s = (ub_j, Re(Qb_j y), Im(Qb_j y))``.
+
+    With ``within = eps`` (lexicographic second stage), the minimax level ``t*`` found first becomes a bound:
+    the answer minimises ``sum_k |Q_k y - g_k|^2`` subject to ``|Q_k y - g_k| <= (1 + eps) t*`` and the same
+    equalities and bounds (the minimax solution is flat over the samples - equioscillation - and leaves the
+    low-error region unused; the second stage spends that freedom on the least-squares error without giving up
+    more than ``eps`` of the max error). When the second stage fails, the minimax answer is returned.
 
     Returns ``(y, status)``; ``y`` is None when the solver did not succeed.
     """
@@ -63,8 +69,30 @@ def socp_minimax(Q, g, E, f, tol=1e-9, Qb=None, ub=None):
     st.verbose = False
     st.tol_gap_abs = st.tol_gap_rel = st.tol_feas = tol  # relative to the unit-scaled data
     st.max_iter = 200
+    y, status = _clarabel(Pm, q, Am, bv, cones, st, N)
+    if y is None or within is None:
+        return y, status
+    # second stage: t fixed at (1 + within) t*, least squares of the residuals; x = y, A from the rows above
+    # without the t column, the cone heads move into b
+    t_star = float(np.max(np.abs(Q @ y - g)))
+    A2 = Am.tocsc()[:, :N]
+    b2 = bv.copy()
+    b2[c:c + 3 * K:3] = (1.0 + within) * t_star
+    # sum |Q y - g|^2 = y^T Re(Q^H Q) y - 2 Re(Q^H g)^T y + const (Clarabel: 1/2 x^T P x + q^T x)
+    P2 = sp.csc_matrix(np.triu(2.0 * (Q.conj().T @ Q).real))
+    q2 = -2.0 * (Q.conj().T @ g).real
+    y2, status2 = _clarabel(P2, q2, A2, b2, cones, st, N)
+    if y2 is None or np.max(np.abs(Q @ y2 - g)) > (1.0 + 2.0 * within) * t_star:
+        return y, status
+    return y2, status2
+
+
+def _clarabel(P, q, A, b, cones, settings, N):
+    """Run Clarabel; ``(x[:N], status)``, ``x`` None when it did not succeed."""
+    import clarabel
+
     try:
-        sol = clarabel.DefaultSolver(Pm, q, Am, bv, cones, st).solve()
+        sol = clarabel.DefaultSolver(P, q, A, b, cones, settings).solve()
     except Exception as exc:  # pragma: no cover - solver internals
         return None, f"solver_error: {exc}"
     status = str(sol.status)
@@ -114,7 +142,8 @@ def gap_bounds(z: np.ndarray, G: np.ndarray, refine: int = GAP_REFINE, slack: fl
     return np.exp(1j * pts), slack * u + floor * peak
 
 
-def minimax_cd(A, B, z, G, *, dc_gain=None, feedthrough=None, weights=None, start=None, bound=None):
+def minimax_cd(A, B, z, G, *, dc_gain=None, feedthrough=None, weights=None, start=None, bound=None,
+               within=None):
     """Minimax fit of ``C`` and ``D`` with ``A``, ``B`` fixed, under exact DC / feedthrough equalities.
 
     For each output ``i`` (the rows of ``C`` and ``D`` decouple):
@@ -143,6 +172,9 @@ def minimax_cd(A, B, z, G, *, dc_gain=None, feedthrough=None, weights=None, star
     bound : tuple (z_b, u_b), optional
         Gain bounds at further points: ``|G_ij(z_b[l])| <= u_b[i, j, l]``, ``z_b`` shape (J,) on the unit
         circle, ``u_b`` shape (p, m, J) positive (e.g. :func:`gap_bounds`); more cones of the same programme.
+    within : float, optional
+        Lexicographic second stage of :func:`socp_minimax`: least-squares residues among those within
+        ``1 + within`` of the minimax level (per output).
 
     Returns
     -------
@@ -211,7 +243,7 @@ def minimax_cd(A, B, z, G, *, dc_gain=None, feedthrough=None, weights=None, star
             ubs = ub[i].reshape(-1) / gs
             if start_ok:
                 start_ok = bool(np.all(np.abs(Phib @ np.concatenate([start[0][i], start[1][i]])) <= ub[i].reshape(-1)))
-        y, status = socp_minimax(Q, g / gs, E_y, f_y, Qb=Qb, ub=ubs)
+        y, status = socp_minimax(Q, g / gs, E_y, f_y, Qb=Qb, ub=ubs, within=within)
         y = None if y is None else y * gs
         statuses.append(status)
         if y is None or status not in ("optimal", "optimal_inaccurate"):
