@@ -5,7 +5,7 @@ write the Markdown). Prints one table and a summary.
 
 Data: the six committed LFD frequency responses of the paper cases, ``docs/data/frf-T1..T6.npz`` (gust input,
 outputs Cl and Cm, McKelvey's grid with M = 256 and T = 70 / (2 pi); the ``omega = inf`` sample holds the
-feedthrough 0).
+feedthrough 0); `--data` adds any other `.npz` (e.g. the held-out FRFs of `bench/heldout_frfs.py`).
 
 Methods, all with ``n`` states (``N_r``):
 
@@ -55,7 +55,15 @@ CASES = [f"T{i}" for i in range(1, 7)]
 
 
 def load(case):
-    return sysid.FrequencyResponse.load(ROOT / "docs" / "data" / f"frf-{case}.npz")
+    """A paper case (``T1`` .. ``T6``) or the path of any ``sysid.FrequencyResponse`` ``.npz`` file."""
+    if case in CASES:
+        return sysid.FrequencyResponse.load(ROOT / "docs" / "data" / f"frf-{case}.npz")
+    return sysid.FrequencyResponse.load(case)
+
+
+def label(case):
+    """Table label: the paper case, or a file's stem (``frf-A.npz`` -> ``A``)."""
+    return case if case in CASES else Path(case).stem.removeprefix("frf-")
 
 
 def dense_omega_d(frf, refine=8):
@@ -178,10 +186,12 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--orders", default="15,25", help="comma-separated state counts (default 15,25)")
     ap.add_argument("--cases", default=",".join(CASES))
+    ap.add_argument("--data", default="", help="comma-separated FrequencyResponse .npz files to add (e.g. the "
+                    "held-out FRFs of bench/heldout_frfs.py); --cases '' runs them alone")
     ap.add_argument("--out", type=Path, default=None, help="also write the Markdown to this file")
     args = ap.parse_args(argv)
     orders = [int(x) for x in args.orders.split(",")]
-    cases = args.cases.split(",")
+    cases = [c for c in args.cases.split(",") + args.data.split(",") if c]
 
     warm = load(cases[0])  # warm-up: imports, cvxpy compilation of the subspace path's refits
     for _, fn in METHODS:
@@ -197,8 +207,9 @@ def main(argv=None):
              "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     summary = []
     compact = []
-    for case in cases:
-        frf = load(case)
+    for path in cases:
+        frf = load(path)
+        case = label(path)
         for n in orders:
             got = {}
             for name, fn in METHODS:
