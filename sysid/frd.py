@@ -1,4 +1,4 @@
-"""Frequency-response data and the McKelvey identification grid.
+"""Frequency-response data (the grids and the bilinear frequency map: :mod:`sysid.grids`).
 
 A :class:`FrequencyResponse` holds complex samples ``H`` of shape ``(p, m, K)`` (outputs, inputs,
 frequencies, as in python-control) together with their frequencies, in two linked forms:
@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import copy
 import json
-import math
 import types
 from pathlib import Path
 from typing import Any, Mapping, Sequence
@@ -29,102 +28,10 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from .errors import FrequencyDataError, FrequencyGridError
+from .grids import GRID_RTOL, check_period, continuous_to_discrete, discrete_to_continuous, mckelvey_grid
 
-__all__ = ["FrequencyResponse", "mckelvey_grid", "discrete_to_continuous", "continuous_to_discrete"]
-
-# Relative tolerance used to decide whether a grid is equispaced / a sample sits on 0 or pi.
-_GRID_RTOL = 1e-9
-
-
-# --------------------------------------------------------------------------------------------------
-# frequency maps
-# --------------------------------------------------------------------------------------------------
-def _check_T(T: Any) -> float:
-    """Return ``T`` as a positive finite float or raise :class:`FrequencyGridError`."""
-    try:
-        Tf = float(T)
-    except (TypeError, ValueError):
-        raise FrequencyGridError(
-            f"sampling period T must be a positive finite number, got {T!r}; pass e.g. T=70/(2*pi)"
-        ) from None
-    if not math.isfinite(Tf) or Tf <= 0.0:
-        raise FrequencyGridError(
-            f"sampling period T must be positive and finite, got T={T!r}; pass e.g. T=70/(2*pi)"
-        )
-    return Tf
-
-
-def discrete_to_continuous(omega_d: np.ndarray, T: float) -> np.ndarray:
-    """Bilinear map ``omega = (2/T) tan(omega_d / 2)`` (paper Eq. 28).
-
-    Parameters
-    ----------
-    omega_d : array_like, shape (K,)
-        Discrete frequencies in ``[0, pi]`` (rad/sample).
-    T : float
-        Sampling period (convective time units, chords / U_inf).
-
-    Returns
-    -------
-    omega : ndarray, shape (K,)
-        Continuous frequencies (U_inf / c units). ``omega_d == pi`` maps to exactly ``np.inf`` (never the
-        huge finite number ``tan(pi/2)`` gives in floating point).
-    """
-    T = _check_T(T)
-    wd = np.asarray(omega_d, dtype=float)
-    at_pi = np.isclose(wd, np.pi, rtol=0.0, atol=_GRID_RTOL * np.pi)
-    with np.errstate(over="ignore"):
-        omega = (2.0 / T) * np.tan(np.where(at_pi, 0.0, wd) / 2.0)
-    return np.where(at_pi, np.inf, omega)
-
-
-def continuous_to_discrete(omega: np.ndarray, T: float) -> np.ndarray:
-    """Inverse bilinear map ``omega_d = 2 arctan(omega T / 2)``; ``inf`` maps to exactly ``pi``.
-
-    Parameters
-    ----------
-    omega : array_like, shape (K,)
-        Continuous frequencies (U_inf / c units), nonnegative, ``inf`` allowed.
-    T : float
-        Sampling period.
-
-    Returns
-    -------
-    omega_d : ndarray, shape (K,)
-        Discrete frequencies in ``[0, pi]``.
-    """
-    T = _check_T(T)
-    w = np.asarray(omega, dtype=float)
-    return np.where(np.isinf(w), np.pi, 2.0 * np.arctan(np.where(np.isinf(w), 0.0, w) * T / 2.0))
-
-
-def mckelvey_grid(M: int, T: float) -> tuple[np.ndarray, np.ndarray]:
-    """McKelvey's equispaced identification grid and its continuous image.
-
-    Parameters
-    ----------
-    M : int
-        Number of intervals; the grid has ``M + 1`` points ``omega_d = pi k / M``, ``k = 0..M``.
-        The paper uses ``M = 256`` (257 frequencies).
-    T : float
-        Sampling period (convective time units); the paper uses ``T = 70 / (2 pi)``.
-
-    Returns
-    -------
-    omega_d : ndarray, shape (M + 1,)
-        Discrete frequencies, ``omega_d[0] = 0`` and ``omega_d[-1] = pi`` exactly.
-    omega : ndarray, shape (M + 1,)
-        Continuous frequencies (U_inf / c units), ``(2/T) tan(omega_d / 2)``; ``omega[0] = 0`` and
-        ``omega[-1] = np.inf`` exactly.
-    """
-    if isinstance(M, bool) or not isinstance(M, (int, np.integer)) or M < 1:
-        raise FrequencyGridError(f"M must be a positive integer (number of grid intervals), got {M!r}")
-    T = _check_T(T)
-    k = np.arange(M + 1)
-    omega_d = np.pi * k / M
-    omega_d[-1] = np.pi
-    omega = discrete_to_continuous(omega_d, T)
-    return omega_d, omega
+__all__ = ["FrequencyResponse", "mckelvey_grid", "discrete_to_continuous", "continuous_to_discrete"]  # (the last three
+# from sysid.grids)
 
 
 # --------------------------------------------------------------------------------------------------
@@ -259,12 +166,12 @@ class FrequencyResponse:
     ) -> None:
         Harr = _as_H(H)
         p, m, K = Harr.shape
-        Tf = None if T is None else _check_T(T)
+        Tf = None if T is None else check_period(T)
 
         wd = None
         if omega_d is not None:
             wd = _as_freq(omega_d, "omega_d", K)
-            tol = _GRID_RTOL * np.pi
+            tol = GRID_RTOL * np.pi
             if (wd < -tol).any() or (wd > np.pi + tol).any():
                 bad = wd[(wd < -tol) | (wd > np.pi + tol)][0]
                 raise FrequencyGridError(
@@ -396,7 +303,7 @@ class FrequencyResponse:
             if not discrete:
                 raise FrequencyGridError("a continuous model needs T to map omega_d to omega; pass T")
             T = model.dt
-        T = _check_T(T)
+        T = check_period(T)
         if discrete:
             pts = np.exp(1j * wd)
             finite = np.ones(wd.size, dtype=bool)
@@ -460,7 +367,7 @@ class FrequencyResponse:
         if wd is None or wd.size < 2:
             return False
         M = wd.size - 1
-        return bool(np.allclose(wd, np.pi * np.arange(M + 1) / M, rtol=0.0, atol=_GRID_RTOL * np.pi))
+        return bool(np.allclose(wd, np.pi * np.arange(M + 1) / M, rtol=0.0, atol=GRID_RTOL * np.pi))
 
     @property
     def M(self) -> int | None:
@@ -468,7 +375,7 @@ class FrequencyResponse:
         return self.nfreq - 1 if self.is_equispaced else None
 
     def _index_of(self, target: str) -> int | None:
-        tol = _GRID_RTOL * np.pi
+        tol = GRID_RTOL * np.pi
         if target == "dc":
             if self.omega_d is not None:
                 idx = np.flatnonzero(np.abs(self.omega_d) <= tol)

@@ -47,7 +47,8 @@ import numpy as np
 from .errors import ConstraintError, FrequencyGridError
 from .frd import FrequencyResponse
 from .metrics import FitErrors, dc_error, frf_errors, spectral_radius
-from .subspace import SubspaceResult, evaluate_ss, from_basis, hankel_svd, order_hint
+from .state_space import evaluate_ss
+from .subspace import SubspaceResult, from_basis, hankel_svd, order_hint
 
 __all__ = ["identify", "IdentificationResult", "StabilisationReport", "unobserved_gain", "UNOBSERVED_GAIN_LIMIT", "resolve_algorithm"]
 

@@ -31,7 +31,8 @@ import numpy as np
 import scipy.linalg
 
 from .errors import OrderError
-from .subspace import HankelSVD, hankel_svd, lstsq_bd_phi, modal_form, resolvent_C
+from .state_space import lstsq_bd_phi, modal_form, resolvent_C
+from .subspace import HankelSVD, hankel_svd
 
 __all__ = ["OrderSweep", "order_sweep"]
 

@@ -39,16 +39,14 @@ Two solvers, same problem:
 
 from __future__ import annotations
 
-import threading
 import time
-import warnings
-from collections import OrderedDict
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import ConstraintError, FrequencyDataError, SolverError
-from .subspace import evaluate_ss
+from .errors import ConstraintError, FrequencyDataError
+from .refit_solvers import clear_refit_cache, null_space_solve, reduce_regression, solve_compiled  # noqa: F401
+from .state_space import evaluate_ss
 
 __all__ = [
     "BDFit",
@@ -63,12 +61,6 @@ __all__ = [
 
 #: Distance of an eigenvalue of ``A`` to ``z = +-1`` below which a constraint there is refused.
 POLE_TOL = 1e-8
-#: Relative singular-value floor of the (column-scaled) regression matrix (invisible ridge).
-_RCOND = 1e-13
-#: Maximum number of compiled cvxpy problems kept (least recently used are dropped).
-_CACHE_SIZE = 64
-_PROBLEM_CACHE: "OrderedDict[tuple, _CompiledRefit]" = OrderedDict()
-_CACHE_LOCK = threading.Lock()
 
 
 # --------------------------------------------------------------------------------------------- results
@@ -300,107 +292,6 @@ def _regressions(F, G, weights, m):
     return Phis, gs
 
 
-def _reduce(Phi):
-    """Column-equilibrated SVD of Phi = (Qr Ur) S V^T: returns ((Qr, Ur), S, S~, M), theta = M @ y."""
-    s = np.linalg.norm(Phi, axis=0)
-    s[s == 0] = 1.0
-    Qr, R = np.linalg.qr(Phi / s)  # tall-skinny: QR first, then the SVD of the small triangle
-    Ur, S, Vt = np.linalg.svd(R)
-    eps = _RCOND * (S[0] if S.size else 1.0)
-    St = np.sqrt(S**2 + eps**2)
-    M = (Vt.T / St) / s[:, None]
-    return (Qr, Ur), S, St, M
-
-
-class _CompiledRefit:
-    """A DPP cvxpy problem ``min sum_j ||y_j - h_j||^2 s.t. Q_j^T y_j = f_j`` built once per shape."""
-
-    def __init__(self, N: int, c: int, m: int):
-        import cvxpy as cp
-
-        self.y = [cp.Variable(N, name=f"y{j}") for j in range(m)]
-        self.h = [cp.Parameter(N, name=f"h{j}") for j in range(m)]
-        self.Q = [cp.Parameter((N, c), name=f"Q{j}") for j in range(m)]
-        self.f = [cp.Parameter(c, name=f"f{j}") for j in range(m)]
-        obj = cp.Minimize(sum(cp.sum_squares(self.y[j] - self.h[j]) for j in range(m)))
-        cons = [self.Q[j].T @ self.y[j] == self.f[j] for j in range(m)]
-        self.problem = cp.Problem(obj, cons)
-        assert self.problem.is_dpp()
-        self.n_solves = 0
-        self.lock = threading.Lock()  # Parameter values are shared state: one solve at a time
-
-
-def clear_refit_cache() -> None:
-    """Forget all compiled refit problems (the next constrained refit compiles again)."""
-    with _CACHE_LOCK:
-        _PROBLEM_CACHE.clear()
-
-
-def _get_compiled(key, N, c, m):
-    prob = _PROBLEM_CACHE.get(key)
-    reused = prob is not None
-    if prob is None:
-        prob = _CompiledRefit(N, c, m)
-        _PROBLEM_CACHE[key] = prob
-        while len(_PROBLEM_CACHE) > _CACHE_SIZE:
-            _PROBLEM_CACHE.popitem(last=False)
-    else:
-        _PROBLEM_CACHE.move_to_end(key)
-    return prob, reused
-
-
-def _solve_clarabel(key, hs, Qs, fs, m, N, c):
-    import cvxpy as cp
-
-    with _CACHE_LOCK:
-        comp, reused = _get_compiled(key, N, c, m)
-    with comp.lock:
-        for j in range(m):
-            comp.h[j].value = hs[j]
-            comp.Q[j].value = Qs[j]
-            comp.f[j].value = fs[j]
-        try:
-            comp.problem.solve(
-                solver=cp.CLARABEL, tol_gap_abs=1e-12, tol_gap_rel=1e-12, tol_feas=1e-12, max_iter=200
-            )
-        except cp.error.SolverError as exc:  # pragma: no cover - depends on solver internals
-            raise SolverError(
-                f"Clarabel failed on the B/D refit ({exc}). Try solver='numpy', fewer constraints or a lower order."
-            ) from exc
-        status = comp.problem.status
-        ys = [None if y.value is None else np.array(y.value, dtype=float) for y in comp.y]
-        comp.n_solves += 1
-    if status not in ("optimal", "optimal_inaccurate") or any(y is None for y in ys):
-        raise SolverError(
-            f"Clarabel returned status {status!r} on the B/D refit. The constraints may be inconsistent; "
-            "try solver='numpy', drop a constraint or lower the order."
-        )
-    if status == "optimal_inaccurate":
-        warnings.warn(
-            "Clarabel reported 'optimal_inaccurate' on the B/D refit; the result is polished onto the "
-            "constraints but its cost may be slightly above optimal.",
-            RuntimeWarning,
-            stacklevel=4,
-        )
-    return ys, status, reused
-
-
-def _null_space_solve(Phi, g, E, f):
-    """Closed-form constrained LS: theta = theta_p + Z w, E theta_p = f, E Z = 0 (the oracle)."""
-    Nn = Phi.shape[1]
-    if E.shape[0] == 0:
-        return np.linalg.lstsq(Phi, g, rcond=None)[0]
-    Qf, Rf = np.linalg.qr(E.T, mode="complete")  # E^T = Qf [R; 0]
-    c = E.shape[0]
-    R = Rf[:c, :c]
-    theta_p = Qf[:, :c] @ np.linalg.solve(R.T, f)
-    Z = Qf[:, c:]
-    if Z.shape[1] == 0:
-        return theta_p
-    w = np.linalg.lstsq(Phi @ Z, g - Phi @ theta_p, rcond=None)[0]
-    return theta_p + Z @ w
-
-
 # --------------------------------------------------------------------------------------------- public API
 def fit_bd(A, C, z, G, *, weights=None, dc_gain=None, feedthrough=None, solver: str = "clarabel", tol: float = 1e-10) -> BDFit:
     """Fit ``B`` and ``D`` of ``G(z) = C (zI - A)^-1 B + D`` to samples, optionally with exact constraints.
@@ -478,7 +369,7 @@ def fit_bd(A, C, z, G, *, weights=None, dc_gain=None, feedthrough=None, solver: 
     if solver == "numpy":
         used = "numpy"
         for j in range(m):
-            thetas[j] = _null_space_solve(Phis[j], gs[j], E, Fr[:, j] if c else None)
+            thetas[j] = null_space_solve(Phis[j], gs[j], E, Fr[:, j] if c else None)
         if c:
             solver_res = max(float(np.abs(E @ th - Fr[:, j]).max()) for j, th in enumerate(thetas))
     else:
@@ -487,7 +378,7 @@ def fit_bd(A, C, z, G, *, weights=None, dc_gain=None, feedthrough=None, solver: 
         for j in range(m):
             key_id = id(Phis[j])
             if key_id not in reds:
-                reds[key_id] = _reduce(Phis[j])
+                reds[key_id] = reduce_regression(Phis[j])
             U, S, St, M = reds[key_id]
             hs.append(S * (U[1].T @ (U[0].T @ gs[j])) / St)
             Ms.append(M)
@@ -506,7 +397,7 @@ def fit_bd(A, C, z, G, *, weights=None, dc_gain=None, feedthrough=None, solver: 
             used = "clarabel"
             wshape = None if weights is None else weights.shape
             key = (n, m, p, K, tuple(name for name, _, _ in cons), wshape)
-            ys, status, reused = _solve_clarabel(key, hs, Qs, fs, m, N, c)
+            ys, status, reused = solve_compiled(key, hs, Qs, fs, m, N, c)
             for j in range(m):
                 thetas[j] = Ms[j] @ ys[j]
             res = [np.abs(E @ thetas[j] - Fr[:, j]).max() for j in range(m)]

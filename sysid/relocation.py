@@ -153,7 +153,7 @@ class RelocationResult:
 
 # --------------------------------------------------------------------------------------------- pipeline
 def _channel_errors(A, B, C, D, z, G):
-    from .subspace import evaluate_ss
+    from .state_space import evaluate_ss
 
     Gm = evaluate_ss(A, B, C, D, z)
     peak = np.maximum(np.abs(G).max(axis=(1, 2)), np.finfo(float).tiny)
@@ -290,7 +290,7 @@ def _bound_gaps(c, z, G, dc, ft, weights, zb, ub, peak, rounds: int = 4, within=
     """Minimax residues of candidate ``c`` under the :func:`gap_bounds` (cutting planes: the bounds enter the
     cone programme where the gain is within 10 % of them, then where a solution came within 5 % of them or
     broke them); updates ``c`` when a solution meets every bound."""
-    from .subspace import evaluate_ss
+    from .state_space import evaluate_ss
 
     def ratio(C, D):
         with np.errstate(all="ignore"):
@@ -338,7 +338,7 @@ def _pick(cands, trust=None):
 
 def _gap_excess(c, zb, ub) -> float:
     """Largest ratio of a candidate's gain to the :func:`gap_bounds` between the samples (<= 1: within)."""
-    from .subspace import evaluate_ss
+    from .state_space import evaluate_ss
 
     with np.errstate(all="ignore"):
         Gb = evaluate_ss(c["A"], c["B"], c["C"], c["D"], zb)
@@ -348,7 +348,7 @@ def _gap_excess(c, zb, ub) -> float:
 
 def _equality_residual(c, dc, ft, peak):
     """Largest violation of the DC / feedthrough equalities of a candidate, relative to each output's peak."""
-    from .subspace import evaluate_ss
+    from .state_space import evaluate_ss
 
     pts, vals = [], []
     if dc is not None:

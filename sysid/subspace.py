@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 
 from .errors import FrequencyDataError, FrequencyGridError, OrderError
+from .state_space import evaluate_ss, lstsq_bd, lstsq_bd_phi, modal_form, resolvent_C  # noqa: F401
 
 __all__ = [
     "SubspaceResult",
@@ -44,6 +45,7 @@ __all__ = [
     "subspace_identify",
     "default_q",
     "order_hint",
+    # state-space evaluation, from sysid.state_space
     "modal_form",
     "resolvent_C",
     "lstsq_bd_phi",
@@ -437,128 +439,3 @@ def order_hint(order: Any) -> int | None:
     if isinstance(order, (int, np.integer)) and not isinstance(order, bool) and order >= 1:
         return int(order)
     return None
-
-
-
-
-# --------------------------------------------------------------------------------------------------
-# fast unconstrained B/D least squares (numpy), used by the order sweep and for quick checks
-# --------------------------------------------------------------------------------------------------
-#: Largest 1-norm condition number of the eigenvector matrix for which the modal (eigenvalue) form is used
-#: to evaluate C (zI - A)^-1; beyond it a batched linear solve is used (accuracy ~ cond * eps).
-_MODAL_COND_MAX = 1e6
-
-
-def modal_form(A: np.ndarray, C: np.ndarray):
-    """The modal form of ``(A, C)`` when ``A`` is diagonalisable and its eigenvectors well conditioned.
-
-    Parameters
-    ----------
-    A : ndarray, shape (n, n)
-    C : ndarray, shape (p, n)
-
-    Returns
-    -------
-    tuple or None
-        ``(lam, C V, V^-1)``: eigenvalues (n,), (p, n) and (n, n) with ``A = V diag(lam) V^-1``; None when
-        ``n = 0``, ``V`` is singular or its 1-norm condition number exceeds ``_MODAL_COND_MAX``.
-    """
-    if A.shape[0] == 0:
-        return None
-    lam, V = np.linalg.eig(A)
-    try:
-        Vinv = np.linalg.inv(V)
-    except np.linalg.LinAlgError:
-        return None
-    cond = np.linalg.norm(V, 1) * np.linalg.norm(Vinv, 1)
-    if not np.isfinite(cond) or cond > _MODAL_COND_MAX:
-        return None
-    return lam, C @ V, Vinv
-
-
-def resolvent_C(A: np.ndarray, C: np.ndarray, z: np.ndarray, modal=None) -> np.ndarray:
-    """``C (z_k I - A)^-1`` for all k.
-
-    Uses the modal form ``(C V) diag(1 / (z - lam)) V^-1`` (``O(K p n^2)``) when the eigenvector matrix is
-    well conditioned, else one batched linear solve (``O(K n^3)``).
-
-    Parameters
-    ----------
-    A : ndarray, shape (n, n)
-    C : ndarray, shape (p, n)
-    z : ndarray, complex, shape (K,)
-        Points of the z-plane (``exp(i omega_d)`` on the unit circle).
-    modal : tuple, None or False
-        :func:`modal_form` precomputed; None computes it; False forces the solve.
-
-    Returns
-    -------
-    ndarray, complex, shape (K, p, n)
-    """
-    n = A.shape[0]
-    if modal is None:
-        modal = modal_form(A, C)
-    if modal:
-        lam, CV, Vinv = modal
-        return (CV[None, :, :] / (z[:, None, None] - lam[None, None, :])) @ Vinv
-    Z = z[:, None, None] * np.eye(n)[None] - A[None]
-    # C (zI - A)^-1 = ((zI - A)^-T C^T)^T
-    return np.swapaxes(np.linalg.solve(np.swapaxes(Z, 1, 2), np.broadcast_to(C.T, (z.size, n, C.shape[0]))), 1, 2)
-
-
-def lstsq_bd_phi(phi: np.ndarray, G: np.ndarray, weights: np.ndarray | None = None):
-    """Unconstrained least-squares ``B, D`` with ``C (z_k I - A)^-1 B + D ~ G_k``, from the regressor.
-
-    Parameters
-    ----------
-    phi : ndarray, complex, shape (K, p, n)
-        :func:`resolvent_C` at the data's points.
-    G : ndarray, complex, shape (p, m, K)
-        The data.
-    weights : ndarray, shape (K,), optional
-        Per-frequency weights of the squared residuals.
-
-    Returns
-    -------
-    B : ndarray, shape (n, m)
-    D : ndarray, shape (p, m)
-    """
-    p, m, K = G.shape
-    n = phi.shape[2]
-    X = np.concatenate([phi, np.broadcast_to(np.eye(p), (K, p, p))], axis=2).reshape(K * p, n + p)
-    Y = G.transpose(2, 0, 1).reshape(K * p, m)
-    if weights is not None:
-        sw = np.sqrt(np.repeat(np.asarray(weights, dtype=float), p))[:, None]
-        X, Y = X * sw, Y * sw
-    Xr = np.concatenate([X.real, X.imag], axis=0)
-    Yr = np.concatenate([Y.real, Y.imag], axis=0)
-    theta = np.linalg.lstsq(Xr, Yr, rcond=None)[0]
-    return theta[:n], theta[n:]
-
-
-def lstsq_bd(A: np.ndarray, C: np.ndarray, z: np.ndarray, G: np.ndarray,
-             weights: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """Unconstrained real least squares for ``B``, ``D`` (McKelvey step 6), closed form in NumPy.
-
-    Minimises ``sum_k w_k ||G_k - D - C (z_k I - A)^-1 B||_F^2`` with real ``B`` (n, m), ``D`` (p, m).
-    All input columns share one regressor, so this is a single ``lstsq`` with ``m`` right-hand sides.
-
-    Parameters
-    ----------
-    A : (n, n), C : (p, n) real
-    z : (K,) complex, points on the unit circle
-    G : (p, m, K) complex
-    weights : (K,) nonnegative, optional
-
-    Returns
-    -------
-    B : ndarray (n, m), D : ndarray (p, m)
-    """
-    return lstsq_bd_phi(resolvent_C(np.asarray(A, float), np.asarray(C, float), np.asarray(z, complex)),
-                         np.asarray(G, complex), weights)
-
-
-def evaluate_ss(A: np.ndarray, B: np.ndarray, C: np.ndarray, D: np.ndarray, z: np.ndarray) -> np.ndarray:
-    """``G(z_k) = C (z_k I - A)^-1 B + D`` for all k: shape (p, m, K)."""
-    phi = resolvent_C(A, C, np.asarray(z, dtype=complex).reshape(-1))  # (K, p, n)
-    return (phi @ B + D[None]).transpose(1, 2, 0)

@@ -23,6 +23,7 @@ import numpy as np
 import scipy.linalg
 
 from .errors import FrequencyGridError, ModelError
+from .grids import check_period
 
 __all__ = ["d2c_bilinear", "c2d_bilinear", "c2d_zoh"]
 
@@ -57,16 +58,6 @@ def _check_model(model: Any, *, discrete: bool, func: str):
             "Use d2c_bilinear(model) first"
         )
     return model
-
-
-def _check_T(T: Any) -> float:
-    try:
-        Tf = float(T)
-    except (TypeError, ValueError):
-        raise FrequencyGridError(f"sampling period T must be a positive finite number, got {T!r}") from None
-    if not math.isfinite(Tf) or Tf <= 0.0:
-        raise FrequencyGridError(f"sampling period T must be positive and finite, got T={T!r}")
-    return Tf
 
 
 def _matrices(model) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -134,7 +125,7 @@ def d2c_bilinear(model):
         ``dt = True`` (sampling period unspecified).
     """
     model = _check_model(model, discrete=True, func="d2c_bilinear")
-    T = _check_T(model.dt)
+    T = check_period(model.dt)
     Ad, Bd, Cd, Dd = _matrices(model)
     n = Ad.shape[0]
     I = np.eye(n)
@@ -183,7 +174,7 @@ def c2d_bilinear(model, T: float):
         ``T <= 0`` or not finite.
     """
     model = _check_model(model, discrete=False, func="c2d_bilinear")
-    T = _check_T(T)
+    T = check_period(T)
     A, B, C, D = _matrices(model)
     n = A.shape[0]
     I = np.eye(n)
@@ -222,7 +213,7 @@ def c2d_zoh(model, T: float):
         Discrete model with ``dt = T``.
     """
     model = _check_model(model, discrete=False, func="c2d_zoh")
-    T = _check_T(T)
+    T = check_period(T)
     A, B, C, D = _matrices(model)
     n, m = B.shape
     aug = np.zeros((n + m, n + m))

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from sysid.errors import ConstraintError, FrequencyDataError
-from sysid import refit
+from sysid import refit, refit_solvers
 from sysid.refit import BDFit, fit_alternating, fit_bd, fit_cd, frequency_response
 
 
@@ -169,8 +169,8 @@ def test_dpp_problem_is_compiled_once_and_reused(grid):
     G = frequency_response(A, B, C, D, grid)
     r1 = fit_bd(A, C, grid, noisy(G, 0.01, 1), dc_gain=np.array([[1.0]]))
     assert not r1.reused_problem
-    assert len(refit._PROBLEM_CACHE) == 1
-    (compiled,) = refit._PROBLEM_CACHE.values()
+    assert len(refit_solvers._PROBLEM_CACHE) == 1
+    (compiled,) = refit_solvers._PROBLEM_CACHE.values()
     problem = compiled.problem
     assert problem.is_dpp()
     param_prog = problem._cache.param_prog  # cvxpy's compiled parametric program
@@ -180,14 +180,14 @@ def test_dpp_problem_is_compiled_once_and_reused(grid):
     G2 = frequency_response(A2, B2, C2, D2, grid)
     r2 = fit_bd(A2, C2, grid, G2, dc_gain=G2[:, :, 0].real)
     assert r2.reused_problem
-    assert len(refit._PROBLEM_CACHE) == 1
-    assert next(iter(refit._PROBLEM_CACHE.values())).problem is problem
+    assert len(refit_solvers._PROBLEM_CACHE) == 1
+    assert next(iter(refit_solvers._PROBLEM_CACHE.values())).problem is problem
     assert problem._cache.param_prog is param_prog  # not recompiled
     assert compiled.n_solves == 2
     assert np.allclose(r2.B, B2, atol=1e-7 * np.abs(B2).max()) and np.allclose(r2.D, D2, atol=1e-8)
     # another constraint set is another problem
     fit_bd(A2, C2, grid, G2, dc_gain=G2[:, :, 0].real, feedthrough=G2[:, :, -1].real)
-    assert len(refit._PROBLEM_CACHE) == 2
+    assert len(refit_solvers._PROBLEM_CACHE) == 2
 
 
 def test_dc_constraint_with_pole_at_one_raises(grid):
@@ -271,7 +271,7 @@ def test_unconstrained_fit_calls_no_solver(grid):
 
 def _patch_status(monkeypatch, status):
     """Make the cached problem report ``status`` after a real solve (solver behaviour is not ours to test)."""
-    comp = next(iter(refit._PROBLEM_CACHE.values()))
+    comp = next(iter(refit_solvers._PROBLEM_CACHE.values()))
     real_solve = comp.problem.solve
 
     def fake_solve(*args, **kwargs):
@@ -309,7 +309,7 @@ def test_polishing_restores_the_constraints_exactly(grid, monkeypatch):
     ft = np.zeros((2, 1))
     exact = fit_bd(A, C, grid, G, dc_gain=dc, feedthrough=ft)
     assert not exact.polished
-    comp = next(iter(refit._PROBLEM_CACHE.values()))
+    comp = next(iter(refit_solvers._PROBLEM_CACHE.values()))
     real_solve = comp.problem.solve
 
     def sloppy_solve(*args, **kwargs):
