@@ -1,0 +1,214 @@
+"""What :func:`sysid.identify` returns: the model with its errors on the data, the constraints it meets, what
+stabilisation cost (:class:`StabilisationReport`) and the data's consistency diagnostics."""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass, field
+from typing import Any, Mapping
+
+import numpy as np
+
+from .frd import FrequencyResponse
+from .metrics import FitErrors
+from .state_space import evaluate_ss
+from .subspace import SubspaceResult
+
+__all__ = ["IdentificationResult", "StabilisationReport"]
+
+
+@dataclass(frozen=True)
+class StabilisationReport:
+    """What stability enforcement did.
+
+    Attributes
+    ----------
+    method : str
+        ``"lmi"``, ``"reflect"`` or ``"none"`` (``A`` was already stable with the margin) on the subspace
+        path; ``"relocation"`` on the relocation path, whose poles are stable by construction (nothing was
+        changed after the fit: the before/after fields are equal).
+    status : str
+        Solver / method status from :func:`sysid.stability.stabilise`.
+    spectral_radius_before, spectral_radius_after : float
+    relative_change : float
+        ``||A_new - A||_F / ||A||_F``.
+    rms_error_before, rms_error_after : float
+        RMS relative FRF error of the refitted model with the original and with the stabilised ``A``
+        (same constraints); equal when nothing was changed.
+    max_error_before, max_error_after : float
+        The same for the max relative error.
+    """
+
+    method: str
+    status: str
+    spectral_radius_before: float
+    spectral_radius_after: float
+    relative_change: float
+    rms_error_before: float
+    rms_error_after: float
+    max_error_before: float
+    max_error_after: float
+
+
+@dataclass(frozen=True)
+class IdentificationResult:
+    """Result of :func:`identify`.
+
+    Attributes
+    ----------
+    model : control.StateSpace
+        Discrete model, ``dt = T``, named inputs and outputs of the data.
+    order : int
+    method : str
+        ``"mckelvey1"`` or ``"mckelvey2"``.
+    hankel_sv : ndarray
+        Singular values of the subspace step (guide for the order).
+    errors : FitErrors
+        FRF errors over the data (see :mod:`sysid.metrics`).
+    max_error, rms_error : float
+        Shortcuts for ``errors.max_rel`` and ``errors.rms_rel``.
+    dc_error : float or None
+        Relative DC-gain error ``max|G(1) - H(0)| / max|H(0)|`` when the data have an ``omega = 0`` sample.
+    enforced : dict
+        ``{"dc_gain": bool, "feedthrough": bool, "stable": bool}``: which constraints hold by
+        construction (``"stable"`` is True when ``stable=True`` was requested; see ``stabilisation``).
+    spectral_radius : float
+        Of the final ``A``.
+    stabilisation : StabilisationReport or None
+        ``None`` when ``stable=False``.
+    subspace : SubspaceResult
+        ``A``, ``C`` and Hankel data before stabilisation.
+    refit : object
+        The :class:`sysid.refit.BDFit` of the final model, or the :class:`sysid.refit.AlternatingFit` when
+        ``C`` was refitted too.
+    T : float
+    q, r : int, int or None
+        Hankel sizes.
+    data : FrequencyResponse
+        The data identified (for :meth:`frequency_response` and plots).
+    algorithm : str
+        ``"subspace"`` (McKelvey + stabilisation + convex refits) or ``"relocation"`` (pole relocation,
+        Gauss-Newton and convex residue fits, :mod:`sysid.relocation`).
+    relocation : RelocationResult or None
+        Details of the relocation path (winning start, residue fit, candidates); None for ``"subspace"``.
+    """
+
+    model: Any = field(repr=False)
+    order: int
+    method: str
+    hankel_sv: np.ndarray = field(repr=False)
+    errors: FitErrors = field(repr=False)
+    max_error: float = float("nan")
+    rms_error: float = float("nan")
+    dc_error: float | None = None
+    enforced: Mapping[str, bool] = field(default_factory=dict)
+    spectral_radius: float = float("nan")
+    stabilisation: StabilisationReport | None = None
+    subspace: SubspaceResult | None = field(default=None, repr=False)
+    refit: Any = field(default=None, repr=False)
+    T: float = float("nan")
+    q: int = 0
+    r: int | None = None
+    data: FrequencyResponse | None = field(default=None, repr=False)
+    algorithm: str = "subspace"
+    relocation: Any = field(default=None, repr=False)
+
+    def __reduce__(self):
+        # control.StateSpace (0.10) cannot be pickled; ship its matrices and rebuild it (process pools)
+        m = self.model
+        spec = (np.asarray(m.A), np.asarray(m.B), np.asarray(m.C), np.asarray(m.D), m.dt,
+                list(m.input_labels), list(m.output_labels))
+        fields = {f: getattr(self, f) for f in self.__dataclass_fields__ if f != "model"}
+        return (_rebuild_result, (spec, fields))
+
+    def evaluate(self, omega_d: Any) -> np.ndarray:
+        """Model response ``G(exp(1j omega_d))``, shape (p, m, K), for discrete frequencies (rad/sample)."""
+        z = np.exp(1j * np.asarray(omega_d, dtype=float).reshape(-1))
+        m = self.model
+        return evaluate_ss(np.asarray(m.A), np.asarray(m.B), np.asarray(m.C), np.asarray(m.D), z)
+
+    def evaluate_continuous(self, omega: Any) -> np.ndarray:
+        """Model response at continuous frequencies ``omega`` (U_inf / c units, ``inf`` allowed), shape (p, m, K).
+
+        Uses the bilinear map ``omega_d = 2 arctan(omega T / 2)``, so it equals the continuous model
+        :meth:`continuous` at ``s = 1j omega``.
+        """
+        from .frd import continuous_to_discrete
+
+        return self.evaluate(continuous_to_discrete(np.asarray(omega, dtype=float).reshape(-1), self.T))
+
+    @property
+    def diagnostics(self):
+        """:class:`sysid.diagnostics.DataDiagnostics` of the data identified from (computed on first use: a few
+        FFTs): whether they are consistent with a causal, stable, real LTI system, and by how much not."""
+        cached = self.__dict__.get("_diagnostics")
+        if cached is None:
+            from .diagnostics import diagnose
+
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)
+                cached = diagnose(self.data)
+            object.__setattr__(self, "_diagnostics", cached)
+        return cached
+
+    def summary(self) -> str:
+        """Plain-text summary: order, method, errors, constraints, stability, and one line on the data's
+        consistency (:attr:`diagnostics`)."""
+        enf = ", ".join(k for k, v in self.enforced.items() if v) or "none"
+        if self.algorithm == "relocation" and self.relocation is not None:
+            rl = self.relocation
+            head = (f"order {self.order} (pole relocation from the {rl.start} start, {rl.residues} residues"
+                    f"{', Gauss-Newton refined' if rl.refined else ''}; Hankel SVD {self.method}, q={self.q}, "
+                    f"r={self.r}), T={self.T:.6g}")
+        else:
+            head = f"order {self.order} ({self.method}, q={self.q}, r={self.r}), T={self.T:.6g}"
+        per = ", ".join(f"{name} {e:.3e}" for name, e in zip(self.model.output_labels, self.errors.max_rel_per_output))
+        lines = [
+            head,
+            f"FRF error: max {self.max_error:.3e}, RMS {self.rms_error:.3e}"
+            + (f", DC {self.dc_error:.3e}" if self.dc_error is not None else ""),
+            f"max error per output: {per}",
+            f"enforced: {enf}; spectral radius {self.spectral_radius:.6f}",
+        ]
+        st = self.stabilisation
+        if st is not None and st.method not in ("none", "relocation"):
+            lines.append(
+                f"stabilised by {st.method}: radius {st.spectral_radius_before:.6f} -> {st.spectral_radius_after:.6f}, "
+                f"|dA|/|A| = {st.relative_change:.3e}, RMS error {st.rms_error_before:.3e} -> {st.rms_error_after:.3e}"
+            )
+        if self.data is not None:
+            lines.append(_diagnostics_line(self.diagnostics))
+        return "\n".join(lines)
+
+    def frequency_response(self, omega_d: Any = None) -> FrequencyResponse:
+        """Model response as a :class:`FrequencyResponse` on the data grid (or on ``omega_d``)."""
+        wd = self.data.omega_d if omega_d is None else np.asarray(omega_d, dtype=float)
+        return FrequencyResponse(
+            self.evaluate(wd), wd, self.T, inputs=list(self.model.input_labels),
+            outputs=list(self.model.output_labels), metadata={"source": "sysid.identify", "order": self.order},
+        )
+
+    def continuous(self):
+        """The continuous model by the inverse bilinear map (paper Eq. 26)."""
+        from .transforms import d2c_bilinear
+
+        return d2c_bilinear(self.model)
+
+
+def _diagnostics_line(d) -> str:
+    """One line of :class:`sysid.diagnostics.DataDiagnostics` for :meth:`IdentificationResult.summary`."""
+    parts = []
+    for c in d.channels():
+        nte = "" if c["neg_time_energy"] is None else f"negative-time energy {c['neg_time_energy']:.1e}, "
+        parts.append(f"{c['output']}/{c['input']} {'FLAG' if c['flagged'] else 'ok'} ({nte}KK residual "
+                     f"{c['kk_residual']:.1e})")
+    verdict = ("consistent with a causal, stable, real LTI system" if d.ok else
+               "not consistent with a causal, stable, real LTI system (sysid.diagnose(data).summary() says why)")
+    return f"data: {verdict}; " + "; ".join(parts)
+
+
+def _rebuild_result(spec, fields):
+    import control
+
+    A, B, C, D, dt, inputs, outputs = spec
+    return IdentificationResult(model=control.ss(A, B, C, D, dt, inputs=inputs, outputs=outputs), **fields)
