@@ -68,7 +68,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import FrequencyDataError, OrderError, SolverError
+from .candidates import (bound_candidate_gaps, candidate_score, channel_errors, equality_residual, gap_excess,
+                         pick_candidates)
+from .errors import FrequencyDataError, OrderError
 from .pole_refinement import refine_poles
 from .poles import (RESOLUTION, discrete_basis, initial_poles, input_normal, modal_realisation,
                     partial_fraction_basis, pole_distance, resolution_floor, stability_region)
@@ -90,8 +92,6 @@ __all__ = [
     "resolution_floor",
 ]
 
-#: Accepted violation of the DC / feedthrough equalities, relative to each output's peak.
-_EQ_TOL = 1e-11
 #: Largest pole magnitude, in units of the highest finite data frequency (with T = 70 / (2 pi) the
 #: stability disc already ends at |s| ~ 360, 12 times the top data frequency; 4 was measured to cost
 #: accuracy: T4 N_r 25 Cm 0.76 % -> 3.8 %).
@@ -99,7 +99,7 @@ _MAX_POLE_FACTOR = 20.0
 #: Candidates (best first) that get the bounded residue fit when they break the gap bounds.
 _GAP_REFITS = 3
 #: A fit that breaks the gap bounds is still taken when its worst error is this many times smaller than that
-#: of every fit within them (:func:`_pick`): the data then determine the resonance.
+#: of every fit within them (:func:`pick_candidates`): the data then determine the resonance.
 _TRUST_FACTOR = 100.0
 
 
@@ -124,9 +124,9 @@ class RelocationResult:
         True when the Gauss-Newton pole refinement lowered the error and was kept.
     candidates : tuple of (str, ndarray, bool)
         ``(label, max error per output, admissible)`` of every candidate of the first input column, best
-        first; admissible: its DC / feedthrough equalities hold to ``_EQ_TOL`` of the peak when evaluated, and
+        first; admissible: its DC / feedthrough equalities hold to ``EQ_TOL`` of the peak when evaluated, and
         its gain between the samples stays within :func:`gap_bounds` (or the data determine it, see
-        :func:`_pick`).
+        :func:`pick_candidates`).
     iterations : int
         Relocation iterations run for the winning start.
     seconds : float
@@ -152,24 +152,11 @@ class RelocationResult:
 
 
 # --------------------------------------------------------------------------------------------- pipeline
-def _channel_errors(A, B, C, D, z, G):
-    from .state_space import evaluate_ss
-
-    Gm = evaluate_ss(A, B, C, D, z)
-    peak = np.maximum(np.abs(G).max(axis=(1, 2)), np.finfo(float).tiny)
-    return np.abs(Gm - G).max(axis=(1, 2)) / peak
-
-
-def _score(err):
-    """Sort key of a candidate: the sum of the per-output peak-normalised max errors, then the largest."""
-    return (float(np.sum(err)), float(np.max(err)))
-
-
 def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson, refine, minimax, budget, region,
               minimax_rounds=0, bound_gaps=False, minimax_within=None):
     """One-input fit: poles relocated on all outputs, residues by convex fits. Returns the candidates (dicts
-    with ``err``, ``eq`` and ``gap``, see :func:`_pick`); with ``bound_gaps`` the leading ones that break the
-    :func:`gap_bounds` get bounded minimax residues (:func:`_bound_gaps`)."""
+    with ``err``, ``eq`` and ``gap``, see :func:`pick_candidates`); with ``bound_gaps`` the leading ones that
+    break the :func:`gap_bounds` get bounded minimax residues (:func:`sysid.candidates.bound_candidate_gaps`)."""
     from .refit import fit_cd
 
     p, _, K = G.shape
@@ -194,7 +181,7 @@ def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson,
         A, B = discrete_basis(pl, T, 1)
         A, B = input_normal(A, B)
         ls = fit_cd(A, B, z, G, weights=wls, dc_gain=dc, feedthrough=ft, solver="numpy")  # closed form
-        e_ls = _channel_errors(A, B, ls.C, ls.D, z, G)
+        e_ls = channel_errors(A, B, ls.C, ls.D, z, G)
         cands.append(dict(label=label, poles=pl, A=A, B=B, C=ls.C, D=ls.D, err=e_ls, residues="least-squares",
                           its=its, refined=refined))
 
@@ -212,7 +199,7 @@ def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson,
         finish(label, pl, its)
     if not cands:
         raise OrderError(f"no starting poles of size {n}")
-    cands.sort(key=lambda c: _score(c["err"]))
+    cands.sort(key=lambda c: candidate_score(c["err"]))
     base = list(cands)
     # 2. Gauss-Newton from the best relocated poles (kept only when it wins below)
     if refine:
@@ -233,7 +220,7 @@ def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson,
             continue  # another start relocated to (numerically) the same fit
         done.append(c["err"])
         refine_from(c)
-    cands.sort(key=lambda c: _score(c["err"]))
+    cands.sort(key=lambda c: candidate_score(c["err"]))
     # 4. Lawson-weighted Gauss-Newton from the best candidate: the least-squares refinement with frequency
     # weights w_k <- w_k |e_k| / mean (per output) moves the poles towards the minimax fit (IRLS)
     if minimax_rounds and refine:
@@ -256,7 +243,7 @@ def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson,
                 break
             pl = pr
             finish(c["label"] + f"+irls{r + 1}", pl, c["its"], refined=True)
-        cands.sort(key=lambda c: _score(c["err"]))
+        cands.sort(key=lambda c: candidate_score(c["err"]))
     # minimax residues for the leading candidates (never worse than their least-squares residues)
     if minimax:
         wmm = np.broadcast_to(1.0 / peak[:, None, None], (p, 1, K))
@@ -267,102 +254,23 @@ def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson,
                 break
             C, D, st = minimax_cd(c["A"], c["B"], z, G, dc_gain=dc, feedthrough=ft, weights=wmm,
                                   start=(c["C"], c["D"]), within=minimax_within)
-            e = _channel_errors(c["A"], c["B"], C, D, z, G)
-            if _score(e) <= _score(c["err"]):
+            e = channel_errors(c["A"], c["B"], C, D, z, G)
+            if candidate_score(e) <= candidate_score(c["err"]):
                 c.update(C=C, D=D, err=e, residues="minimax")
-        cands.sort(key=lambda c: _score(c["err"]))
+        cands.sort(key=lambda c: candidate_score(c["err"]))
     # the gain between the samples: a candidate above the gap bounds gets the bounded minimax residues (same
     # poles); when those cannot meet the bounds either, it is kept only as a last resort
     zb, ub = gap_bounds(z, G)
     for c in cands:
-        c["gap"] = _gap_excess(c, zb, ub)
-        c["eq"] = _equality_residual(c, dc, ft, peak)
+        c["gap"] = gap_excess(c, zb, ub)
+        c["eq"] = equality_residual(c, dc, ft, peak)
     if bound_gaps:
         wbm = np.broadcast_to(1.0 / peak[:, None, None], (p, 1, K))
-        cands.sort(key=lambda c: _score(c["err"]))
+        cands.sort(key=lambda c: candidate_score(c["err"]))
         for c in cands[:_GAP_REFITS]:
             if c["gap"] > 1.0 and time.perf_counter() - t0 <= budget:
-                _bound_gaps(c, z, G, dc, ft, wbm, zb, ub, peak, within=minimax_within)
+                bound_candidate_gaps(c, z, G, dc, ft, wbm, zb, ub, peak, within=minimax_within)
     return cands
-
-
-def _bound_gaps(c, z, G, dc, ft, weights, zb, ub, peak, rounds: int = 4, within=None):
-    """Minimax residues of candidate ``c`` under the :func:`gap_bounds` (cutting planes: the bounds enter the
-    cone programme where the gain is within 10 % of them, then where a solution came within 5 % of them or
-    broke them); updates ``c`` when a solution meets every bound."""
-    from .state_space import evaluate_ss
-
-    def ratio(C, D):
-        with np.errstate(all="ignore"):
-            return (np.abs(evaluate_ss(c["A"], c["B"], C, D, zb)) / ub).max(axis=(0, 1))
-
-    active = ratio(c["C"], c["D"]) > 0.9
-    for _ in range(rounds):
-        try:
-            C, D, _ = minimax_cd(c["A"], c["B"], z, G, dc_gain=dc, feedthrough=ft, weights=weights,
-                                 bound=(zb[active], ub[:, :, active]), within=within)
-        except SolverError:  # infeasible or numerically failed bounds: the candidate stays as it is (inadmissible)
-            return
-        if not np.all(np.isfinite(C)):
-            return
-        r = ratio(C, D)
-        if r.max() <= 1.0 + 1e-6:
-            trial = dict(c, C=C, D=D)
-            c.update(C=C, D=D, err=_channel_errors(c["A"], c["B"], C, D, z, G), residues="bounded minimax",
-                     gap=float(r.max()), eq=_equality_residual(trial, dc, ft, peak))
-            return
-        active |= r > 0.95
-
-
-def _pick(cands, trust=None):
-    """Candidates, best first. Admissible: the equalities hold to 1e-11 of the peak when the model is evaluated
-    (nearly coincident poles with huge cancelling residues can lose them to round-off even though the fit
-    imposed them exactly) and the gain stays within the :func:`gap_bounds` between the samples - unless, with
-    ``trust``, the candidate's worst peak-normalised error is ``trust`` times smaller than that of every
-    candidate within the bounds: then the samples themselves determine the resonance (noise-free data of a
-    lightly damped system: errors 1e-12 against 0.4). Among the admissible ones, the one whose worst output
-    is closest to the best any of them reached on that output."""
-    for c in cands:
-        c["admissible"] = c["eq"] <= _EQ_TOL and c["gap"] <= 1.0 + 1e-6
-    if trust is not None:
-        bounded = [float(np.max(c["err"])) for c in cands if c["admissible"]]
-        limit = min(bounded, default=np.inf) / trust
-        for c in cands:
-            c["admissible"] |= c["eq"] <= _EQ_TOL and float(np.max(c["err"])) <= limit
-    ok = [c for c in cands if c["admissible"]]
-    pool = ok if ok else sorted(cands, key=lambda c: (c["eq"] > _EQ_TOL, c["gap"], c["eq"]))[:1]
-    best_i = np.maximum(np.min([c["err"] for c in pool], axis=0), np.finfo(float).tiny)
-    pool.sort(key=lambda c: (float(np.max(c["err"] / best_i)),) + _score(c["err"]))
-    return pool + [c for c in cands if not any(c is q for q in pool)]
-
-
-def _gap_excess(c, zb, ub) -> float:
-    """Largest ratio of a candidate's gain to the :func:`gap_bounds` between the samples (<= 1: within)."""
-    from .state_space import evaluate_ss
-
-    with np.errstate(all="ignore"):
-        Gb = evaluate_ss(c["A"], c["B"], c["C"], c["D"], zb)
-    r = float(np.max(np.abs(Gb) / ub)) if zb.size else 0.0
-    return r if np.isfinite(r) else np.inf
-
-
-def _equality_residual(c, dc, ft, peak):
-    """Largest violation of the DC / feedthrough equalities of a candidate, relative to each output's peak."""
-    from .state_space import evaluate_ss
-
-    pts, vals = [], []
-    if dc is not None:
-        pts.append(1.0 + 0j)
-        vals.append(dc)
-    if ft is not None:
-        pts.append(-1.0 + 0j)
-        vals.append(ft)
-    if not pts:
-        return 0.0
-    with np.errstate(all="ignore"):
-        Gm = evaluate_ss(c["A"], c["B"], c["C"], c["D"], np.array(pts))
-    r = max(float(np.max(np.abs(Gm[:, :, k] - v) / peak[:, None])) for k, v in enumerate(vals))
-    return r if np.isfinite(r) else np.inf
 
 
 def fit_relocated(omega, z, G, T, order, *, dc_gain=None, feedthrough=None, weights=None, start_poles=None,
@@ -483,7 +391,7 @@ def _fit_relocated(omega, z, G, T, order, *, dc_gain, feedthrough, weights, star
                           refine=refine, minimax=minimax, budget=budget, minimax_rounds=minimax_rounds,
                           resolution=resolution, minimax_within=minimax_within)
         return RelocationResult(A=r.A.T.copy(), B=r.C.T.copy(), C=r.B.T.copy(), D=r.D.T.copy(), poles=r.poles,
-                                max_error_per_output=_channel_errors(r.A.T, r.C.T, r.B.T, r.D.T, z, G),
+                                max_error_per_output=channel_errors(r.A.T, r.C.T, r.B.T, r.D.T, z, G),
                                 start=r.start, residues=r.residues, refined=r.refined, candidates=r.candidates,
                                 iterations=r.iterations, seconds=time.perf_counter() - t0)
     if not 0.0 < margin < 1.0:
@@ -513,13 +421,13 @@ def _fit_relocated(omega, z, G, T, order, *, dc_gain, feedthrough, weights, star
                   minimax=minimax, minimax_rounds=minimax_rounds, budget=np.inf if budget is None else budget / m)
         # free poles first; where the best fit breaks the gap bounds (a resonance the samples do not see), the
         # poles again with the resolution floor and bounded residues, and the best admissible of both
-        cands = _pick(_fit_simo(*args, region=region, **kw))
-        if min(cands, key=lambda c: _score(c["err"]))["gap"] > 1.0 + 1e-6 and resolution > 0:
+        cands = pick_candidates(_fit_simo(*args, region=region, **kw))
+        if min(cands, key=lambda c: candidate_score(c["err"]))["gap"] > 1.0 + 1e-6 and resolution > 0:
             # (fewer refinements, and minimax residues only from the bounded fits: the second pass costs about
             # half the first)
             kw.update(refine=min(kw["refine"], 2), minimax=0)
             floored = _fit_simo(*args, region=region + (resolution_floor(omega, resolution),), bound_gaps=True, **kw)
-            cands = _pick(cands + floored, trust=_TRUST_FACTOR)
+            cands = pick_candidates(cands + floored, trust=_TRUST_FACTOR)
         blocks.append(cands)
     import scipy.linalg
 
@@ -530,7 +438,7 @@ def _fit_relocated(omega, z, G, T, order, *, dc_gain, feedthrough, weights, star
     best = blocks[0][0]
     return RelocationResult(
         A=A, B=B, C=C, D=D, poles=np.concatenate([b[0]["poles"] for b in blocks]),
-        max_error_per_output=_channel_errors(A, B, C, D, z, G), start=best["label"], residues=best["residues"],
+        max_error_per_output=channel_errors(A, B, C, D, z, G), start=best["label"], residues=best["residues"],
         refined=best["refined"], candidates=tuple((c["label"], c["err"].copy(), c["admissible"]) for c in blocks[0]),
         iterations=best["its"], seconds=time.perf_counter() - t0,
     )
