@@ -43,20 +43,23 @@ def _imag_param_mask(poles: np.ndarray) -> np.ndarray:
 
 
 def params_to_poles(x: np.ndarray, template: np.ndarray, floor=None) -> np.ndarray:
-    out = []
-    i = j = 0
-    while i < template.size:
-        if template[i].imag != 0:
-            im = abs(x[j + 1]) or 1e-300
-            a = complex(-(np.exp(x[j]) + float(floor_at(np.array([im]), floor)[0][0])), im)
-            out += [a, np.conj(a)]
-            i += 2
-            j += 2
-        else:
-            out.append(complex(-np.exp(x[j]), 0.0))
-            i += 1
-            j += 1
-    return np.array(out)
+    """Poles from the stable parameters ``x`` (:func:`stable_params`), in the order of ``template``.
+
+    A real pole is ``-exp(u)``; a pair ``-(f(|v|) + exp(u)) +- i |v|`` with ``f`` the :func:`resolution_floor`
+    (0 without one). ``template`` (shape (n,), canonical order) only says which poles are real and which pairs.
+    """
+    idx, pair = pole_groups(template)
+    width = np.where(pair, 2, 1)
+    pos = np.cumsum(width) - width  # each group's first parameter
+    x = np.asarray(x, dtype=float)
+    u = np.exp(x[pos])
+    im = np.where(pair, np.abs(x[np.minimum(pos + 1, x.size - 1)]), 0.0)
+    im = np.where(pair & (im == 0), 1e-300, im)
+    a = -(u + np.where(pair, floor_at(im, floor)[0], 0.0)) + 1j * im
+    out = np.empty(template.size, dtype=complex)
+    out[idx] = a
+    out[idx[pair] + 1] = np.conj(a[pair])
+    return out
 
 
 def derivative_columns(s, poles, theta, floor=None):
