@@ -247,23 +247,34 @@ class ProgressDisplay:
 
     def _width(self) -> int:
         try:
-            return max(40, os.get_terminal_size(self.err.fileno()).columns)
+            cols = os.get_terminal_size(self.err.fileno()).columns
         except (AttributeError, ValueError, OSError):
-            return 100
+            cols = 0
+        if cols <= 0:  # not known (a pseudo-terminal without a size): COLUMNS, else 100
+            try:
+                cols = int(os.environ.get("COLUMNS", "100"))
+            except ValueError:
+                cols = 100
+        return max(40, cols)
 
     def line(self, width: int) -> str:
-        """The status line (without control characters), at most ``width - 1`` characters."""
+        """The status line (without control characters), at most ``width - 1`` characters: pieces done and the
+        elapsed time, then each running task with its bar, its percentage and its latest numbers (left out, then
+        the bars shortened, when the line would be too long)."""
         total = max(self.total, 1)
-        parts = [f"{_bar(self.done / total, 10)} {self.done}/{self.total} pieces {_clock(self._elapsed())}"]
-        n = max(len(self.active), 1)
-        room = (width - 1 - len(parts[0])) // n - 3
-        bar_w = 10 if room >= 40 else 5
-        for key, ev in self.active.items():
-            frac = ev.get("fraction")
-            pct = "" if frac is None else f" {100 * min(1.0, max(0.0, frac)):3.0f}%"
-            parts.append(f"{key} {_bar(frac, bar_w)}{pct} {ev.get('short', '')}")
-        text = " | ".join(parts)
-        return text if len(text) < width else text[:max(width - 4, 0)] + "..."
+        head = f"{self.done}/{self.total} pieces {_clock(self._elapsed())}"
+        text = ""
+        for bar_w, short, overall in ((10, True, True), (10, False, True), (5, False, False)):
+            parts = [f"{_bar(self.done / total, 10)} {head}" if overall else head]
+            for key, ev in self.active.items():
+                frac = ev.get("fraction")
+                pct = "" if frac is None else f" {100 * min(1.0, max(0.0, frac)):3.0f}%"
+                tail = f" {ev.get('short', '')}" if short and ev.get("short") else ""
+                parts.append(f"{key} {_bar(frac, bar_w)}{pct}{tail}")
+            text = " | ".join(parts)
+            if len(text) < width:
+                return text
+        return text[:max(width - 4, 0)] + "..."
 
     def _draw(self, force: bool = False) -> None:
         if self.mode != "bar" or not (self.active or self._drawn):

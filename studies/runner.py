@@ -13,7 +13,8 @@ The work is split into tasks (:mod:`studies.tasks`) that each compute and store 
 per case, then (once its steady flow is stored) one task per FRF (case, T) and one per case for its LTD
 histories, then one ROM task per case. This module plans them, submits each when what it needs is stored, and
 reports progress (:mod:`studies.progress`: a line per finished piece, and from inside the steady, FRF and LTD
-tasks their Newton steps, sweep shifts and time steps, as lines or as a bar on a terminal); independent tasks
+tasks their Newton steps, sweep shifts and time steps, from the ROM tasks their sweep points, as lines or as a
+bar on a terminal); independent tasks
 run in parallel on an executor of :mod:`studies.executors` (this process, local processes or a Dask cluster).
 
 Resume, failures, force
@@ -297,7 +298,7 @@ def _run(config: StudyConfig, pool, display: ProgressDisplay, force: bool, state
 
     def start_roms(name):
         if plan[name]["rom"] or plan[name]["sim"]:
-            submit("roms", name, rom_task, config, name, root, codes, force)
+            submit("roms", name, rom_task, config, name, root, codes, force, key=task_key("roms", name))
 
     for name, case_plan in plan.items():
         if case_plan["steady"]:

@@ -382,10 +382,13 @@ def rom_task(config: StudyConfig, case_name: str, root: str, codes: dict, force:
         if e is not None and not is_failed(e):
             ltds[g.name] = e
     outputs = list(config.cfd.outputs)
-    for pt in config.points():
-        if pt.case.name != case.name or pt.T not in frfs:
-            continue
+    points = [pt for pt in config.points() if pt.case.name == case.name and pt.T in frfs]
+    reporter = piece_reporter(task_key("roms", case.name))
+    for i, pt in enumerate(points):
         label = f"{case.name} T={pt.T:.6g} M={pt.M} N_r={pt.order} {pt.method.name}"
+        if reporter is not None:
+            reporter.update(f"sweep point {i + 1}/{len(points)}: {label}", f"point {i + 1}/{len(points)}",
+                            i / len(points))
         rom_key = rom_piece(pt, config.M_base, config.cfd)
         frf_entry = frfs[pt.T]
         if needs_compute(store, "rom", rom_key, force):
