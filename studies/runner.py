@@ -14,8 +14,8 @@ per case, then (once its steady flow is stored) one task per FRF (case, T) and o
 histories, then one ROM task per case. This module plans them, submits each when what it needs is stored, and
 reports progress (:mod:`studies.progress`: a line per finished piece, and from inside the steady, FRF and LTD
 tasks their Newton steps, sweep shifts and time steps, from the ROM tasks their sweep points, as lines or as a
-bar on a terminal); independent tasks
-run in parallel on an executor of :mod:`studies.executors` (this process, local processes or a Dask cluster).
+bar on a terminal); independent tasks run in parallel on an executor of :mod:`studies.executors` (this
+process, local processes or a Dask cluster).
 
 Resume, failures, force
 -----------------------
