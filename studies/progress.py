@@ -175,8 +175,6 @@ class ProgressDisplay:
         Where lines (default ``sys.stdout``) and the bar (default ``sys.stderr``) go.
     """
 
-    REDRAW_S = 0.1
-
     def __init__(self, mode: str, interval: float = 10.0, out=None, err=None):
         if mode not in MODES or mode == "auto":
             raise ValueError(f"mode must be one of {MODES[1:]}; got {mode!r}")
@@ -189,7 +187,6 @@ class ProgressDisplay:
         self.finished: set = set()  # keys whose task is done: late events are dropped
         self.done = self.total = 0
         self._drawn = False
-        self._last_draw = -math.inf
 
     @property
     def enabled(self) -> bool:
@@ -209,7 +206,7 @@ class ProgressDisplay:
             return
         self._clear()
         print(f"[{self._elapsed():8.1f} s] {text}", file=self.out, flush=True)
-        self._draw(force=True)
+        self._draw()
 
     def counts(self, done: int, total: int) -> None:
         """Pieces finished and expected, for the bar."""
@@ -228,7 +225,7 @@ class ProgressDisplay:
                 print(f"[{self._elapsed():8.1f} s]   {key}: {ev.get('text', '')} ({ev.get('elapsed', 0.0):.0f} s in)",
                       file=self.out, flush=True)
         else:
-            self._draw()
+            self._draw()  # every event (each task sends at most one every SEND_INTERVAL seconds)
 
     def task_done(self, key: Optional[str]) -> None:
         """The task ``key`` has finished: drop it from the bar and ignore its late events."""
@@ -236,7 +233,7 @@ class ProgressDisplay:
             return
         self.finished.add(key)
         self.active.pop(key, None)
-        self._draw(force=True)
+        self._draw()
 
     def close(self) -> None:
         """Clear the bar (call at the end of the run, also when it fails or is interrupted)."""
@@ -276,13 +273,9 @@ class ProgressDisplay:
                 return text
         return text[:max(width - 4, 0)] + "..."
 
-    def _draw(self, force: bool = False) -> None:
+    def _draw(self) -> None:
         if self.mode != "bar" or not (self.active or self._drawn):
             return
-        now = time.perf_counter()
-        if not force and now - self._last_draw < self.REDRAW_S:
-            return
-        self._last_draw = now
         try:
             self.err.write("\r\x1b[K" + self.line(self._width()))
             self.err.flush()
