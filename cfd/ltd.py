@@ -26,7 +26,9 @@ an impulsive start, as for the sharp-edged gust. No phase-error warning is given
 scale is known); the BDF2 phase-rate error at a frequency ``omega`` is ``(omega dt)^2 / 3``.
 """
 
+import logging
 import math
+import time
 import warnings
 from dataclasses import dataclass
 
@@ -38,6 +40,8 @@ from .linear import LinearError, check_gust_method
 from .motion import motion_forcing
 
 __all__ = ["LTDHistory", "ltd_response", "ltd_responses", "phase_error_estimate"]
+
+log = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True, eq=False)
@@ -145,11 +149,13 @@ def _motions(lin, t, plunge, pitch, pivot):
     return out
 
 
-def _march(lin, gusts, dt, t_end, method, x_ref, initial, motion=None):
+def _march(lin, gusts, dt, t_end, method, x_ref, initial, motion=None, progress=None, log_interval=60.0):
     """BDF2 for a list of gusts at once (or one column of motion alone); returns a list of :class:`LTDHistory`.
 
-    ``motion``: None or ``(plunge, pitch, pivot)`` (see :func:`_motions`), forcing every column.
+    ``motion``: None or ``(plunge, pitch, pivot)`` (see :func:`_motions`), forcing every column. ``progress`` and
+    ``log_interval``: see :func:`ltd_response`.
     """
+    t_start = t_log = time.perf_counter()
     n = int(round(t_end / dt))
     t = dt * np.arange(n + 1)
     h = lin.to_solver_time(dt)
@@ -173,6 +179,13 @@ def _march(lin, gusts, dt, t_end, method, x_ref, initial, motion=None):
             b = b + (f.b0 * x[k] + f.b1 * rate[k])[:, None]
         q_prev, q = q, solve(V * (4.0 * q - q_prev) / (2.0 * h) - b)
         Y[k] = lin.C @ q
+        if progress is not None:
+            progress(k, n, float(t[k]))
+        now = time.perf_counter()
+        if now - t_log >= log_interval:
+            t_log = now
+            log.info("ltd %s: step %d / %d (s = %.3f), %d column(s), %.0f s", method, k, n, t[k], g,
+                     now - t_start)
     for f, x, _ in moves:
         Y += np.multiply.outer(x, f.d)[:, :, None]       # the explicit load term d x
     x_of = {f.name: x for f, x, _ in moves}
@@ -190,7 +203,8 @@ def _march(lin, gusts, dt, t_end, method, x_ref, initial, motion=None):
     return out
 
 
-def ltd_responses(lin, gusts, dt, t_end, method="svm", x_ref=0.0, max_phase_error=0.01):
+def ltd_responses(lin, gusts, dt, t_end, method="svm", x_ref=0.0, max_phase_error=0.01, *, progress=None,
+                  log_interval=60.0):
     """Linear responses to several gusts, marched together (one factorisation, one block solve per step).
 
     The same as ``[ltd_response(lin, g, dt, t_end, ...) for g in gusts]`` (to round-off), from the rest state,
@@ -201,8 +215,8 @@ def ltd_responses(lin, gusts, dt, t_end, method="svm", x_ref=0.0, max_phase_erro
     lin : LinearSystem
     gusts : sequence of SineGust, OneMinusCosine or SharpEdged
         At least one.
-    dt, t_end, method, x_ref, max_phase_error
-        As :func:`ltd_response` (shared by all gusts).
+    dt, t_end, method, x_ref, max_phase_error, progress, log_interval
+        As :func:`ltd_response` (shared by all gusts; ``progress`` is called once per step of the march).
 
     Returns
     -------
@@ -223,11 +237,11 @@ def ltd_responses(lin, gusts, dt, t_end, method="svm", x_ref=0.0, max_phase_erro
     dt, t_end = _check_times(dt, t_end)
     for gust in gusts:
         _warn_phase(gust, dt, max_phase_error)
-    return _march(lin, gusts, dt, t_end, method, x_ref, None)
+    return _march(lin, gusts, dt, t_end, method, x_ref, None, progress=progress, log_interval=log_interval)
 
 
 def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, max_phase_error=0.01, *,
-                 plunge=None, pitch=None, pivot=0.25):
+                 plunge=None, pitch=None, pivot=0.25, progress=None, log_interval=60.0):
     """Linear response to a gust and/or a prescribed rigid motion by BDF2 time marching (one factorisation).
 
     Parameters
@@ -254,6 +268,11 @@ def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, ma
         Prescribed pitch ``alpha(s)`` in radians, nose up about ``(pivot, 0)``; as ``plunge``.
     pivot : float
         Pitch axis, chords from the leading edge.
+    progress : callable, optional
+        ``progress(step, n_steps, t)`` after every time step (``step = 1 ... n_steps``, ``t`` its convective
+        time); its return value is ignored. It does not change the result.
+    log_interval : float
+        Seconds between progress lines on the ``cfd.ltd`` logger (level INFO).
 
     Returns
     -------
@@ -278,4 +297,5 @@ def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, ma
     if gust is not None:
         _warn_phase(gust, dt, max_phase_error)
     motion = None if plunge is None and pitch is None else (plunge, pitch, pivot)
-    return _march(lin, [] if gust is None else [gust], dt, t_end, method, x_ref, initial, motion)[0]
+    return _march(lin, [] if gust is None else [gust], dt, t_end, method, x_ref, initial, motion,
+                  progress=progress, log_interval=log_interval)[0]

@@ -38,6 +38,7 @@ falls by ``tol`` from its value for the free stream (the history's first entry w
 with ``q0`` the free-stream residual is evaluated once for the reference).
 """
 
+import logging
 import time
 from dataclasses import dataclass, field
 
@@ -54,6 +55,8 @@ from .mesh import Grid
 from .ordering import nested_dissection, unknown_permutation
 
 __all__ = ["SteadySolution", "solve_steady", "factorise"]
+
+log = logging.getLogger(__name__)
 
 RK5 = (1.0 / 4.0, 1.0 / 6.0, 3.0 / 8.0, 1.0 / 2.0, 1.0)
 _NEW = {"n_rk": 200, "cfl0": 10.0, "growth": 3.0, "cfl0_warm": 1e3}
@@ -165,7 +168,8 @@ STRATEGIES = ("classic", "chord")
 
 def solve_steady(grid, mach, alpha_deg, *, gamma=1.4, tol=1e-10, scheme=None, q0=None, n_rk=None, cfl_rk=2.5,
                  cfl0=None, cfl_max=1e10, growth=None, cfl_min=0.01, max_change=0.5, max_rise=2.0, max_newton=100,
-                 strategy="chord", chord_ratio=0.5, max_chord=30, verbose=False):
+                 strategy="chord", chord_ratio=0.5, max_chord=30, verbose=False, progress=None,
+                 log_interval=60.0):
     """Steady Euler flow about the aerofoil of ``grid``.
 
     Parameters
@@ -213,6 +217,15 @@ def solve_steady(grid, mach, alpha_deg, *, gamma=1.4, tol=1e-10, scheme=None, q0
         Chord steps per factorisation at most.
     verbose : bool
         Print the residual per Newton step.
+    progress : callable, optional
+        ``progress(step, residual, relative, cfl)`` after the Runge-Kutta start (``step = 0``, ``cfl`` the RK
+        CFL number ``cfl_rk``) and after every Newton / pseudo-transient step (``step = 1, 2, ...``, rejected
+        steps included, as ``max_newton`` counts them; ``cfl`` the CFL number the step was taken with, up to
+        ``cfl_max``): ``residual`` the L2 norm of the residual of the current state (after the step's
+        chord steps), ``relative`` that over the free stream's (the solve ends when it falls to ``tol``). Its
+        return value is ignored; it does not change the solution.
+    log_interval : float
+        Seconds between progress lines on the ``cfd.steady`` logger (level INFO).
 
     Returns
     -------
@@ -283,6 +296,21 @@ def solve_steady(grid, mach, alpha_deg, *, gamma=1.4, tol=1e-10, scheme=None, q0
     # near-converged q0 does not ask for a fall below round-off.
     r_free = r0 if q0 is None else norm(residual(grid, np.broadcast_to(flow.q, q.shape).copy(), flow, scheme=scheme))
     target = tol * r_free if r_free > 0 else 0.0
+    t_log = t_start
+
+    def report(step, cfl_step):
+        """``progress`` and the throttled log line after a step (see ``progress`` and ``log_interval``)."""
+        nonlocal t_log
+        r = history[-1]
+        rel = r / r_free if r_free > 0 else 0.0
+        if progress is not None:
+            progress(step, r, rel, float(cfl_step))
+        now = time.perf_counter()
+        if now - t_log >= log_interval:
+            t_log = now
+            log.info("steady M=%g alpha=%g deg: step %d, |R| %.3e (%.2e of the free stream's, target %.0e), "
+                     "CFL %.3g, %d factorisations, %.0f s", mach, alpha_deg, step, r, rel, tol, cfl_step,
+                     info["n_factor"], now - t_start)
 
     def rk_steps(q, n):
         R = None
@@ -306,6 +334,7 @@ def solve_steady(grid, mach, alpha_deg, *, gamma=1.4, tol=1e-10, scheme=None, q0
         t0 = time.perf_counter()
         q, R = rk_steps(q, n_rk)
         info["t_rk"] += time.perf_counter() - t0
+        report(0, cfl_rk)
 
     # 2. Newton with pseudo-transient continuation.
     perm = unknown_permutation(nested_dissection(grid))
@@ -355,6 +384,7 @@ def solve_steady(grid, mach, alpha_deg, *, gamma=1.4, tol=1e-10, scheme=None, q0
         if verbose:
             print(f"newton {n_newton:3d}  cfl {cfl:9.3g}  step {step:5.3f}  |R| {rn if ok else np.nan:.3e}  "
                   f"fill {fill:.1f}{'' if ok else '  rejected'}")
+        cfl_step = cfl
         if not ok:
             # Reject: same state and Jacobian, smaller pseudo-time step.
             cfl *= 0.25
@@ -366,6 +396,7 @@ def solve_steady(grid, mach, alpha_deg, *, gamma=1.4, tol=1e-10, scheme=None, q0
                          "three times")
                 q, R = rk_steps(q, n_rk_escape)
                 J, cfl, r_ref = None, cfl0, history[-1]
+            report(n_newton, cfl_step)
             continue
         ratio = rn / history[-1]
         if step == 1.0 and ratio < 1.0:
@@ -404,6 +435,7 @@ def solve_steady(grid, mach, alpha_deg, *, gamma=1.4, tol=1e-10, scheme=None, q0
                     print(f"chord  {n_c:3d}  |R| {rn:.3e}  ratio {rn / r_prev:.3f}")
                 if rn > chord_ratio * r_prev:
                     break
+        report(n_newton, cfl_step)
 
     info["newton_steps"] = n_newton
     info["wall_time"] = time.perf_counter() - t_start

@@ -40,6 +40,7 @@ direct path in ``tests/cfd/test_sweep.py`` (measured effectivities in docs/lfd-s
 ``omega = inf`` is the feedthrough ``D`` without a solve (estimate 0); ``omega = 0`` is an ordinary point.
 """
 
+import logging
 import time
 import warnings
 
@@ -57,6 +58,8 @@ from .motion import check_inputs, motion_forcing
 from .ordering import nested_dissection, unknown_permutation
 
 __all__ = ["SweepBasis", "fast_sweep", "gust_operator", "face_gust_vector", "SAFETY"]
+
+log = logging.getLogger(__name__)
 
 SAFETY = 10.0
 """Factor applied to the residual-weighted error estimate (see the module docstring and docs/lfd-sweep.md)."""
@@ -677,7 +680,7 @@ def _evaluate_inputs(basis, wf, gust, x_ref, inputs, pivot, caches, sel):
 
 
 def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shifts=24, x_ref=0.0, T=None,
-               basis=None, n_moments=16, progress=None, inputs=("gust",), pivot=0.25):
+               basis=None, n_moments=16, progress=None, inputs=("gust",), pivot=0.25, log_interval=60.0):
     """Frequency response to a gust and rigid motions over many frequencies from a few factorisations (see the
     module docstring).
 
@@ -706,7 +709,11 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
     progress : callable, optional
         Called after every evaluation of the reduced model as ``progress(basis, worst, failing)``: ``worst``
         the largest ratio of the error estimate to its allowance (``<= tol`` when done), ``failing`` the
-        frequencies above ``tol``.
+        frequencies above ``tol``. The last shift is ``basis.shifts[-1]`` (omega, U/c units) and the
+        basis size ``basis.size``; one call per shift (the first after the first shift). Its return value is
+        ignored; it does not change the result.
+    log_interval : float
+        Seconds between progress lines on the ``cfd.sweep`` logger (level INFO).
     inputs : sequence of {"gust", "plunge", "pitch"}
         As :func:`cfd.lfd.lfd_response`. The dual basis depends on the outputs only, so one basis serves every
         input: a motion's forcing ``b0 + i omega b1`` is two more projected vectors.
@@ -748,7 +755,7 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
     if not set(names) <= set(basis.outputs):
         raise LinearError(f"basis holds outputs {basis.outputs}; it cannot give {names}: build a new SweepBasis")
     sel = [basis.outputs.index(o) for o in names]
-    t_start = time.perf_counter()
+    t_start = t_log = time.perf_counter()
     finite = np.isfinite(w)
     wf = w[finite]
     m = len(inputs)
@@ -767,6 +774,13 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
             bad = ratio > tol
             if progress is not None:
                 progress(basis, float(ratio.max()), wf[bad])
+            now = time.perf_counter()
+            if now - t_log >= log_interval:
+                t_log = now
+                log.info("fast sweep: %d shift(s) (last at omega = %.4g), basis %d, worst estimate %.2e of the "
+                         "allowance (tol %.0e), %d / %d frequencies above tol, %.0f s", len(basis.shifts),
+                         basis.shifts[-1], basis.size, ratio.max(), tol, int(bad.sum()), wf.size,
+                         now - t_start)
             if not np.any(bad):
                 break
             if added >= max_shifts:

@@ -74,6 +74,11 @@ def add_subcommands(sub) -> None:
     p.add_argument("--force-page", action="store_true",
                    help="overwrite the report page even when it was not written by lfdrom (no generator marker)")
     p.add_argument("--dry-run", action="store_true", help="validate and list the sweep points, compute nothing")
+    p.add_argument("--progress", choices=("auto", "bar", "lines", "pieces"), default=None,
+                   help="progress output while computing: a line per finished piece and, from inside the steady "
+                        "flow, the frequency sweep and the LTD march, a bar on a terminal ('bar') or throttled "
+                        "lines ('lines'); 'pieces': the piece lines only; default auto (the bar when stderr is a "
+                        "terminal and CI is unset, else lines); --quiet: nothing")
 
     p = sub.add_parser("report", help="tables and figures of a study from its stored results",
                        description="Write the tables (CSV, Markdown, LaTeX) and figures of STUDY.toml from the "
@@ -252,6 +257,13 @@ def _run(config: StudyConfig, args, **options):
         return None, EXIT_FAILED
 
 
+def _progress(args):
+    """``run_study``'s ``progress``: False with ``--quiet``, else the ``--progress`` mode (default True: auto)."""
+    if args.quiet:
+        return False
+    return True if getattr(args, "progress", None) in (None, "auto") else args.progress
+
+
 def _show_warning(message, category, filename, lineno, file=None, line=None):
     print(f"lfdrom: warning: {message}", file=sys.stderr)
 
@@ -314,7 +326,7 @@ def cmd_run(args) -> int:
     if status != EXIT_OK or args.dry_run:
         return status
     results, status = _run(config, args, output_dir=config.output_dir, store_dir=config.store_dir,
-                           scheduler=args.scheduler, workers=workers, progress=not args.quiet, force=args.force)
+                           scheduler=args.scheduler, workers=workers, progress=_progress(args), force=args.force)
     if status != EXIT_OK:
         return status
     status, line = run_status(results)

@@ -5,7 +5,9 @@ Each pool has ``name`` (for the progress line), ``submit(fn, *args)`` -> future,
 
 - this process (``workers=1``, the default: the machine this was written on has two cores shared);
 - local processes (``workers=N > 1``, :class:`concurrent.futures.ProcessPoolExecutor`), each with
-  ``cores // workers`` BLAS threads, each ending when the process that started it ends;
+  ``cores // workers`` BLAS threads, each ending when the process that started it ends; with ``progress`` (a
+  callable of the main process) the workers' progress events (:mod:`studies.progress`) come back on a
+  ``multiprocessing`` queue, drained by ``wait`` every :data:`PROGRESS_POLL_S` seconds (no thread);
 - a Dask cluster (``scheduler="tcp://host:port"``, or ``"local"`` for a :class:`distributed.LocalCluster`
   of ``workers`` processes); the store folder must then be on a file system the workers share.
 """
@@ -19,7 +21,7 @@ from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor
 from concurrent.futures import wait as cf_wait
 from typing import Optional
 
-__all__ = ["InlinePool", "ProcessPool", "DaskPool", "make_pool", "RunnerError", "PARENT_POLL_S"]
+__all__ = ["InlinePool", "ProcessPool", "DaskPool", "make_pool", "RunnerError", "PARENT_POLL_S", "PROGRESS_POLL_S"]
 
 
 class RunnerError(ValueError):
@@ -89,13 +91,25 @@ def _exit_with_parent(parent_pid: int) -> None:
     threading.Thread(target=watch, name="lfdrom-parent-watch", daemon=True).start()
 
 
-def _init_worker(threads: int, parent_pid: int) -> None:
-    """Worker initializer: BLAS threads, Ctrl-C left to the parent (which stops the workers), exit with it."""
+PROGRESS_POLL_S = 0.25
+"""How often the main process drains the workers' progress events while it waits for tasks (seconds)."""
+
+
+def _init_worker(threads: int, parent_pid: int, queue=None) -> None:
+    """Worker initializer: BLAS threads, Ctrl-C left to the parent (which stops the workers), exit with it,
+    progress events onto ``queue`` (none without one; a forked worker must not use the parent's sink)."""
     import signal
+
+    from .progress import set_sink
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     _exit_with_parent(parent_pid)
     _limit_blas_threads(threads)
+    if queue is not None:
+        queue.cancel_join_thread()  # never wait at exit for events nobody reads (an aborted run)
+        set_sink(queue.put)
+    else:
+        set_sink(None)
 
 
 class ProcessPool:
@@ -107,22 +121,44 @@ class ProcessPool:
     machine, empty store each time).
     """
 
-    def __init__(self, workers: int):
+    def __init__(self, workers: int, progress=None):
         import multiprocessing
 
         ctx = multiprocessing.get_context("fork") if "fork" in multiprocessing.get_all_start_methods() else None
         threads = max(1, (os.cpu_count() or 1) // workers)
+        self.progress = progress
+        self.queue = None if progress is None else (ctx or multiprocessing).Queue()
         self.ex = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
-                                      initargs=(threads, os.getpid()))
+                                      initargs=(threads, os.getpid(), self.queue))
         self.name = f"{workers} local processes ({threads} BLAS thread{'s' if threads > 1 else ''} each)"
 
     def submit(self, fn, *args):
         return self.ex.submit(fn, *args)
 
-    @staticmethod
-    def wait(pending):
-        done, rest = cf_wait(pending, return_when=FIRST_COMPLETED)
-        return done, rest
+    def wait(self, pending):
+        """Wait for a task to finish; meanwhile pass the workers' progress events to ``progress``."""
+        while True:
+            done, rest = cf_wait(pending, timeout=None if self.queue is None else PROGRESS_POLL_S,
+                                 return_when=FIRST_COMPLETED)
+            self._drain()
+            if done:
+                return done, rest
+
+    def _drain(self):
+        """Hand every queued progress event to ``progress`` (a failing display never stops the run)."""
+        import queue as queue_module
+
+        if self.queue is None:
+            return
+        while True:
+            try:
+                event = self.queue.get_nowait()
+            except (queue_module.Empty, OSError, ValueError, EOFError):
+                return
+            try:
+                self.progress(event)
+            except Exception:  # noqa: BLE001 - progress output is never worth a failed run
+                pass
 
     def close(self, abort: bool = False):
         """Wait for the running tasks, or (``abort``) stop the workers at once (what they stored is kept)."""
@@ -130,8 +166,16 @@ class ProcessPool:
             for proc in list((getattr(self.ex, "_processes", None) or {}).values()):
                 proc.terminate()
             self.ex.shutdown(wait=False, cancel_futures=True)
+            self._close_queue()
             return
         self.ex.shutdown(wait=True, cancel_futures=True)
+        self._close_queue()
+
+    def _close_queue(self):
+        if self.queue is not None:
+            self.queue.close()
+            self.queue.cancel_join_thread()
+            self.queue = None
 
 
 class DaskPool:
@@ -175,7 +219,7 @@ class DaskPool:
 
 
 
-def make_pool(scheduler: Optional[str], workers: Optional[int]):
+def make_pool(scheduler: Optional[str], workers: Optional[int], progress=None):
     """The pool for a run's options (see the module docstring).
 
     Parameters
@@ -184,6 +228,9 @@ def make_pool(scheduler: Optional[str], workers: Optional[int]):
         A Dask scheduler's address (``"tcp://host:port"``) or ``"local"``; None: no Dask.
     workers : int or None
         Worker processes; None or 1: this process.
+    progress : callable, optional
+        Local processes: receives the workers' progress events in this process (:mod:`studies.progress`).
+        This process's own tasks send theirs to ``studies.progress.set_sink``'s sink; Dask workers send none.
 
     Returns
     -------
@@ -203,4 +250,4 @@ def make_pool(scheduler: Optional[str], workers: Optional[int]):
         return DaskPool(scheduler, workers)
     if workers is None or workers == 1:
         return InlinePool()
-    return ProcessPool(workers)
+    return ProcessPool(workers, progress=progress)

@@ -12,8 +12,10 @@ Tasks and executors
 The work is split into tasks (:mod:`studies.tasks`) that each compute and store pieces: one ``steady`` task
 per case, then (once its steady flow is stored) one task per FRF (case, T) and one per case for its LTD
 histories, then one ROM task per case. This module plans them, submits each when what it needs is stored, and
-reports progress; independent tasks run in parallel on an executor of :mod:`studies.executors` (this process,
-local processes or a Dask cluster).
+reports progress (:mod:`studies.progress`: a line per finished piece, and from inside the steady, FRF and LTD
+tasks their Newton steps, sweep shifts and time steps, from the ROM tasks their sweep points, as lines or as a
+bar on a terminal); independent tasks run in parallel on an executor of :mod:`studies.executors` (this
+process, local processes or a Dask cluster).
 
 Resume, failures, force
 -----------------------
@@ -39,6 +41,7 @@ from .config import as_config
 from .executors import RunnerError, make_pool
 from .files import atomic_write_bytes
 from .pieces import PIECES, error_text, frf_piece, ltd_piece, open_store, rom_piece, sim_piece, steady_piece
+from .progress import ProgressDisplay, resolve_mode, set_sink, task_key
 from .results import StudyResults, load_results
 from .schema import StudyConfig
 from .tasks import frf_task, ltd_task, needs_compute, pinned_store, rom_task, steady_task
@@ -129,19 +132,22 @@ def _width(config: StudyConfig) -> int:
 class _Progress:
     """Counts and prints the pieces of a run as they finish; keeps their reports for the run log."""
 
-    enabled: bool
+    display: ProgressDisplay
     total: int
     t0: float = field(default_factory=time.perf_counter)
     done: int = 0
     failed: int = 0
     log: list = field(default_factory=list)
 
+    def __post_init__(self):
+        self.display.counts(self.done, self.total)
+
     def say(self, text: str):
-        if self.enabled:
-            print(f"[{time.perf_counter() - self.t0:8.1f} s] {text}", flush=True)
+        self.display.say(text)
 
     def piece(self, report: dict):
         self.done += 1
+        self.display.counts(self.done, self.total)
         self.log.append(report)
         bad = report["status"] == "failed"
         self.failed += bad
@@ -155,7 +161,7 @@ class _Progress:
 # ---------------------------------------------------------------------------------------------
 
 def run_study(study, *, output_dir=None, store_dir=None, scheduler: Optional[str] = None,
-              workers=None, progress: bool = True, force: bool = False) -> StudyResults:
+              workers=None, progress=True, force: bool = False, progress_interval: float = 10.0) -> StudyResults:
     """Compute every piece of a study that the results store lacks, then read the results back.
 
     Parameters
@@ -173,10 +179,18 @@ def run_study(study, *, output_dir=None, store_dir=None, scheduler: Optional[str
         Local worker processes (default 1: everything in this process). Tasks are parallel over cases and
         FRFs (a case's gusts are marched together, beside its FRFs). ``"auto"`` (the command line's default):
         :func:`auto_workers`.
-    progress : bool
-        Print one line per finished piece: elapsed time, piece time, counts.
+    progress : bool or {"auto", "bar", "lines", "pieces", "off"}
+        What to print while running (:mod:`studies.progress`): one line per finished piece (elapsed time, piece
+        time, counts) in every mode but ``"off"``, and the progress of the running steady, FRF and LTD tasks
+        (Newton steps, sweep shifts, time steps): ``"lines"`` as indented lines (at most one per task every
+        ``progress_interval`` seconds), ``"bar"`` as a status line redrawn on stderr, ``"pieces"`` not at all.
+        ``True`` is ``"auto"``: the bar when stderr is a terminal (and the ``CI`` variable is unset), else lines;
+        ``False`` is ``"off"``. Local worker processes send their progress back to this process; Dask workers
+        send none.
     force : bool
         Recompute every piece even when stored.
+    progress_interval : float
+        Seconds between two progress lines of the same task in mode ``"lines"``.
 
     Returns
     -------
@@ -191,7 +205,10 @@ def run_study(study, *, output_dir=None, store_dir=None, scheduler: Optional[str
         Bad ``workers`` or ``scheduler``; Dask requested but not installed.
     TypeError
         ``study`` is neither a StudyConfig nor a path.
+    ValueError
+        An unknown ``progress`` mode.
     """
+    mode = resolve_mode(progress)
     config = as_config(study)
     changes = {}
     if output_dir is not None:
@@ -209,18 +226,24 @@ def run_study(study, *, output_dir=None, store_dir=None, scheduler: Optional[str
                           f"{_width(config)} parallel task(s); {os.cpu_count() or 1} CPU(s)): using {cap}",
                           RuntimeWarning, stacklevel=2)
             workers = cap
-    pool = make_pool(scheduler, workers)
+    display = ProgressDisplay(mode, interval=progress_interval)
+    pool = make_pool(scheduler, workers, progress=display.sink)
     state: dict = {}
+    previous = set_sink(display.sink)  # the tasks run in this process (workers = 1) report to the display
     try:
-        results = _run(config, pool, progress, bool(force), state)
-    except KeyboardInterrupt:
-        pool.close(abort=True)
-        raise RunInterrupted(state.get("computed", 0), config.store_dir) from None
-    pool.close()
+        try:
+            results = _run(config, pool, display, bool(force), state)
+        except KeyboardInterrupt:
+            pool.close(abort=True)
+            raise RunInterrupted(state.get("computed", 0), config.store_dir) from None
+        pool.close()
+    finally:
+        set_sink(previous)
+        display.close()
     return results
 
 
-def _run(config: StudyConfig, pool, progress: bool, force: bool, state: dict) -> StudyResults:
+def _run(config: StudyConfig, pool, display: ProgressDisplay, force: bool, state: dict) -> StudyResults:
     root = str(config.store_dir)
     base = open_store(config)
     codes = {p: base.code_version(p) for p in PIECES}
@@ -248,44 +271,46 @@ def _run(config: StudyConfig, pool, progress: bool, force: bool, state: dict) ->
         n_cfd += need_steady + len(frfs) + len(ltds)
         n_id += n_rom + n_sim
     # ROM/sim counts are upper bounds known now; pieces of failed CFD are skipped
-    tracker = _Progress(progress, n_cfd + n_id)
+    tracker = _Progress(display, n_cfd + n_id)
     tracker.say(f"study {config.name!r}: {len(config.cases)} case(s), {len(config.points())} sweep point(s), "
                 f"{len(config.gusts)} gust(s); to compute: {n_cfd} CFD piece(s), up to {n_id} ROM piece(s) "
                 f"[{pool.name}; store {root}]")
 
-    pending = {}  # future -> (kind, case)
+    pending = {}  # future -> (kind, case, progress key)
     task_failures: list = []  # tasks that failed outside their pieces (their pieces were not stored)
 
-    def submit(kind, case_name, fn, *args):
-        pending[pool.submit(fn, *args)] = (kind, case_name)
+    def submit(kind, case_name, fn, *args, key=None):
+        pending[pool.submit(fn, *args)] = (kind, case_name, key)
 
     cfd_left = {name: 0 for name in plan}
 
     def start_cfd(name):
         case_plan = plan[name]
         for T in case_plan["frf"]:
-            submit("frf", name, frf_task, config, name, T, root, codes)
+            submit("frf", name, frf_task, config, name, T, root, codes, key=task_key("frf", name, T))
             cfd_left[name] += 1
         if case_plan["ltd"]:  # all the case's gusts in one march: one factorisation, block solves
-            submit("ltd", name, ltd_task, config, name, list(case_plan["ltd"]), root, codes)
+            submit("ltd", name, ltd_task, config, name, list(case_plan["ltd"]), root, codes,
+                   key=task_key("ltd", name))
             cfd_left[name] += 1
         if cfd_left[name] == 0:
             start_roms(name)
 
     def start_roms(name):
         if plan[name]["rom"] or plan[name]["sim"]:
-            submit("roms", name, rom_task, config, name, root, codes, force)
+            submit("roms", name, rom_task, config, name, root, codes, force, key=task_key("roms", name))
 
     for name, case_plan in plan.items():
         if case_plan["steady"]:
-            submit("steady", name, steady_task, config, name, root, codes)
+            submit("steady", name, steady_task, config, name, root, codes, key=task_key("steady", name))
         else:
             start_cfd(name)
 
     while pending:
         done, _ = pool.wait(set(pending))
         for future in done:
-            kind, name = pending.pop(future)
+            kind, name, key = pending.pop(future)
+            display.task_done(key)
             try:
                 reports = future.result()
             except Exception as e:  # noqa: BLE001 - a task that failed outside its pieces (e.g. the store)

@@ -9,7 +9,9 @@ a few seconds on the paper grid), so the large Jacobians are never stored nor sh
 
 Each task opens the store with the code versions the main process pinned (:class:`PinnedStore`), stores
 every piece it computes (a piece that raises is stored as a failure) and returns
-one report per piece (a dict: ``piece``, ``label``, ``status``, ``error``, ``seconds``, ``computed``). The
+one report per piece (a dict: ``piece``, ``label``, ``status``, ``error``, ``seconds``, ``computed``). While
+they run, the steady, FRF and LTD tasks report from inside the solver (Newton steps, sweep shifts, time steps)
+through :mod:`studies.progress` when this process has a sink (observational: nothing of it is stored). The
 ROM numerics are :mod:`sysid`'s (``identify``,
 :func:`sysid.simulate.rom_simulation`, :func:`sysid.metrics.rom_metrics`); the CFD calls are thin adapters
 around :mod:`cfd`.
@@ -44,6 +46,7 @@ from .pieces import (
     steady_piece,
     store_dependencies,
 )
+from .progress import piece_reporter, task_key
 from .schema import StudyConfig
 
 __all__ = ["PinnedStore", "pinned_store", "lfd_on_mckelvey_grid", "needs_compute", "steady_task", "frf_task",
@@ -85,11 +88,19 @@ def _grid(case):
     return cfd.c_grid(cfd.naca(case.naca), **case.grid.kwargs())
 
 
-def _steady(case):
-    """Steady solution of a case from the free stream."""
+def _steady(case, progress=None):
+    """Steady solution of a case from the free stream (``progress``: see ``cfd.solve_steady``)."""
     import cfd
 
-    return cfd.solve_steady(_grid(case), case.mach, case.alpha_deg)
+    kw = {} if progress is None else {"progress": progress}
+    return cfd.solve_steady(_grid(case), case.mach, case.alpha_deg, **kw)
+
+
+def _default(fn, name):
+    """The default value of the keyword ``name`` of ``fn`` (the tolerances the tasks leave at their default)."""
+    import inspect
+
+    return inspect.signature(fn).parameters[name].default
 
 
 def _linear_system(case, q):
@@ -100,7 +111,7 @@ def _linear_system(case, q):
     return cfd.linearise(sol)
 
 
-def lfd_on_mckelvey_grid(lin, T, M, cfd_options):
+def lfd_on_mckelvey_grid(lin, T, M, cfd_options, progress=None):
     """The LFD gust response on McKelvey's grid, as a study computes it.
 
     Parameters
@@ -113,6 +124,8 @@ def lfd_on_mckelvey_grid(lin, T, M, cfd_options):
         Grid intervals: ``M + 1`` frequencies ``sysid.mckelvey_grid(M, T)``.
     cfd_options : studies.schema.CFDOptions
         Gust method and outputs.
+    progress : PieceReporter, optional
+        Reports the fast sweep's shifts (the direct path reports nothing).
 
     Returns
     -------
@@ -122,10 +135,15 @@ def lfd_on_mckelvey_grid(lin, T, M, cfd_options):
         The LFD path that computed it.
     """
     import sysid
-    from cfd.lfd import lfd_response
+    from cfd.lfd import AUTO_FAST_ABOVE, lfd_response
 
     grid = sysid.mckelvey_grid(M, T)
-    frf = lfd_response(lin, grid, gust=cfd_options.gust_method, outputs=tuple(cfd_options.outputs), method="auto")
+    kw = {}
+    n_finite = int(np.sum(np.isfinite(grid[1])))
+    if progress is not None and n_finite > AUTO_FAST_ABOVE:  # the fast path ("auto"): it takes a progress
+        kw["progress"] = progress.sweep(n_finite, _default(lfd_response, "tol"))
+    frf = lfd_response(lin, grid, gust=cfd_options.gust_method, outputs=tuple(cfd_options.outputs), method="auto",
+                       **kw)
     used = frf.metadata.get("method")
     if used not in ("direct", "fast"):  # cfd.lfd_response records the path it took; older stores may lack it
         used = "fast" if int(np.sum(np.isfinite(grid[1]))) > 8 else "direct"
@@ -140,12 +158,13 @@ def _gust(gust_case, x0):
     return to_gust(gust_case, x0=x0)
 
 
-def _ltds(lin, gust_cases, sim, cfd_options):
+def _ltds(lin, gust_cases, sim, cfd_options, progress=None):
     """The LTD histories of several gusts of one case, marched together (one factorisation)."""
     import cfd
 
+    kw = {} if progress is None else {"progress": progress}
     return cfd.ltd_responses(lin, [_gust(g, sim.x0) for g in gust_cases], sim.dt, sim.t_end,
-                             method=cfd_options.gust_method)
+                             method=cfd_options.gust_method, **kw)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -198,8 +217,12 @@ def steady_task(config: StudyConfig, case_name: str, root: str, codes: dict) -> 
     case = config.case(case_name).case
 
     def compute():
+        import cfd
+
         t0 = time.perf_counter()
-        sol = _steady(case)
+        reporter = piece_reporter(task_key("steady", case.name))
+        sol = _steady(case) if reporter is None else _steady(
+            case, progress=reporter.steady(_default(cfd.solve_steady, "tol")))
         return steady_payload(sol, time.perf_counter() - t0)
 
     entry, seconds = _compute_piece(store, "steady", steady_piece(case), compute)
@@ -236,7 +259,9 @@ def frf_task(config: StudyConfig, case_name: str, T: float, root: str, codes: di
     def compute():
         lin = _load_lin(store, case)
         t0 = time.perf_counter()
-        frf, used = lfd_on_mckelvey_grid(lin, T, config.M_base, config.cfd)
+        reporter = piece_reporter(task_key("frf", case.name, T))
+        kw = {} if reporter is None else {"progress": reporter}
+        frf, used = lfd_on_mckelvey_grid(lin, T, config.M_base, config.cfd, **kw)
         seconds = time.perf_counter() - t0
         state["method"] = used
         return frf_payload(frf, config.M_base, used, seconds)
@@ -271,7 +296,10 @@ def ltd_task(config: StudyConfig, case_name: str, gust_names: list, root: str, c
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            histories = _ltds(_load_lin(store, case), gusts, config.simulation, config.cfd)
+            lin = _load_lin(store, case)
+            reporter = piece_reporter(task_key("ltd", case.name))
+            kw = {} if reporter is None else {"progress": reporter.ltd()}
+            histories = _ltds(lin, gusts, config.simulation, config.cfd, **kw)
         error = None
     except Exception as e:  # noqa: BLE001 - stored as the failure of every piece of the march
         histories, error = [None] * len(gusts), e
@@ -354,10 +382,13 @@ def rom_task(config: StudyConfig, case_name: str, root: str, codes: dict, force:
         if e is not None and not is_failed(e):
             ltds[g.name] = e
     outputs = list(config.cfd.outputs)
-    for pt in config.points():
-        if pt.case.name != case.name or pt.T not in frfs:
-            continue
+    points = [pt for pt in config.points() if pt.case.name == case.name and pt.T in frfs]
+    reporter = piece_reporter(task_key("roms", case.name))
+    for i, pt in enumerate(points):
         label = f"{case.name} T={pt.T:.6g} M={pt.M} N_r={pt.order} {pt.method.name}"
+        if reporter is not None:
+            reporter.update(f"sweep point {i + 1}/{len(points)}: {label}", f"point {i + 1}/{len(points)}",
+                            i / len(points))
         rom_key = rom_piece(pt, config.M_base, config.cfd)
         frf_entry = frfs[pt.T]
         if needs_compute(store, "rom", rom_key, force):

@@ -159,3 +159,19 @@ def test_flat_plate_sharp_edged_gust_against_compressible_kussner():
     np.testing.assert_allclose(cl, ref, atol=0.06)
     np.testing.assert_allclose(cl, kussner(s), atol=0.06)
     assert np.all(cl > ref)  # the coarse grid's lift is high throughout (steady gain +2 %)
+
+
+def test_progress_counts_the_steps_and_changes_nothing(lin, caplog):
+    gusts = [OneMinusCosine(length=2.0, angle_deg=1.0, x0=-1.0), SharpEdged(angle_deg=1.0, x0=-1.0)]
+    calls = []
+    with caplog.at_level("INFO", logger="cfd.ltd"):
+        hs = ltd_responses(lin, gusts, 0.05, 1.0, progress=lambda *a: calls.append(a), log_interval=0.0,
+                           max_phase_error=1.0)
+    assert [c[0] for c in calls] == list(range(1, 21)) and {c[1] for c in calls} == {20}
+    np.testing.assert_allclose([c[2] for c in calls], hs[0].t[1:], rtol=0, atol=1e-12)
+    assert len([r for r in caplog.records if r.name == "cfd.ltd"]) == 20
+    assert "step 20 / 20" in caplog.records[-1].getMessage()
+    one = []
+    h = ltd_response(lin, gusts[0], 0.05, 1.0, progress=lambda *a: one.append(a), max_phase_error=1.0)
+    assert [c[0] for c in one] == list(range(1, 21))
+    np.testing.assert_array_equal(h.cl, ltd_response(lin, gusts[0], 0.05, 1.0, max_phase_error=1.0).cl)

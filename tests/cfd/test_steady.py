@@ -143,3 +143,21 @@ def test_chord_strategy_bad_input_raises_typed_errors(grid0012):
     assert np.all(np.isfinite(err.value.history))
     with pytest.raises(ConvergenceError, match="diverged"):
         cfd.solve_steady(grid0012, 0.8, 1.25, cfl_rk=50.0, strategy="chord")
+
+
+def test_progress_reports_every_step_and_changes_nothing(grid0012, caplog):
+    calls = []
+    with caplog.at_level("INFO", logger="cfd.steady"):
+        sol = cfd.solve_steady(grid0012, 0.5, 1.0, tol=1e-8, progress=lambda *a: calls.append(a), log_interval=0.0)
+    steps = [c[0] for c in calls]
+    assert steps[0] == 0 and steps == sorted(steps) and steps[-1] == sol.info["newton_steps"]
+    for step, residual, relative, cfl in calls:
+        assert isinstance(step, int) and residual > 0 and cfl > 0
+        assert relative == pytest.approx(residual / sol.history[0], rel=1e-12)
+    assert calls[-1][1] == sol.history[-1] and calls[-1][2] <= 1e-8 < calls[0][2]
+    assert calls[0][3] == 2.5  # the RK start's CFL number
+    lines = [r.getMessage() for r in caplog.records if r.name == "cfd.steady"]
+    assert len(lines) == len(calls) and "step 0," in lines[0] and "of the free stream's" in lines[-1]
+    plain = cfd.solve_steady(grid0012, 0.5, 1.0, tol=1e-8)
+    np.testing.assert_array_equal(plain.q, sol.q)
+    np.testing.assert_array_equal(plain.history, sol.history)

@@ -203,3 +203,29 @@ def test_lfd_response_method_dispatch(plate, method, n, expected):
 def test_lfd_response_method_bad_input(plate, kwargs, match):
     with pytest.raises(LinearError, match=match):
         lfd_response(plate, [0.5, 1.0], **kwargs)
+
+
+def test_progress_reports_every_shift_and_changes_nothing(plate, caplog):
+    grid_w = sysid.mckelvey_grid(M, T)
+    calls = []
+
+    def progress(basis, worst, failing):
+        calls.append((len(basis.shifts), basis.shifts[-1], basis.size, worst, np.array(failing)))
+
+    with caplog.at_level("INFO", logger="cfd.sweep"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        frf = fast_sweep(plate, grid_w, tol=1e-8, n_moments=3, max_shifts=4, progress=progress, log_interval=0.0)
+    n_shifts = len(frf.metadata["shifts"])
+    assert [c[0] for c in calls] == list(range(1, len(calls) + 1)) and len(calls) in (n_shifts, n_shifts - 1)
+    assert [c[1] for c in calls] == frf.metadata["shifts"][:len(calls)]
+    sizes = [c[2] for c in calls]
+    assert sizes == sorted(sizes) and sizes[0] > 0
+    for _, _, _, worst, failing in calls:
+        assert worst > 0 and (failing.size == 0) == (worst <= 1e-8)
+        assert np.all(np.isin(failing, grid_w[1]))
+    lines = [r.getMessage() for r in caplog.records if r.name == "cfd.sweep"]
+    assert len(lines) == len(calls) and "fast sweep: 1 shift(s)" in lines[0] and "frequencies above tol" in lines[0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        plain = fast_sweep(plate, grid_w, tol=1e-8, n_moments=3, max_shifts=4)
+    np.testing.assert_array_equal(plain.H, frf.H)

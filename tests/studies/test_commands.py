@@ -89,6 +89,15 @@ def test_run_hands_over_with_accepted_options(tmp_path, fake_modules, capsys):
     assert [c[0] for c in fake_modules.calls] == ["run_study", "make_report", "run_study"]
 
 
+def test_run_progress_option(fake_modules, tmp_path):
+    fake_modules("studies.runner", "run_study")
+    base = ["run", str(STUDIES / "demo.toml"), "--out", str(tmp_path / "o"), "--no-report"]
+    for extra, expected in (([], True), (["--progress", "lines"], "lines"), (["--progress", "pieces"], "pieces"),
+                            (["--progress", "bar", "--quiet"], False)):
+        assert run(base + extra) == 0
+        assert fake_modules.calls[-1][2]["progress"] == expected
+
+
 def test_run_writes_the_study_page(fake_modules):
     fake_modules("studies.runner", "run_study", params="config, workers=None, **kw")
     fake_modules("studies.report", "make_report", params="config, **kw")
