@@ -201,7 +201,7 @@ def coupled_ltd(lin, gust, dt, t_end, *, mass, stiffness, load, pivot, damping=N
     E = -lin.C @ Z                                                                        # (3, 4) loads per z
     E[:, :2] += Dx
     P = pivot_load_matrix(pivot)
-    I2, Z2 = np.eye(2), np.zeros((2, 2))
+    I2 = np.eye(2)
     S = np.block([[1.5 / dt * I2, -I2], [K, 1.5 / dt * M + D]])
     S[2:] -= L @ P @ E
     if not np.all(np.isfinite(S)) or np.linalg.cond(S) > 1e14:
