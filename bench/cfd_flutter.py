@@ -139,6 +139,10 @@ def main(argv=None) -> None:
         model = ae.fit_motion(ea, args.order)
         res = ae.flutter(model, sec, SPEEDS)
         slope = float(frf.H[0, 2, 0].real)
+        if model.poles.size and model.poles.max() > 10 * OMEGA.max():
+            print(f"WARNING: a lag root ({model.poles.max():.3g}) lies far above the data band (omega <= {OMEGA.max():g}): "
+                  "the data do not determine it, and it acts as a spurious apparent mass (the flutter result is not "
+                  "to be trusted); try another --order", flush=True)
         name = f"CFD ROM NACA{args.foil} M{args.mach:g}, {spec[0]}x{spec[1]} grid ({spec[2]} on the wall)"
         rows.append((name, res, model))
         cases.append(dict(spec=spec, lin=lin, frf=frf, ea=ea, model=model, res=res, slope=slope, times=times,
