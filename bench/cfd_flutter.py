@@ -17,8 +17,9 @@ incompressible flat plate (the same fit and eigenvalue path) and two compressibi
 - all loads times the CFD's own steady lift slope over ``2 pi`` (compressibility and thickness as a uniform factor:
   the largest effect a steady correction can give);
 
-and two hybrids (the CFD's lift with Theodorsen's moment about the elastic axis, and the other way round) that
-show which load moves the flutter speed and which the frequency.
+and three hybrids (the CFD's lift with Theodorsen's moment about the elastic axis, the other way round, and
+Theodorsen's loads with the CFD's moment due to pitch alone) that show which load moves the flutter speed and
+which the frequency.
 
 Part 2 (coupled time marching). On the last grid, the 1-cosine gust response of the flexible section at a speed
 below flutter from ``cfd.coupled.coupled_ltd`` (the linear CFD and the structure in one BDF2 step) against
@@ -154,9 +155,11 @@ def main(argv=None) -> None:
     fine = cases[-1]
     # which output moves what: the CFD's lift with Theodorsen's moment, and the other way round (finest grid)
     Ht = th.theodorsen_motion(OMEGA, sec.a)
-    for name, out_cfd in (("CFD lift + Theodorsen moment", 0), ("Theodorsen lift + CFD moment", 1)):
+    for name, (out_cfd, in_cfd) in (("CFD lift + Theodorsen moment", (0, slice(None))),
+                                    ("Theodorsen lift + CFD moment", (1, slice(None))),
+                                    ("Theodorsen, CFD moment due to pitch only", (1, slice(1, 2)))):
         H = Ht.copy()
-        H[out_cfd] = fine["ea"].H[out_cfd, 1:]
+        H[out_cfd, in_cfd] = fine["ea"].H[out_cfd, 1:][in_cfd]
         data = sysid.FrequencyResponse.from_continuous(H, OMEGA, inputs=["plunge", "pitch"], outputs=["Cl", "Cm"])
         model = ae.fit_motion(data, args.order)
         rows.append((f"{name} (about the elastic axis, {fine['spec'][0]}x{fine['spec'][1]})",
