@@ -14,8 +14,10 @@ proper state-space model holds them. :func:`fit_motion` uses Roger's rational fu
   apparent-mass values);
 - the ``beta_j`` (shared by all entries) are then optimised by variable projection
   (:func:`scipy.optimize.least_squares` on ``log beta``: the linear coefficients are eliminated at each step),
-  starting from a geometric spread over the data's band. ``beta_j > 0`` by construction, so the lag part is
-  stable whatever the data.
+  starting from a geometric spread over the data's band, and bounded to ``[0.1 min(omega > 0), 2 max(omega)]``
+  (:data:`ROOT_BAND`: a root far above the data is not determined by them, and the fit would use it with a huge
+  residue as a second apparent mass, ``M2 - A_j / beta_j^2``, which spoils the coupled model's mass matrix; seen
+  on CFD data). ``beta_j > 0`` by construction, so the lag part is stable whatever the data.
 
 Why not :func:`sysid.identify` on the remainder ``H - M0 - M1 s - M2 s^2``: that needs ``M1`` and ``M2``
 first, and estimating them from the high-frequency data alone is ill-conditioned (they are only the
@@ -41,9 +43,11 @@ from scipy import optimize
 
 from .errors import AeroModelError, FitError
 
-__all__ = ["MotionModel", "fit_motion", "channel_indices", "MOTION_INPUTS", "LOAD_OUTPUTS"]
+__all__ = ["MotionModel", "fit_motion", "channel_indices", "MOTION_INPUTS", "LOAD_OUTPUTS", "ROOT_BAND"]
 
 MOTION_INPUTS = ("plunge", "pitch")
+ROOT_BAND = (0.1, 2.0)
+"""Optimised lag roots stay within ``[0.1 min(omega > 0), 2 max(omega)]`` of the data."""
 LOAD_OUTPUTS = ("Cl", "Cm")
 
 
@@ -277,7 +281,13 @@ def fit_motion(frf, order: int = 4, *, gust_order: int = 8, T: float | None = No
         def resid(logb):
             return _solve_entries(s, Hm, W, np.exp(logb), M0)[1]
 
-        sol = optimize.least_squares(resid, np.log(beta), method="trf", x_scale=1.0, max_nfev=200 * order)
+        # the roots stay in the data's band: a root far above the highest frequency is not determined by the data,
+        # and the fit then uses it with a huge residue as a second apparent mass (M2 - A / beta^2), which ruins the
+        # coupled model's mass matrix (seen on CFD data: roots at 1e2-1e4 for data to omega = 2)
+        lo_b, hi_b = ROOT_BAND[0] * wpos.min(), ROOT_BAND[1] * wpos.max()
+        x0 = np.clip(np.log(beta), np.log(lo_b) + 1e-9, np.log(hi_b) - 1e-9)
+        sol = optimize.least_squares(resid, x0, method="trf", x_scale=1.0, max_nfev=200 * order,
+                                     bounds=(np.log(lo_b), np.log(hi_b)))
         beta = np.sort(np.exp(sol.x))
     coef, _ = _solve_entries(s, Hm, W, beta, M0)
     k0 = 0

@@ -39,7 +39,7 @@ from .frequencies import check_pivot
 from .linear import LinearError, check_gust_method
 from .motion import motion_forcing
 
-__all__ = ["LTDHistory", "ltd_response", "ltd_responses", "phase_error_estimate"]
+__all__ = ["LTDHistory", "ltd_response", "ltd_responses", "phase_error_estimate", "check_march"]
 
 log = logging.getLogger(__name__)
 
@@ -119,6 +119,18 @@ def _warn_phase(gust, dt, max_phase_error):
             RuntimeWarning,
             stacklevel=3,
         )
+
+
+def check_march(gust, dt, t_end, max_phase_error=0.01):
+    """The checks of :func:`ltd_response` for a march of ``gust`` built elsewhere (``cfd.coupled``).
+
+    Returns the checked ``(dt, t_end)`` (floats); raises :class:`LinearError` for a gust of the wrong type or bad
+    times, and warns (``RuntimeWarning``) when :func:`phase_error_estimate` exceeds ``max_phase_error``.
+    """
+    _check_gust(gust)
+    dt, t_end = _check_times(dt, t_end)
+    _warn_phase(gust, dt, max_phase_error)
+    return dt, t_end
 
 
 def _motion_samples(name, history, t):
