@@ -16,5 +16,6 @@ from .gust import GustError, GustPositionError, OneMinusCosine, SharpEdged, Sine
 from .linear import LinearError, LinearSystem, linearise
 from .lfd import lfd_response
 from .ltd import LTDHistory, ltd_response, ltd_responses
+from .coupled import CoupledHistory, coupled_ltd
 from .unsteady import (LinearityResult, LocalMachError, NonPhysicalStateError, UnsteadyError, UnsteadyHistory,
                        UnsteadyStepError, linearity, unsteady_response)
