@@ -149,7 +149,7 @@ __all__ = [
 # and sysid.order_limits (max_order, min_order).
 
 TOP_KEYS = ("name", "description", "output", "store", "cases", "gusts", "grid", "sweep", "method", "methods",
-            "simulation", "cfd", "report")
+            "simulation", "cfd", "report", "aeroelastic")
 GRID_KEYS = ("ni", "nj", "n_surface", "farfield")
 SWEEP_KEYS = ("orders", "T", "M_base", "M")
 CASE_KEYS = ("name", "naca", "mach", "alpha_deg", "grid", "orders", "T", "M")
@@ -569,9 +569,14 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
     store = data.get("store")
     store_dir = (base / P.string(store, "store")).resolve() if store is not None else output_dir / "store"
     report = _parse_report(P, data.get("report", {}), base)
+    aero = None
+    if "aeroelastic" in data:  # the [aeroelastic] section: studies.aeroelastic_study
+        from .aeroelastic_study import parse_aeroelastic
+
+        aero = parse_aeroelastic(data["aeroelastic"], source, tuple(sweeps), tuple(gusts))
     return StudyConfig(name=name, description=description, source=source, output_dir=output_dir,
                        store_dir=store_dir, cases=tuple(sweeps), gusts=tuple(gusts), M_base=M_base,
-                       methods=tuple(methods), simulation=sim, cfd=cfd, report=report)
+                       methods=tuple(methods), simulation=sim, cfd=cfd, report=report, aeroelastic=aero)
 
 
 def _parse_report(P: _Parser, table, base: Path) -> ReportOptions:

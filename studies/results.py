@@ -471,6 +471,12 @@ def load_results(study_or_path, *, store_dir=None) -> StudyResults:
 
     for pt in config.points():
         _read_point(store, config, pt, frfs, ltds, case_fail, frf_fail, roms, sims, missing, failed)
+    if getattr(config, "aeroelastic", None) is not None:  # the [aeroelastic] pieces: studies.aeroelastic_study
+        from .aeroelastic_study import aeroelastic_status
+
+        aero_missing, aero_failed = aeroelastic_status(config, store)
+        missing += [m for m in aero_missing if m.split()[1] not in case_fail]
+        failed += aero_failed
 
     return StudyResults(config=config, frf=frfs, ltd=ltds, roms=roms, sims=sims, missing=missing, failed=failed,
                         steady=steady)

@@ -37,6 +37,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Optional
 
+from .aeroelastic_study import AEROELASTIC_PIECES, aeroelastic_plan, flutter_task, motion_frf_task
 from .config import as_config
 from .executors import RunnerError, make_pool
 from .files import atomic_write_bytes
@@ -121,7 +122,8 @@ def auto_workers(config: StudyConfig, cpus: Optional[int] = None) -> int:
 
 def _width(config: StudyConfig) -> int:
     """Parallel tasks of the study's widest stage: per case, one per ``T`` and one for its gusts."""
-    return sum(max(1, len(case_sweep.T) + (1 if config.gusts else 0)) for case_sweep in config.cases)
+    return (sum(max(1, len(case_sweep.T) + (1 if config.gusts else 0)) for case_sweep in config.cases)
+            + len(getattr(config.aeroelastic, "cases", ())))  # [aeroelastic]: one motion FRF per case
 
 
 # ---------------------------------------------------------------------------------------------
@@ -246,7 +248,7 @@ def run_study(study, *, output_dir=None, store_dir=None, scheduler: Optional[str
 def _run(config: StudyConfig, pool, display: ProgressDisplay, force: bool, state: dict) -> StudyResults:
     root = str(config.store_dir)
     base = open_store(config)
-    codes = {p: base.code_version(p) for p in PIECES}
+    codes = {p: base.code_version(p) for p in PIECES + AEROELASTIC_PIECES}
     store = pinned_store(root, codes)
 
     # what is needed, per case
@@ -270,6 +272,9 @@ def _run(config: StudyConfig, pool, display: ProgressDisplay, force: bool, state
         plan[case.name] = dict(steady=need_steady, frf=frfs, ltd=ltds, rom=n_rom, sim=n_sim)
         n_cfd += need_steady + len(frfs) + len(ltds)
         n_id += n_rom + n_sim
+    aero = aeroelastic_plan(config, store, force)  # [aeroelastic]: motion FRF and flutter pieces per case
+    n_cfd += sum(p["motion"] for p in aero.values())
+    n_id += sum(p["flutter"] for p in aero.values())
     # ROM/sim counts are upper bounds known now; pieces of failed CFD are skipped
     tracker = _Progress(display, n_cfd + n_id)
     tracker.say(f"study {config.name!r}: {len(config.cases)} case(s), {len(config.points())} sweep point(s), "
@@ -284,7 +289,17 @@ def _run(config: StudyConfig, pool, display: ProgressDisplay, force: bool, state
 
     cfd_left = {name: 0 for name in plan}
 
+    def start_aero(name, motion_done=False):
+        aero_plan = aero.get(name)
+        if not aero_plan:
+            return
+        if aero_plan["motion"] and not motion_done:
+            submit("motion", name, motion_frf_task, config, name, root, codes, key=task_key("motion", name))
+        elif aero_plan["flutter"]:
+            submit("flutter", name, flutter_task, config, name, root, codes, force, key=task_key("flutter", name))
+
     def start_cfd(name):
+        start_aero(name)
         case_plan = plan[name]
         for T in case_plan["frf"]:
             submit("frf", name, frf_task, config, name, T, root, codes, key=task_key("frf", name, T))
@@ -331,6 +346,8 @@ def _run(config: StudyConfig, pool, display: ProgressDisplay, force: bool, state
                 cfd_left[name] -= 1
                 if cfd_left[name] == 0:
                     start_roms(name)
+            elif kind == "motion" and reports and reports[0]["status"] == "ok":
+                start_aero(name, motion_done=True)
 
     elapsed = time.perf_counter() - tracker.t0
     results = load_results(config, store_dir=config.store_dir)

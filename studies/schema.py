@@ -216,6 +216,8 @@ class StudyConfig:
     simulation : SimulationOptions
     cfd : CFDOptions
     report : ReportOptions
+    aeroelastic : studies.aeroelastic_study.AeroelasticOptions or None
+        The ``[aeroelastic]`` section (None: the study has none).
     """
 
     name: str
@@ -230,6 +232,7 @@ class StudyConfig:
     simulation: SimulationOptions = field(default_factory=SimulationOptions)
     cfd: CFDOptions = field(default_factory=CFDOptions)
     report: ReportOptions = field(default_factory=ReportOptions)
+    aeroelastic: Optional[object] = None
 
     def case(self, name: str) -> CaseSweep:
         """The case sweep named ``name`` (case-insensitive)."""
@@ -251,7 +254,7 @@ class StudyConfig:
 
     def canonical(self) -> dict:
         """The hashable content: everything that changes results (no paths, no description)."""
-        return dict(
+        out = dict(
             name=self.name,
             cases=[dict(case=case_canonical(case_sweep.case), name=case_sweep.case.name,
                         orders=list(case_sweep.orders), T=list(case_sweep.T), M=list(case_sweep.M))
@@ -262,6 +265,9 @@ class StudyConfig:
             simulation=dataclass_dict(self.simulation),
             cfd=dict(gust_method=self.cfd.gust_method, outputs=list(self.cfd.outputs)),
         )
+        if self.aeroelastic is not None:  # absent otherwise: the hashes of studies without it are unchanged
+            out["aeroelastic"] = self.aeroelastic.canonical()
+        return out
 
     def canonical_json(self) -> str:
         """:func:`canonical_json` of :meth:`canonical`."""

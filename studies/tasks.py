@@ -50,7 +50,7 @@ from .progress import piece_reporter, task_key
 from .schema import StudyConfig
 
 __all__ = ["PinnedStore", "pinned_store", "lfd_on_mckelvey_grid", "needs_compute", "steady_task", "frf_task",
-           "ltd_task", "rom_task"]
+           "ltd_task", "rom_task", "compute_piece", "piece_report", "load_linear_system"]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -194,6 +194,28 @@ def _compute_piece(store, piece, cfg, compute: Callable[[], tuple], catch=True):
     seconds = time.perf_counter() - t0
     entry = store.put(piece, cfg, arrays, metadata, extra_provenance={"compute_s": seconds})
     return entry, seconds
+
+
+def compute_piece(store, piece: str, cfg, compute: Callable[[], tuple]) -> tuple:
+    """Compute a piece with ``compute() -> (arrays, metadata)`` and store it; a failure is stored as such (for the
+    tasks of other modules, e.g. :mod:`studies.aeroelastic_study`). Returns ``(entry, seconds)``."""
+    return _compute_piece(store, piece, cfg, compute)
+
+
+def piece_report(piece: str, label: str, entry, seconds: float) -> dict:
+    """The report of one stored piece (``piece``, ``label``, ``status``, ``error``, ``seconds``, ``computed``)."""
+    return _report(piece, label, entry, seconds)
+
+
+def load_linear_system(store, case):
+    """The linear system of a case about its stored steady flow (a converged restart and ``cfd.linearise``).
+
+    Raises
+    ------
+    RuntimeError
+        The steady flow is missing or failed.
+    """
+    return _load_lin(store, case)
 
 
 def steady_task(config: StudyConfig, case_name: str, root: str, codes: dict) -> list:
