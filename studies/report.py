@@ -173,6 +173,10 @@ def write_report(results, out_dir, *, page=None, prose=None, progress: bool = Fa
 
     text = page_markdown(results, tables, drawn, slots, page_dir=page_dir, tab_dir=tab_dir, title=title,
                          paper=paper)
+    if getattr(config, "aeroelastic", None) is not None:  # the [aeroelastic] section: studies.aeroelastic_report
+        from .aeroelastic_report import aeroelastic_section
+
+        text += "\n" + aeroelastic_section(results, out_dir, page_dir, figures=figures, dpi=dpi, say=say)
     atomic_write_text(page_path, text)
     say(f"report {config.name}: {page_path}")
     return page_path
