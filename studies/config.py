@@ -570,10 +570,10 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
     store_dir = (base / P.string(store, "store")).resolve() if store is not None else output_dir / "store"
     report = _parse_report(P, data.get("report", {}), base)
     aero = None
-    if "aeroelastic" in data:  # the [aeroelastic] section: studies.aeroelastic_study
-        from .aeroelastic_study import parse_aeroelastic
+    if "aeroelastic" in data:  # the [aeroelastic] section: studies.aeroelastic_schema
+        from .aeroelastic_schema import parse_aeroelastic
 
-        aero = parse_aeroelastic(data["aeroelastic"], source, tuple(sweeps), tuple(gusts))
+        aero = parse_aeroelastic(data["aeroelastic"], P.err, tuple(sweeps), tuple(gusts))
     return StudyConfig(name=name, description=description, source=source, output_dir=output_dir,
                        store_dir=store_dir, cases=tuple(sweeps), gusts=tuple(gusts), M_base=M_base,
                        methods=tuple(methods), simulation=sim, cfd=cfd, report=report, aeroelastic=aero)

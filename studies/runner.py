@@ -37,7 +37,8 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Optional
 
-from .aeroelastic_study import AEROELASTIC_PIECES, aeroelastic_plan, flutter_task, motion_frf_task
+from .aeroelastic_schema import AEROELASTIC_PIECES
+from .aeroelastic_study import aeroelastic_plan, flutter_task, motion_frf_task
 from .config import as_config
 from .executors import RunnerError, make_pool
 from .files import atomic_write_bytes
