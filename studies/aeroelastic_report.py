@@ -41,6 +41,10 @@ FLUTTER_COLUMNS = (
     Column("frequency_ratio", "omega/omega_alpha", ".5f", r"$\omega/\omega_\alpha$"),
     Column("reduced_frequency", "k", ".4f", "$k$"),
     Column("kind", "kind"),
+    Column("theodorsen_speed_index", "Theodorsen U/(b omega_alpha)", ".5f", r"Theodorsen $U/(b\omega_\alpha)$"),
+    Column("speed_vs_theodorsen", "speed vs Theodorsen", "+.2%"),
+    Column("theodorsen_frequency_ratio", "Theodorsen omega/omega_alpha", ".5f",
+           r"Theodorsen $\omega/\omega_\alpha$"),
     Column("fit_max_err", "motion fit max err", ".2%"),
     Column("gust_fit_max_err", "gust fit max err", ".2%"),
     Column("seconds_motion", "motion FRF (s)", ".1f"),
@@ -58,9 +62,12 @@ def flutter_rows(records) -> list:
     rows = []
     for r in records:
         res = r.result
+        ts = float(r.theodorsen.get("speed_index", math.nan))
         rows.append(dict(case=r.case, section=r.section, mu=r.spec.mu, speed_index=res.speed_index,
                          flutter_speed_index=res.flutter_speed_index, frequency_ratio=res.frequency_ratio,
                          reduced_frequency=res.reduced_frequency, kind=res.kind,
+                         theodorsen_speed_index=ts, speed_vs_theodorsen=res.speed_index / ts - 1.0,
+                         theodorsen_frequency_ratio=float(r.theodorsen.get("frequency_ratio", math.nan)),
                          fit_max_err=float(r.fit.get("max_error", math.nan)),
                          gust_fit_max_err=float(r.fit.get("gust_max_error", math.nan)),
                          seconds_motion=r.motion_seconds, seconds=r.seconds))
@@ -131,7 +138,8 @@ def aeroelastic_section(results, out_dir, page_dir, *, figures: bool = True, dpi
     write_tables(rows, out_dir / "tables" / "flutter", FLUTTER_COLUMNS, caption=f"{config.name}: flutter",
                  label=f"tab:{config.name}-flutter")
     blocks.append("**Flutter** (speed index `U/(b omega_alpha)`, flutter speed index `V_f = U/(b omega_alpha "
-                  "sqrt(mu))`, frequency ratio and reduced frequency `k = omega b / U` of the critical root; fit "
+                  "sqrt(mu))`, frequency ratio and reduced frequency `k = omega b / U` of the critical root; Theodorsen: the "
+                  "same section on the incompressible flat plate (k-method determinant, exact C(k)); fit "
                   "errors: max over entries and frequencies of `|fit - data| / max(|data|, 1 % of peak)`, gust "
                   f"column relative to its peak; [CSV]({_rel(out_dir / 'tables' / 'flutter.csv', page_dir)})):\n")
     blocks.append(format_table(rows, FLUTTER_COLUMNS, "markdown"))

@@ -129,12 +129,17 @@ def _flutter_payload(config, case_frf_entry, spec: SectionSpec) -> tuple:
             for name in ("t", "u", "plunge", "pitch", "Cl", "Cm"):
                 arrays[f"g{i}_{name}"] = np.asarray(getattr(r, name), dtype=float)
             gusts.append(g.name)
+    try:  # the incompressible flat plate's flutter of the same section (k-method determinant, exact C(k))
+        ref = ae.theodorsen.flutter_determinant(sec)
+        theodorsen = dict(speed_index=float(ref.speed_index), frequency_ratio=float(ref.frequency_ratio))
+    except Exception as e:  # noqa: BLE001 - a reference only: recorded, not fatal
+        theodorsen = dict(speed_index=math.nan, frequency_ratio=math.nan, error=f"{type(e).__name__}: {e}"[:300])
     fit = dict(max_error=float(model.max_error), rms_error=float(model.rms_error),
                gust_max_error=float(model.gust_max_error), poles=[float(p) for p in model.poles])
     meta = dict(status="ok", speed_index=float(res.speed_index), flutter_speed_index=float(res.flutter_speed_index),
                 frequency_ratio=float(res.frequency_ratio), reduced_frequency=float(res.reduced_frequency),
                 kind=str(res.kind), found=bool(res.found), section=spec.name, gusts=gusts,
-                gust_speed=spec.gust_speed, fit=fit, seconds=time.perf_counter() - t0)
+                gust_speed=spec.gust_speed, fit=fit, theodorsen=theodorsen, seconds=time.perf_counter() - t0)
     return arrays, meta
 
 
@@ -228,6 +233,9 @@ class FlutterRecord:
         The flexible section's gust histories at ``spec.gust_speed`` (empty when not asked for).
     fit : dict
         ``max_error``, ``rms_error``, ``gust_max_error`` of the motion fit and its lag ``poles`` (U/c).
+    theodorsen : dict
+        ``speed_index`` and ``frequency_ratio`` of the same section on Theodorsen's incompressible flat plate
+        (``aeroelastic.theodorsen.flutter_determinant``), the reference the CFD's numbers are read against.
     seconds : float
         Compute time of the piece (s).
     motion_seconds : float
@@ -240,6 +248,7 @@ class FlutterRecord:
     result: Any
     gusts: dict
     fit: dict
+    theodorsen: dict
     seconds: float
     motion_seconds: float
 
@@ -272,7 +281,8 @@ def load_flutter(config, store) -> list:
                                            e[f"g{i}_plunge"], e[f"g{i}_pitch"], e[f"g{i}_Cl"], e[f"g{i}_Cm"],
                                            float(spec.gust_speed))
             records.append(FlutterRecord(case=name, section=spec.name, spec=spec, result=res, gusts=gusts,
-                                         fit=dict(md.get("fit", {})), seconds=_f(md.get("seconds")),
+                                         fit=dict(md.get("fit", {})),
+                                         theodorsen=dict(md.get("theodorsen", {})), seconds=_f(md.get("seconds")),
                                          motion_seconds=motion_s))
     return records
 

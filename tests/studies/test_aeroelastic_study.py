@@ -146,6 +146,7 @@ def test_flutter_piece_computes_and_caches(tmp_path):
     spec = config.aeroelastic.sections[0]
     ref = th.flutter_determinant(spec.section())     # independent k-method solution, exact C(k)
     assert rec.result.kind == "flutter" and rec.result.found
+    assert rec.theodorsen["speed_index"] == pytest.approx(ref.speed_index, rel=1e-12)
     assert rec.result.speed_index == pytest.approx(ref.speed_index, rel=2e-3)
     assert rec.result.frequency_ratio == pytest.approx(ref.frequency_ratio, rel=2e-3)
     assert rec.result.flutter_speed_index == pytest.approx(rec.result.speed_index / math.sqrt(spec.mu))
