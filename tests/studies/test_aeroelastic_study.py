@@ -185,3 +185,37 @@ def test_report_section(tmp_path):
     assert (tmp_path / "rep" / "figures" / "aeroelastic-flutter-M02-HP.png").is_file()
     assert (tmp_path / "rep" / "figures" / "aeroelastic-gust-M02-HP-g10.png").is_file()
     assert "figures/aeroelastic-gust-M02-HP-g10.png" in text
+
+
+# ---------------------------------------------------------------------------------------------
+# The runner with the CFD (61 x 16 grid, 10 motion frequencies, no gusts: 30-70 s on the shared two-core machine,
+# so marked slow; run it with -m slow)
+# ---------------------------------------------------------------------------------------------
+
+RUNNER = BASE.replace('gusts = [{ name = "g10", kind = "one_minus_cosine", length = 10.0, angle_deg = 1.0 }]\n',
+                      "") + """
+[aeroelastic]
+omega = { min = 0.05, max = 2.0, n = 9 }
+lags = 2
+gust_order = 4
+speeds = { min = 0.05, max = 3.0, n = 60 }
+""" + SECTION
+
+
+@pytest.mark.slow
+def test_runner_computes_and_caches_the_aeroelastic_pieces(tmp_path):
+    from studies.runner import run_study
+
+    config = loads_study(RUNNER, source="aero.toml", base_dir=tmp_path)
+    res = run_study(config, progress=False)
+    assert res.complete and not res.failed
+    assert res.run.computed == 5          # steady, frf, motion_frf, rom, flutter
+    (rec,) = load_flutter(config, open_store(config))
+    assert rec.result.kind == "flutter"
+    # against Theodorsen's flat plate: the compressible, thick, coarse-grid section flutters within a few per cent
+    assert abs(rec.result.speed_index / rec.theodorsen["speed_index"] - 1.0) < 0.05
+    store = open_store(config)
+    e = store.get("motion_frf", motion_frf_piece(config.case("M02").case, config.aeroelastic.omega, config.cfd))
+    assert e["H"].shape == (2, 3, 10) and e.metadata["inputs"] == ["gust", "plunge", "pitch"]
+    again = run_study(config, progress=False)
+    assert again.run.computed == 0
