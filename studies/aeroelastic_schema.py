@@ -67,6 +67,7 @@ __all__ = [
     "MOTION_OUTPUTS",
     "PIVOT",
     "parse_aeroelastic",
+    "describe",
     "motion_frf_piece",
     "flutter_piece",
 ]
@@ -348,6 +349,18 @@ def _parse_section(source, entry, key, gusts) -> SectionSpec:
         bad = next((k for k in SECTION_KEYS[1:-1] if msg.startswith(k) or f" {k}" in msg.split(":")[0]), None)
         raise _error(source, f"{key}.{bad}" if bad else key, msg) from None
     return spec
+
+
+def describe(options: AeroelasticOptions) -> str:
+    """One line for ``lfdrom run --dry-run``: the cases, frequencies, lags, speeds and sections."""
+    w = np.asarray(options.omega)
+    speeds = ("default" if options.speeds is None else
+              f"{len(options.speeds)} from {options.speeds[0]:g} to {options.speeds[-1]:g}")
+    secs = "; ".join(f"{s.name} (mu {s.mu:g}, a {s.a:g}, x_alpha {s.x_alpha:g}, r_alpha2 {s.r_alpha2:g}, "
+                     f"omega_ratio {s.omega_ratio:g}" + ("" if s.gust_speed is None else f", gusts at V {s.gust_speed:g}")
+                     + ")" for s in options.sections)
+    return (f"  aeroelastic: cases {', '.join(options.cases)}; {w.size} motion frequencies (0 .. {w.max():g} U/c); "
+            f"{options.lags} lags; speeds {speeds}; sections {secs}")
 
 
 # ---------------------------------------------------------------------------------------------

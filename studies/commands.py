@@ -307,6 +307,10 @@ def _plan(config: StudyConfig) -> str:
                      f" N_r {list(case_sweep.orders)}, T {[round(t, 6) for t in case_sweep.T]}, M {list(case_sweep.M)}")
     lines.append(f"  gusts: {', '.join(g.name for g in config.gusts) or '-'}; methods: "
                  f"{', '.join(m.name for m in config.methods)}")
+    if getattr(config, "aeroelastic", None) is not None:  # the [aeroelastic] section: studies.aeroelastic_schema
+        from .aeroelastic_schema import describe
+
+        lines.append(describe(config.aeroelastic))
     return "\n".join(lines)
 
 

@@ -8,7 +8,7 @@ import pytest
 
 import aeroelastic as ae
 from aeroelastic import theodorsen as th
-from studies.aeroelastic_schema import DEFAULT_OMEGA, PIVOT, motion_frf_piece
+from studies.aeroelastic_schema import DEFAULT_OMEGA, PIVOT, describe, motion_frf_piece
 from studies.aeroelastic_study import aeroelastic_plan, flutter_task, load_flutter
 from studies.config import StudyConfigError, loads_study
 from studies.pieces import PIECES, open_store
@@ -70,6 +70,7 @@ def test_parse_defaults_and_grids(tmp_path):
     a = cfg.aeroelastic
     assert a.omega[0] == 0.0 and len(a.omega) == 25 and a.omega[-1] == pytest.approx(2.0)
     assert len(a.speeds) == 120 and a.sections[0].gust_speed == 1.5
+    assert "25 motion frequencies" in describe(a) and "HP (mu 20, a -0.2" in describe(a)
     cfg = study(tmp_path, '[aeroelastic]\ncases = ["m02"]\nomega = [0.1, 0.5, 1.0]\nspeeds = [1, 2, 3]\n' + SECTION)
     assert cfg.aeroelastic.cases == ("M02",) and cfg.aeroelastic.omega == (0.0, 0.1, 0.5, 1.0)
     # the study hash sees the section; a study without it keeps its hash
