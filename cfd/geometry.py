@@ -336,7 +336,7 @@ def naca64a010(n=200):
 
 
 def naca(code, n=200):
-    """A NACA 4-digit aerofoil of unit chord with a sharp trailing edge.
+    """A NACA 4-digit aerofoil of unit chord with a sharp trailing edge (or the tabulated NACA 64A010).
 
     Parameters
     ----------
@@ -351,12 +351,14 @@ def naca(code, n=200):
     Returns
     -------
     Aerofoil
-        Frozen (a :class:`TabulatedAerofoil` for ``"64A010"``); ``surface(s)``, ``at_arc(arc)`` and ``coordinates(n)`` give points on it.
+        Frozen (a :class:`TabulatedAerofoil` for ``"64A010"``); ``surface(s)``, ``at_arc(arc)`` and
+        ``coordinates(n)`` give points on it.
 
     Raises
     ------
     GeometryError
-        If the code is not four digits, has zero thickness, camber without a position (or a
+        If the code is not four digits (nor ``"64A010"``; other 6A-series codes are refused with a
+        message naming the one tabulated), has zero thickness, camber without a position (or a
         position without camber), or ``n`` is not an integer >= 4.
     """
     example = 'use four digits MPTT such as "0012" (symmetric) or "2410" (2 % camber at 0.4 c, 10 % thick)'
