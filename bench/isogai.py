@@ -107,6 +107,39 @@ def analyse(frf, order):
     return ea, model, res, crossings(res)
 
 
+def sensitivity(frf):
+    """``V_f`` and ``w/w_alpha`` for fits with 3, 4, 6 lags, and with the data cut at ``omega <= 2`` (4 lags)."""
+    out = {}
+    for order in (3, 4, 6):
+        _, _, res, _ = analyse(frf, order)
+        out[f"{order} lags"] = (float(res.flutter_speed_index), float(res.frequency_ratio))
+    keep = frf.omega <= 2.0 + 1e-12
+    cut = sysid.FrequencyResponse.from_continuous(frf.H[:, :, keep], frf.omega[keep], inputs=frf.inputs,
+                                                  outputs=frf.outputs, metadata=frf.metadata)
+    _, _, res, _ = analyse(cut, 4)
+    out["omega <= 2, 4 lags"] = (float(res.flutter_speed_index), float(res.frequency_ratio))
+    return out
+
+
+def theodorsen_pg(mach, order=4):
+    """Flat-plate reference: Theodorsen's loads divided by ``sqrt(1 - M^2)`` (Prandtl-Glauert), same fit/solver.
+
+    Subsonic linear theory for a thin section: no thickness, no shock; it has no transonic dip (its ``V_f`` falls
+    smoothly like ``beta``-scaled loads), so the gap to it is what the Euler data add.
+    """
+    from aeroelastic import theodorsen as th
+
+    sec = ae.TypicalSection(**SECTION)
+    w = np.concatenate([[0.0], np.geomspace(0.01, 6.0, 100)])
+    base = th.theodorsen_frf(w, sec.a)
+    frf = sysid.FrequencyResponse.from_continuous(base.H / np.sqrt(1.0 - mach**2), w, inputs=base.inputs,
+                                                  outputs=base.outputs)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        res = ae.flutter(frf, sec, speeds=np.linspace(0.2, 3.0, 561) * np.sqrt(sec.mu), order=order)
+    return float(res.flutter_speed_index), float(res.frequency_ratio)
+
+
 def plot(rows, path):
     import matplotlib
 
@@ -116,6 +149,8 @@ def plot(rows, path):
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     m = [r["mach"] for r in rows]
     ax.plot(m, [r["V_f"] for r in rows], "o-", color="k", label="lfdrom: LFD Euler + Roger fit (this work)")
+    ax.plot(m, [r["V_f_theodorsen_pg"] for r in rows], ":", color="0.5",
+            label="flat plate, Theodorsen / sqrt(1 - M^2) (same fit and solver)")
     for r in rows:  # higher branches / re-stabilisation
         for v, kind, _ in r["crossings"][1:]:
             ax.plot(r["mach"], v, "x" if kind == "unstable" else "+", color="k", ms=7)
@@ -147,6 +182,7 @@ def main(argv=None):
     p.add_argument("--cache", default=None, help="folder for the FRFs (.npz), reused when present")
     p.add_argument("--plot", default=str(ROOT / "docs" / "aeroelastic" / "isogai.png"), help="figure path ('' = none)")
     p.add_argument("--json", default=None, help="write the table as JSON here")
+    p.add_argument("--sensitivity", action="store_true", help="also refit with 3/6 lags and omega <= 2")
     a = p.parse_args(argv)
     try:
         grid_spec = tuple(int(v) for v in a.grid.lower().split("x"))
@@ -167,14 +203,21 @@ def main(argv=None):
         row = dict(mach=mach, V_f=float(res.flutter_speed_index), ratio=float(res.frequency_ratio),
                    k=float(res.reduced_frequency), kind=res.kind, crossings=cross, fit_err=fit_err,
                    Cl_alpha=float(ea.H[0, 1, 0].real), Cm_alpha_ea=float(ea.H[1, 1, 0].real), **info)
+        row["V_f_theodorsen_pg"], row["ratio_theodorsen_pg"] = theodorsen_pg(mach, a.order)
         rows.append(row)
+        if a.sensitivity:
+            row["sensitivity"] = sensitivity(frf)
         pub = "; ".join(f"{lab.split(':')[0]} {v:.3f}" for lab, pts in PUBLISHED.items() for m, v in pts
                         if abs(m - mach) < 1e-6) or "n/a"
         row["published"] = pub
         others = "; ".join(f"{v:.3f} {'u' if d == 'unstable' else 's'} {f:.3f}" for v, d, f in cross[1:]) or "-"
         print(f"{mach:6.3f} {row['V_f']:8.4f} {row['ratio']:7.4f} {row['k']:6.3f} {res.kind:>10}  {others:<34} "
               f"{info['cp_min']:7.3f} {info['cp_star']:7.3f} {info['steady_s']:6.0f}s {info['lfd_s']:5.0f}s  "
-              f"(fit {fit_err:.1e})  published: {pub}", flush=True)
+              f"(fit {fit_err:.1e})  Th-PG {row['V_f_theodorsen_pg']:.3f} / {row['ratio_theodorsen_pg']:.3f}"
+              f"  published: {pub}", flush=True)
+        if a.sensitivity:
+            print("        fit sensitivity (V_f, w/w_a): " + "; ".join(
+                f"{k} {v[0]:.4f} {v[1]:.3f}" for k, v in row["sensitivity"].items()), flush=True)
     if a.json:
         Path(a.json).write_text(json.dumps(dict(grid=a.grid, n_freq=a.n_freq, omega_max=a.omega_max,
                                                 method=a.method, order=a.order, rows=rows), indent=1))
