@@ -197,7 +197,13 @@ def main(argv=None):
     print(f"{'Mach':>6} {'V_f':>8} {'w/w_a':>7} {'k':>6} {'kind':>10}  other crossings (V_f, ->, w/w_a)    "
           f"{'Cp_min':>7} {'Cp*':>7} {'steady':>7} {'LFD':>6}")
     for mach in machs:
-        frf, info = mach_frf(mach, grid_spec, a.n_freq, a.omega_max, a.method, a.cache)
+        try:
+            frf, info = mach_frf(mach, grid_spec, a.n_freq, a.omega_max, a.method, a.cache)
+        except cfd.ConvergenceError as err:  # no steady state to linearise about: say so, go on
+            print(f"{mach:6.3f}  no result: {str(err).split(';')[0]}", flush=True)
+            rows.append(dict(mach=mach, V_f=float("nan"), ratio=float("nan"), k=float("nan"), kind="no steady state",
+                             crossings=[], V_f_theodorsen_pg=theodorsen_pg(mach, a.order)[0]))
+            continue
         ea, model, res, cross = analyse(frf, a.order)
         fit_err = float(model.max_error)
         row = dict(mach=mach, V_f=float(res.flutter_speed_index), ratio=float(res.frequency_ratio),

@@ -229,8 +229,9 @@ class Aerofoil:
 # NACA 64A010 half thickness, per cent of chord, at the stations of Abbott & von Doenhoff's Appendix I, as
 # tabulated by PDAS ("Appendix I - Profiles", R. Carmichael, Public Domain Aeronautical Software, last updated
 # 10 July 2017: the book's tables recomputed with the PDAS program naca456, which implements Ladson, Brooks,
-# Hill & Sproles, NASA TM-4741, 1996; the TM states agreement with the previously published 6- and 6A-series
-# ordinates "generally within 5e-5" chord). Leading-edge radius given there: 0.735 % chord.
+# Hill & Sproles, NASA TM-4741, 1996, whose abstract reports agreement with the previously published ordinates of
+# the 6-series and most 6A-series sections "generally within 5e-5"). Leading-edge radius given there: 0.735 %
+# chord. Mirrored in github.com/kurtsansom/pdas, docs/source/profiles.rst ("NACA Profile 64A010").
 _NACA64A010_X = (0.0, 0.5, 0.75, 1.25, 2.5, 5.0, 7.5, 10.0, 15.0, 20.0, 25.0, 30.0, 35.0, 40.0, 45.0, 50.0, 55.0,
                  60.0, 65.0, 70.0, 75.0, 80.0, 85.0, 90.0, 95.0, 100.0)
 _NACA64A010_Y = (0.0, 0.8148, 0.9803, 1.2351, 1.6938, 2.3307, 2.8075, 3.2010, 3.8152, 4.2731, 4.6073, 4.8361,
