@@ -52,6 +52,9 @@ def mach_frf(mach, grid_spec, n_freq, omega_max, method, cache):
     name = f"isogai_M{mach:.3f}_{ni}x{nj}x{ns}_n{n_freq}_w{omega_max:g}_{method}.npz"
     path = None if cache is None else Path(cache) / name
     w = frequencies(n_freq, omega_max)
+    failed = None if path is None else path.with_suffix(".failed")
+    if failed is not None and failed.exists():
+        raise cfd.ConvergenceError(f"{failed.read_text().strip()} (cached failure, delete {failed.name} to retry)")
     if path is not None and path.exists():
         d = np.load(path)
         info = json.loads(str(d["info"]))
@@ -59,7 +62,13 @@ def mach_frf(mach, grid_spec, n_freq, omega_max, method, cache):
                                                        outputs=["Cl", "Cm"], metadata={"pivot": 0.25}), info
     t0 = time.perf_counter()
     grid = cfd.c_grid(cfd.naca("64A010"), ni=ni, nj=nj, n_surface=ns)
-    sol = cfd.solve_steady(grid, mach, 0.0)
+    try:
+        sol = cfd.solve_steady(grid, mach, 0.0)
+    except cfd.ConvergenceError as err:
+        if failed is not None:
+            failed.parent.mkdir(parents=True, exist_ok=True)
+            failed.write_text(str(err).split(";")[0])
+        raise
     t1 = time.perf_counter()
     lin = cfd.linearise(sol)
     frf = cfd.lfd_response(lin, w, inputs=("plunge", "pitch"), pivot=0.25, method=method)
@@ -140,7 +149,7 @@ def theodorsen_pg(mach, order=4):
     return float(res.flutter_speed_index), float(res.frequency_ratio)
 
 
-def plot(rows, path):
+def plot(rows, path, overlays=()):
     import matplotlib
 
     matplotlib.use("Agg")
@@ -154,7 +163,17 @@ def plot(rows, path):
     for r in rows:  # higher branches / re-stabilisation
         for v, kind, _ in r["crossings"][1:]:
             ax.plot(r["mach"], v, "x" if kind == "unstable" else "+", color="k", ms=7)
-    marks = iter("sd^v<>")
+        if r["kind"] == "no steady state":
+            ax.axvline(r["mach"], color="0.7", ls="--", lw=0.8)
+    ax.plot([], [], "x", color="k", label="further crossing to unstable (same run)")
+    ax.plot([], [], "+", color="k", label="crossing back to stable (same run)")
+    if any(r["kind"] == "no steady state" for r in rows):
+        ax.plot([], [], "--", color="0.7", lw=0.8, label="no converged steady state on this grid")
+    for ov in overlays:  # other grids: {"grid": ..., "rows": [...]}
+        pts = [(r["mach"], r["V_f"]) for r in ov["rows"] if np.isfinite(r["V_f"])]
+        if pts:
+            ax.plot(*zip(*pts), "s", mfc="none", color="tab:red", ms=8, label=f"lfdrom, grid {ov['grid']}")
+    marks = iter("d^v<>o")
     for label, pts in PUBLISHED.items():
         if pts:
             pm, pv = zip(*pts)
@@ -162,9 +181,10 @@ def plot(rows, path):
     ax.set_xlabel("Mach number")
     ax.set_ylabel(r"flutter speed index $V_f = U / (b\,\omega_\alpha \sqrt{\mu})$")
     ax.set_title("Isogai case A (NACA 64A010, a = -2, mu = 60)")
-    ax.set_ylim(0, max([2.0] + [1.05 * r["V_f"] for r in rows if np.isfinite(r["V_f"])]))
+    top = [1.05 * v for r in rows for v in [r["V_f"]] + [c[0] for c in r["crossings"]] if np.isfinite(v)]
+    ax.set_ylim(0, max([2.0] + top))
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(0.0, 0.64))
     fig.tight_layout()
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=130)
@@ -183,6 +203,7 @@ def main(argv=None):
     p.add_argument("--plot", default=str(ROOT / "docs" / "aeroelastic" / "isogai.png"), help="figure path ('' = none)")
     p.add_argument("--json", default=None, help="write the table as JSON here")
     p.add_argument("--sensitivity", action="store_true", help="also refit with 3/6 lags and omega <= 2")
+    p.add_argument("--overlay", action="append", default=[], help="JSON of another run (--json) to add to the plot")
     a = p.parse_args(argv)
     try:
         grid_spec = tuple(int(v) for v in a.grid.lower().split("x"))
@@ -228,7 +249,7 @@ def main(argv=None):
         Path(a.json).write_text(json.dumps(dict(grid=a.grid, n_freq=a.n_freq, omega_max=a.omega_max,
                                                 method=a.method, order=a.order, rows=rows), indent=1))
     if a.plot:
-        plot(rows, a.plot)
+        plot(rows, a.plot, [json.loads(Path(f).read_text()) for f in a.overlay])
         print(f"figure: {a.plot}")
     return rows
 
