@@ -149,15 +149,15 @@ def theodorsen_pg(mach, order=4):
     return float(res.flutter_speed_index), float(res.frequency_ratio)
 
 
-def plot(rows, path, overlays=()):
+def plot(rows, path, overlays=(), grid=""):
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    fig, ax = plt.subplots(figsize=(7.2, 5.6))
     m = [r["mach"] for r in rows]
-    ax.plot(m, [r["V_f"] for r in rows], "o-", color="k", label="lfdrom: LFD Euler + Roger fit (this work)")
+    ax.plot(m, [r["V_f"] for r in rows], "o-", color="k", label=f"lfdrom: LFD Euler + Roger fit, grid {grid}")
     ax.plot(m, [r["V_f_theodorsen_pg"] for r in rows], ":", color="0.5",
             label="flat plate, Theodorsen / sqrt(1 - M^2) (same fit and solver)")
     for r in rows:  # higher branches / re-stabilisation
@@ -168,11 +168,15 @@ def plot(rows, path, overlays=()):
     ax.plot([], [], "x", color="k", label="further crossing to unstable (same run)")
     ax.plot([], [], "+", color="k", label="crossing back to stable (same run)")
     if any(r["kind"] == "no steady state" for r in rows):
-        ax.plot([], [], "--", color="0.7", lw=0.8, label="no converged steady state on this grid")
+        ax.plot([], [], "--", color="0.7", lw=0.8, label=f"no converged steady state (grid {grid})")
     for ov in overlays:  # other grids: {"grid": ..., "rows": [...]}
         pts = [(r["mach"], r["V_f"]) for r in ov["rows"] if np.isfinite(r["V_f"])]
         if pts:
-            ax.plot(*zip(*pts), "s", mfc="none", color="tab:red", ms=8, label=f"lfdrom, grid {ov['grid']}")
+            ax.plot(*zip(*pts), "s", mfc="none", color="tab:red", ms=8,
+                    label=f"lfdrom, grid {ov['grid']} (first crossing; +, x as above in red)")
+        for r in ov["rows"]:
+            for v, kind, _ in r["crossings"][1:]:
+                ax.plot(r["mach"], v, "x" if kind == "unstable" else "+", color="tab:red", ms=7)
     marks = iter("d^v<>o")
     for label, pts in PUBLISHED.items():
         if pts:
@@ -184,7 +188,7 @@ def plot(rows, path, overlays=()):
     top = [1.05 * v for r in rows for v in [r["V_f"]] + [c[0] for c in r["crossings"]] if np.isfinite(v)]
     ax.set_ylim(0, max([2.0] + top))
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(0.0, 0.64))
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=2)
     fig.tight_layout()
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=130)
@@ -221,7 +225,7 @@ def main(argv=None):
         try:
             frf, info = mach_frf(mach, grid_spec, a.n_freq, a.omega_max, a.method, a.cache)
         except cfd.ConvergenceError as err:  # no steady state to linearise about: say so, go on
-            print(f"{mach:6.3f}  no result: {str(err).split(';')[0]}", flush=True)
+            print(f"{mach:6.4g}  no result: {str(err).split(';')[0]}", flush=True)
             rows.append(dict(mach=mach, V_f=float("nan"), ratio=float("nan"), k=float("nan"), kind="no steady state",
                              crossings=[], V_f_theodorsen_pg=theodorsen_pg(mach, a.order)[0]))
             continue
@@ -238,7 +242,7 @@ def main(argv=None):
                         if abs(m - mach) < 1e-6) or "n/a"
         row["published"] = pub
         others = "; ".join(f"{v:.3f} {'u' if d == 'unstable' else 's'} {f:.3f}" for v, d, f in cross[1:]) or "-"
-        print(f"{mach:6.3f} {row['V_f']:8.4f} {row['ratio']:7.4f} {row['k']:6.3f} {res.kind:>10}  {others:<34} "
+        print(f"{mach:6.4g} {row['V_f']:8.4f} {row['ratio']:7.4f} {row['k']:6.3f} {res.kind:>10}  {others:<34} "
               f"{info['cp_min']:7.3f} {info['cp_star']:7.3f} {info['steady_s']:6.0f}s {info['lfd_s']:5.0f}s  "
               f"(fit {fit_err:.1e})  Th-PG {row['V_f_theodorsen_pg']:.3f} / {row['ratio_theodorsen_pg']:.3f}"
               f"  published: {pub}", flush=True)
@@ -249,7 +253,7 @@ def main(argv=None):
         Path(a.json).write_text(json.dumps(dict(grid=a.grid, n_freq=a.n_freq, omega_max=a.omega_max,
                                                 method=a.method, order=a.order, rows=rows), indent=1))
     if a.plot:
-        plot(rows, a.plot, [json.loads(Path(f).read_text()) for f in a.overlay])
+        plot(rows, a.plot, [json.loads(Path(f).read_text()) for f in a.overlay], a.grid)
         print(f"figure: {a.plot}")
     return rows
 
