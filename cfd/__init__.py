@@ -4,7 +4,7 @@ Public entry points are listed in shared/DESIGN.md; this package knows nothing o
 """
 
 from .errors import ConvergenceError, FlowConditionError, GeometryError, MeshError
-from .geometry import Aerofoil, naca
+from .geometry import Aerofoil, TabulatedAerofoil, naca, naca64a010
 from .mesh import Grid, GridQuality, c_grid, grid_from_nodes, grid_quality
 from .flow import FlowCondition, conserved, primitive
 from .euler import Scheme, residual

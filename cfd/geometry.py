@@ -1,4 +1,4 @@
-"""NACA 4-digit aerofoils with a sharp (closed) trailing edge.
+"""NACA 4-digit aerofoils with a sharp (closed) trailing edge, and the tabulated NACA 64A010.
 
 Conventions: chord 1, leading edge of the camber line at ``x = 0``, trailing edge at ``x = 1``.
 
@@ -32,7 +32,7 @@ import numpy as np
 
 from .errors import GeometryError
 
-__all__ = ["Aerofoil", "naca"]
+__all__ = ["Aerofoil", "TabulatedAerofoil", "naca", "naca64a010"]
 
 # Closed-trailing-edge thickness coefficients: a0 sqrt(x) + a1 x + a2 x^2 + a3 x^3 + a4 x^4.
 _A0, _A1, _A2, _A3, _A4 = 0.2969, -0.1260, -0.3516, 0.2843, -0.1036
@@ -226,27 +226,140 @@ class Aerofoil:
         return float(np.degrees(alpha))
 
 
+# NACA 64A010 half thickness, per cent of chord, at the stations of Abbott & von Doenhoff's Appendix I, as
+# tabulated by PDAS ("Appendix I - Profiles", R. Carmichael, Public Domain Aeronautical Software, last updated
+# 10 July 2017: the book's tables recomputed with the PDAS program naca456, which implements Ladson, Brooks,
+# Hill & Sproles, NASA TM-4741, 1996, whose abstract reports agreement with the previously published ordinates of
+# the 6-series and most 6A-series sections "generally within 5e-5"). Leading-edge radius given there: 0.735 %
+# chord. Mirrored in github.com/kurtsansom/pdas, docs/source/profiles.rst ("NACA Profile 64A010").
+_NACA64A010_X = (0.0, 0.5, 0.75, 1.25, 2.5, 5.0, 7.5, 10.0, 15.0, 20.0, 25.0, 30.0, 35.0, 40.0, 45.0, 50.0, 55.0,
+                 60.0, 65.0, 70.0, 75.0, 80.0, 85.0, 90.0, 95.0, 100.0)
+_NACA64A010_Y = (0.0, 0.8148, 0.9803, 1.2351, 1.6938, 2.3307, 2.8075, 3.2010, 3.8152, 4.2731, 4.6073, 4.8361,
+                 4.9672, 4.9946, 4.8920, 4.6822, 4.3855, 4.0198, 3.5954, 3.1228, 2.6192, 2.1010, 1.5817, 1.0620,
+                 0.5393, 0.0)
+
+
+@dataclass(frozen=True)
+class TabulatedAerofoil(Aerofoil):
+    """A symmetric section of unit chord given by a table of half-thickness ordinates.
+
+    Same interface as :class:`Aerofoil` (``surface``, ``at_arc``, ``coordinates``, ``perimeter``,
+    ``s_leading_edge_arc``, ``thickness``, ``camber``, ``t``), so :func:`cfd.c_grid` takes it unchanged.
+
+    Interpolation. With ``u = sqrt(x)`` signed (``+`` upper, ``-`` lower surface) the surface ordinate is an odd
+    function ``y = f(u)`` on ``[-1, 1]``, regular through the leading edge (``y ~ sqrt(2 r_LE) u`` there). The
+    table points and their mirror images are interpolated by one cubic spline in ``u`` (not-a-knot ends; the data
+    are odd, so the spline is odd and the two surfaces are exact mirror images): ``C2`` everywhere, leading edge
+    included, and it passes through every table point. The surface parameter ``s`` is the one of
+    :class:`Aerofoil` (``u = sin(pi (2 s - 1) / 2)``, cosine clustering at both edges).
+
+    Trailing edge. The tables used here end at ``y(1) = 0`` (sharp); a table that does not is refused
+    (:class:`GeometryError`), so no closure is applied silently.
+
+    Attributes
+    ----------
+    table_x, table_y : tuple of float
+        Stations and half thicknesses of the table (fractions of chord), ``x`` from 0 to 1.
+    source : str
+        Where the table comes from.
+    """
+
+    table_x: tuple = ()
+    table_y: tuple = ()
+    source: str = ""
+    _spline: object = field(default=None, repr=False, compare=False)
+
+    def __post_init__(self):
+        from scipy.interpolate import CubicSpline
+
+        x = np.asarray(self.table_x, dtype=float)
+        y = np.asarray(self.table_y, dtype=float)
+        if x.ndim != 1 or x.shape != y.shape or x.size < 5:
+            raise GeometryError("a tabulated section needs at least 5 (x, y) pairs of equal length")
+        if x[0] != 0.0 or x[-1] != 1.0 or np.any(np.diff(x) <= 0.0):
+            raise GeometryError("table stations must increase strictly from x = 0 to x = 1 (fractions of chord)")
+        if y[0] != 0.0 or y[-1] != 0.0 or np.any(y[1:-1] <= 0.0):
+            raise GeometryError(
+                "table half thicknesses must be positive inside and 0 at both ends (sharp trailing edge for the "
+                "C-grid); close a blunt trailing edge explicitly before building the section"
+            )
+        u = np.sqrt(x)
+        spline = CubicSpline(np.concatenate([-u[:0:-1], u]), np.concatenate([-y[:0:-1], y]), bc_type="not-a-knot")
+        object.__setattr__(self, "_spline", spline)
+        super().__post_init__()
+
+    @property
+    def name(self):
+        """``"NACA" + code``."""
+        return f"NACA{self.code}"
+
+    def _yt(self, sqrt_x, x):
+        # Odd spline in u = sqrt(x); evaluated at u >= 0. The clip removes round-off below 0 at the trailing edge.
+        return np.maximum(self._spline(np.clip(sqrt_x, 0.0, 1.0)), 0.0)
+
+    def thickness_slope(self, x):
+        """Slope ``dy_t/dx`` of the half thickness (dimensionless), for ``0 < x <= 1``."""
+        x = np.asarray(x, dtype=float)
+        u = np.sqrt(np.clip(x, 1e-300, None))
+        return self._spline(u, 1) / (2.0 * u)
+
+    def leading_edge_radius(self):
+        """Leading-edge radius (chords) of the interpolated section: ``(dy/du)^2 / 2`` at ``u = 0``."""
+        return float(0.5 * self._spline(0.0, 1) ** 2)
+
+
+def naca64a010(n=200):
+    """The NACA 64A010 section (symmetric, 10 % thick at 40 % chord; Isogai's case A, AGARD R-702 CT cases).
+
+    Ordinates: Abbott & von Doenhoff, *Theory of Wing Sections* (Dover, 1959), Appendix I, at the book's 26
+    stations, as tabulated (recomputed to 4 decimals with NASA TM-4741's procedure) by PDAS, "Appendix I -
+    Profiles", R. L. Carmichael, Public Domain Aeronautical Software (pdas.com/profiles.html, 2017). The table
+    ends at ``y = 0`` at ``x = 1``: the trailing edge is sharp as tabulated, no closure is added. Interpolated
+    by an odd cubic spline in signed ``sqrt(x)`` (:class:`TabulatedAerofoil`).
+
+    Parameters
+    ----------
+    n : int
+        Default number of cosine-clustered panels of ``coordinates()``.
+
+    Returns
+    -------
+    TabulatedAerofoil
+        ``code = "64A010"``, ``t = 0.10`` (maximum thickness of the table, at ``x = 0.40``).
+    """
+    if not isinstance(n, (int, np.integer)) or isinstance(n, bool) or n < 4:
+        raise GeometryError(f"n = {n!r} surface panels is invalid; give an integer >= 4, e.g. n=200")
+    return TabulatedAerofoil(
+        code="64A010", m=0.0, p=0.0, t=0.10, n=int(n),
+        table_x=tuple(v / 100.0 for v in _NACA64A010_X), table_y=tuple(v / 100.0 for v in _NACA64A010_Y),
+        source="Abbott & von Doenhoff (1959) App. I, recomputed by PDAS naca456 (NASA TM-4741)",
+    )
+
+
 def naca(code, n=200):
-    """A NACA 4-digit aerofoil of unit chord with a sharp trailing edge.
+    """A NACA 4-digit aerofoil of unit chord with a sharp trailing edge (or the tabulated NACA 64A010).
 
     Parameters
     ----------
     code : str or int
         Four digits ``MPTT``: maximum camber ``M`` % chord at ``P`` tenths of chord, thickness
         ``TT`` % chord, e.g. ``"0012"``, ``"2410"`` (a ``"NACA"`` prefix is accepted). An int is
-        zero-padded (``12`` -> ``"0012"``).
+        zero-padded (``12`` -> ``"0012"``). ``"64A010"`` (also ``"64A-010"``) gives the tabulated
+        section of :func:`naca64a010`.
     n : int
         Default number of cosine-clustered panels of ``Aerofoil.coordinates()``.
 
     Returns
     -------
     Aerofoil
-        Frozen; ``surface(s)``, ``at_arc(arc)`` and ``coordinates(n)`` give points on it.
+        Frozen (a :class:`TabulatedAerofoil` for ``"64A010"``); ``surface(s)``, ``at_arc(arc)`` and
+        ``coordinates(n)`` give points on it.
 
     Raises
     ------
     GeometryError
-        If the code is not four digits, has zero thickness, camber without a position (or a
+        If the code is not four digits (nor ``"64A010"``; other 6A-series codes are refused with a
+        message naming the one tabulated), has zero thickness, camber without a position (or a
         position without camber), or ``n`` is not an integer >= 4.
     """
     example = 'use four digits MPTT such as "0012" (symmetric) or "2410" (2 % camber at 0.4 c, 10 % thick)'
@@ -256,7 +369,14 @@ def naca(code, n=200):
         code = f"{int(code):04d}"
     if not isinstance(code, str):
         raise GeometryError(f"NACA code must be a string, got {type(code).__name__}; {example}")
-    c = code.strip().upper().removeprefix("NACA").strip()
+    c = code.strip().upper().removeprefix("NACA").strip().replace("-", "")
+    if len(c) >= 5 and c[:2].isdigit() and c[2] == "A":
+        if c == "64A010":
+            return naca64a010(n)
+        raise GeometryError(
+            f"NACA code {code!r}: of the 6A series only \"64A010\" is tabulated (cfd.naca64a010); "
+            f"otherwise {example}"
+        )
     if len(c) != 4:
         raise GeometryError(f"NACA code {code!r} has {len(c)} characters, not 4; {example}")
     if not c.isdigit() or not c.isascii():

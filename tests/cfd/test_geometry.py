@@ -115,3 +115,84 @@ def test_invalid_point_count_and_parameters():
         naca("0012").surface([1.5])
     with pytest.raises(GeometryError, match="perimeter"):
         naca("0012").at_arc([10.0])
+
+
+# ---------------------------------------------------------------- NACA 64A010 (tabulated)
+from cfd import TabulatedAerofoil, naca64a010  # noqa: E402
+
+
+def test_64a010_reproduces_the_table_and_is_reachable_from_naca():
+    foil = naca("64A010")
+    assert isinstance(foil, TabulatedAerofoil) and foil.name == "NACA64A010"
+    assert naca("NACA 64A-010") == foil and naca64a010(n=100).n == 100
+    x, y = np.array(foil.table_x), np.array(foil.table_y)
+    assert foil.thickness(x) == pytest.approx(y, abs=1e-15)
+    # Spot values of the published table (per cent of chord): 0.5 % -> 0.8148, 40 % -> 4.9946, 95 % -> 0.5393.
+    assert 100 * foil.thickness([0.005, 0.40, 0.95]) == pytest.approx([0.8148, 4.9946, 0.5393], abs=1e-12)
+    # Upper and lower surfaces are mirror images through the table points.
+    s = np.linspace(0.0, 1.0, 401)
+    xs, ys = foil.surface(s)
+    assert xs == pytest.approx(xs[::-1], abs=1e-15) and ys == pytest.approx(-ys[::-1], abs=1e-15)
+
+
+def test_64a010_max_thickness_ten_percent_near_forty_percent_chord():
+    foil = naca("64A010")
+    x = np.linspace(0.0, 1.0, 200001)
+    yt = foil.thickness(x)
+    assert 2 * yt.max() == pytest.approx(0.10, abs=2e-5)  # table: 9.989 % at 40 %, spline peak 9.999 %
+    assert 0.35 < x[np.argmax(yt)] <= 0.40
+
+
+def test_64a010_trailing_edge_closed_and_leading_edge_radius():
+    foil = naca("64A010")
+    x, y = foil.surface(np.array([0.0, 0.5, 1.0]))
+    assert np.array_equal(x, [1.0, 0.0, 1.0]) and np.all(y == 0.0)
+    assert foil.thickness(1.0) == 0.0
+    # The table gives r_LE = 0.735 % chord; the spline's is within 3 % of it.
+    assert foil.leading_edge_radius() == pytest.approx(0.00735, rel=0.03)
+
+
+def test_64a010_surface_is_smooth():
+    foil = naca("64A010")
+    # Turning angle per unit arc (curvature) is bounded away from the nose and continuous: no kinks between
+    # table points (a kink would show as an isolated jump of the tangent direction).
+    s = np.linspace(0.0, 1.0, 8001)
+    x, y = foil.surface(s)
+    ang = np.unwrap(np.arctan2(np.diff(y), np.diff(x)))
+    dang = np.diff(ang)
+    ds = np.hypot(np.diff(x), np.diff(y))
+    kappa = dang / (0.5 * (ds[1:] + ds[:-1]))
+    mid = (x[1:-1] > 0.02) & (x[1:-1] < 0.98)
+    assert np.all(np.abs(np.diff(kappa[mid])) < 0.5)
+    # Convex but for the nearly straight 6A aft portion (x = 0.8-0.9), where the 4-decimal table bends the
+    # other way by a curvature of at most 0.009 per chord (radius > 100 chords).
+    assert kappa.max() < 0.01
+    # Curvature at the nose matches 1 / r_LE within 5 %.
+    assert np.max(np.abs(kappa)) == pytest.approx(1.0 / foil.leading_edge_radius(), rel=0.05)
+
+
+def test_64a010_thickness_slope_matches_finite_differences():
+    foil = naca("64A010")
+    x = np.linspace(0.01, 0.99, 99)
+    h = 1e-6
+    fd = (foil.thickness(x + h) - foil.thickness(x - h)) / (2 * h)
+    assert foil.thickness_slope(x) == pytest.approx(fd, abs=1e-6)
+
+
+@pytest.mark.parametrize("code", ["64A012", "65A010", "64A0010", "63A210"])
+def test_other_6a_codes_raise_a_clear_geometry_error(code):
+    with pytest.raises(GeometryError, match="64A010"):
+        naca(code)
+
+
+def test_tabulated_section_refuses_a_blunt_trailing_edge():
+    with pytest.raises(GeometryError, match="trailing edge"):
+        TabulatedAerofoil(code="X", m=0.0, p=0.0, t=0.1, table_x=(0, 0.25, 0.5, 0.75, 1.0),
+                          table_y=(0, 0.04, 0.05, 0.03, 0.001))
+
+
+def test_64a010_goes_through_the_c_grid_generator():
+    from cfd import c_grid
+
+    grid = c_grid(naca("64A010"), ni=97, nj=25, n_surface=64)
+    assert grid is not None
