@@ -30,6 +30,7 @@ __all__ = [
     "REPORT_KEYS",
 ]
 
+# the keys each table of a study file allows (the schema is in the docstring of studies.config)
 TOP_KEYS = ("name", "description", "output", "store", "cases", "gusts", "grid", "sweep", "method", "methods",
             "simulation", "cfd", "report")
 GRID_KEYS = ("ni", "nj", "n_surface", "farfield")
