@@ -67,11 +67,12 @@ log = logging.getLogger(__name__)
 
 FORMAT_VERSION = 1
 
-ROM_DEPENDENCIES = ("cfd", "sysid", "studies.config", "studies.numbers", "studies.schema", "studies.pieces",
-                    "studies.tasks")
-"""Sources of the ROM and ROM-simulation pieces: ``cfd`` and ``sysid``, the study file's parser and number
-parser (the values computed with), the configuration objects (method options, weights), the store schema
-(keys, payloads, the simulation metrics) and the tasks that compute them."""
+ROM_DEPENDENCIES = ("cfd", "sysid", "studies.config", "studies.config_reader", "studies.config_sections",
+                    "studies.numbers", "studies.schema", "studies.pieces", "studies.tasks")
+"""Sources of the ROM and ROM-simulation pieces: ``cfd`` and ``sysid``, the study file's parser (``studies.config``
+with its value reader and section parsers) and number parser (the values computed with), the configuration
+objects (method options, weights), the store schema (keys, payloads, the simulation metrics) and the tasks that
+compute them."""
 
 PIECE_DEPENDENCIES: Mapping[str, tuple] = {
     "steady": ("cfd",),

@@ -17,7 +17,6 @@ Exit status (the last line printed says which):
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 import warnings
@@ -29,7 +28,7 @@ from .exit_codes import EXIT_FAILED, EXIT_INCOMPLETE, EXIT_INTERRUPTED, EXIT_NOT
 
 __all__ = ["add_subcommands", "dispatch", "cmd_cases", "cmd_run", "cmd_report", "cmd_rom", "rom_study", "COMMANDS",
            "EXIT_OK", "EXIT_FAILED", "EXIT_UNAVAILABLE", "EXIT_INCOMPLETE", "EXIT_NOT_WRITTEN", "EXIT_INTERRUPTED",
-           "run_status", "rom_summary_line", "report_page"]
+           "run_status", "rom_summary_line"]
 
 COMMANDS = ("cases", "run", "report", "rom", "fit")
 

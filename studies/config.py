@@ -69,29 +69,29 @@ changing ``N_r`` keeps the FRF.
 
 from __future__ import annotations
 
-import difflib
 import math
-import re
 import tomllib
-from dataclasses import replace
 from pathlib import Path
-from typing import Any, Mapping, Optional
+from typing import Any, Mapping
 
 from sysid.order_limits import max_order, min_order, order_supported
 
-from .cases import (
-    GUST_CASES,
-    TEST_CASES,
-    CaseError,
-    FlowCase,
-    GridSpec,
-    GustCase,
-    UnknownCaseError,
-    check_name,
-    flow_case,
-    gust_case,
-    naca_code,
+from .cases import GUST_CASES, CaseError, GridSpec, GustCase, UnknownCaseError, check_name, gust_case
+from .config_reader import (
+    CASE_KEYS,
+    CFD_KEYS,
+    GRID_KEYS,
+    GUST_KEYS,
+    METHOD_KEYS,
+    REPORT_KEYS,
+    SIMULATION_KEYS,
+    SWEEP_KEYS,
+    TOP_KEYS,
+    ConfigReader,
+    StudyConfigError,
+    grid_config_error,
 )
+from .config_sections import parse_case_entry, parse_report_table
 from .hashing import canonical_json, config_hash
 from .numbers import normalise_float, parse_number
 from .pieces import frf_piece, ltd_piece, rom_piece, sim_piece, steady_piece
@@ -143,52 +143,20 @@ __all__ = [
     "MAX_M",
     "min_order",
     "march_memory_bytes",
+    "TOP_KEYS",
+    "GRID_KEYS",
+    "SWEEP_KEYS",
+    "CASE_KEYS",
+    "GUST_KEYS",
+    "METHOD_KEYS",
+    "SIMULATION_KEYS",
+    "CFD_KEYS",
+    "REPORT_KEYS",
 ]
-# The names above that this module does not define are re-exported from their homes: studies.schema (the
-# configuration objects and limits), studies.numbers, studies.hashing, studies.pieces (the store's piece keys)
-# and sysid.order_limits (max_order, min_order).
-
-TOP_KEYS = ("name", "description", "output", "store", "cases", "gusts", "grid", "sweep", "method", "methods",
-            "simulation", "cfd", "report", "aeroelastic")
-GRID_KEYS = ("ni", "nj", "n_surface", "farfield")
-SWEEP_KEYS = ("orders", "T", "M_base", "M")
-CASE_KEYS = ("name", "naca", "mach", "alpha_deg", "grid", "orders", "T", "M")
-GUST_KEYS = ("name", "kind", "length", "angle_deg")
-METHOD_KEYS = ("dc_gain", "stable", "margin", "weights", "algorithm")
-SIMULATION_KEYS = ("discretisation", "dt", "t_end", "x0")
-CFD_KEYS = ("gust_method", "outputs")
-REPORT_KEYS = ("page", "prose", "figures", "title", "paper")
-
-# names people reach for, mapped to ours (used for "did you mean" only)
-_ALIASES = {
-    "n_r": "orders", "nr": "orders", "order": "orders", "rom_order": "orders", "n_omega": "M",
-    "m": "M", "t": "T", "period": "T", "mbase": "M_base", "m_base": "M_base", "discretization": "discretisation",
-    "method": "algorithm", "dc": "dc_gain", "stability": "stable", "weight": "weights", "alpha": "alpha_deg",
-    "angle": "angle_deg", "gust": "gusts", "case": "cases", "out": "output", "output_dir": "output",
-    "cache": "store", "tend": "t_end", "t_final": "t_end", "mach_number": "mach", "aerofoil": "naca",
-    "airfoil": "naca",
-}
-
-
-class StudyConfigError(ValueError):
-    """A study file is invalid. Names the file and the dotted key.
-
-    Attributes
-    ----------
-    file : str
-        The study file (or ``"<string>"``).
-    key : str or None
-        Dotted key, e.g. ``"sweep.orders"`` or ``"cases[1].mach"``; None for file-level problems.
-    problem : str
-        What was wrong and what to do.
-    """
-
-    def __init__(self, file: str, key: Optional[str], problem: str):
-        self.file = str(file)
-        self.key = key
-        self.problem = problem
-        where = f"{self.file}: {key}: " if key else f"{self.file}: "
-        super().__init__(where + problem)
+# The names above that this module does not define are re-exported from their homes: studies.config_reader
+# (StudyConfigError and the keys each table allows), studies.schema (the configuration objects and limits),
+# studies.numbers, studies.hashing, studies.pieces (the store's piece keys) and sysid.order_limits (max_order,
+# min_order). studies.config_reader reads the values and studies.config_sections the case entries and [report].
 
 
 def march_memory_bytes(steps: int, gusts: int) -> tuple:
@@ -207,92 +175,13 @@ def _size_text(gib: float) -> str:
     return f"{gib * 1024:.3g} MiB" if gib < 1 else (f"{gib:.3g} GiB" if gib < 1024 else f"{gib / 1024:.3g} TiB")
 
 
-# ---------------------------------------------------------------------------------------------
-# Parsing
-# ---------------------------------------------------------------------------------------------
-
-class _Parser:
-    def __init__(self, source: str):
-        self.source = source
-
-    def err(self, key, problem):
-        return StudyConfigError(self.source, key, problem)
-
-    def table(self, value, key) -> dict:
-        if not isinstance(value, dict):
-            raise self.err(key, f"must be a table, got {type(value).__name__} {value!r}")
-        return value
-
-    def check_keys(self, table: Mapping, allowed, prefix: str):
-        for k in table:
-            if k not in allowed:
-                key = f"{prefix}.{k}" if prefix else k
-                raise self.err(key, f"unknown key{_suggest(k, allowed)}; allowed here: {', '.join(allowed)}")
-
-    def number(self, value, key, *, positive=False, nonneg=False) -> float:
-        try:
-            v = parse_number(value)
-        except ValueError as e:
-            raise self.err(key, str(e)) from None
-        if positive and v <= 0.0:
-            raise self.err(key, f"must be positive, got {v!r}")
-        if nonneg and v < 0.0:
-            raise self.err(key, f"must be >= 0, got {v!r}")
-        return normalise_float(v)
-
-    def integer(self, value, key, *, minimum=None) -> int:
-        if isinstance(value, bool) or not isinstance(value, int):
-            raise self.err(key, f"must be an integer, got {value!r}")
-        if minimum is not None and value < minimum:
-            raise self.err(key, f"must be >= {minimum}, got {value}")
-        return int(value)
-
-    def choice(self, value, key, options) -> str:
-        if not isinstance(value, str) or value not in options:
-            raise self.err(key, f"must be one of {', '.join(repr(o) for o in options)}, got {value!r}"
-                           f"{_suggest(value, options) if isinstance(value, str) else ''}")
-        return value
-
-    def boolean(self, value, key) -> bool:
-        if not isinstance(value, bool):
-            raise self.err(key, f"must be true or false, got {value!r}")
-        return value
-
-    def string(self, value, key) -> str:
-        if not isinstance(value, str):
-            raise self.err(key, f"must be a string, got {value!r}")
-        return value
-
-    def axis(self, value, key, parse_one) -> tuple:
-        if not isinstance(value, list):
-            value = [value]
-        if not value:
-            raise self.err(key, "must not be empty")
-        vals = [parse_one(v, f"{key}[{i}]") for i, v in enumerate(value)]
-        return tuple(sorted(set(vals)))
-
-
-def _suggest(word: str, options) -> str:
-    options = list(options)
-    alias = _ALIASES.get(word.lower())
-    if alias in options:
-        return f" (did you mean {alias!r}?)"
-    low = {o.lower(): o for o in options}
-    if word.lower() in low:
-        return f" (did you mean {low[word.lower()]!r}?)"
-    close = difflib.get_close_matches(word, options, n=1, cutoff=0.6)
-    return f" (did you mean {close[0]!r}?)" if close else ""
-
-
-def _grid_error(P: _Parser, prefix: str, e: CaseError) -> StudyConfigError:
-    msg = str(e).removeprefix("grid: ")
-    m = re.match(r"(ni|nj|n_surface|farfield)\b", msg)
-    return P.err(f"{prefix}.{m.group(1)}" if m else prefix, msg)
-
-
 def _is_pow2(n: int) -> bool:
     return n >= 1 and n & (n - 1) == 0
 
+
+# ---------------------------------------------------------------------------------------------
+# Parsing
+# ---------------------------------------------------------------------------------------------
 
 def load_study(path) -> StudyConfig:
     """Read and validate a study file.
@@ -359,7 +248,7 @@ def loads_study(text: str, source: str = "<string>", base_dir=None, default_name
 def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
                 default_name: str = "study") -> StudyConfig:
     """Validate a study given as a dictionary (the parsed TOML); see :func:`load_study`."""
-    P = _Parser(source)
+    P = ConfigReader(source)
     data = P.table(dict(data), None)
     P.check_keys(data, TOP_KEYS, "")
     base = Path(base_dir) if base_dir is not None else Path.cwd()
@@ -375,7 +264,7 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
     try:
         base_grid = GridSpec(**grid_over)
     except CaseError as e:
-        raise _grid_error(P, "grid", e) from None
+        raise grid_config_error(P, "grid", e) from None
 
     # sweep
     sweep = P.table(data.get("sweep", {}), "sweep")
@@ -494,7 +383,7 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
     sweeps = []
     for i, entry in enumerate(raw_cases):
         key = f"cases[{i}]"
-        sweeps.append(_parse_case(P, entry, key, base_grid, g_orders, g_T, g_M, parse_order, parse_T, parse_M))
+        sweeps.append(parse_case_entry(P, entry, key, base_grid, g_orders, g_T, g_M, parse_order, parse_T, parse_M))
     names = [case_sweep.case.name.casefold() for case_sweep in sweeps]
     for i, n in enumerate(names):
         if names.index(n) != i:
@@ -568,7 +457,7 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
     output_dir = ((base / P.string(out, "output")) if out is not None else base / "results" / name).resolve()
     store = data.get("store")
     store_dir = (base / P.string(store, "store")).resolve() if store is not None else output_dir / "store"
-    report = _parse_report(P, data.get("report", {}), base)
+    report = parse_report_table(P, data.get("report", {}), base)
     aero = None
     if "aeroelastic" in data:  # the [aeroelastic] section: studies.aeroelastic_schema
         from .aeroelastic_schema import parse_aeroelastic
@@ -577,83 +466,3 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
     return StudyConfig(name=name, description=description, source=source, output_dir=output_dir,
                        store_dir=store_dir, cases=tuple(sweeps), gusts=tuple(gusts), M_base=M_base,
                        methods=tuple(methods), simulation=sim, cfd=cfd, report=report, aeroelastic=aero)
-
-
-def _parse_report(P: _Parser, table, base: Path) -> ReportOptions:
-    rep = P.table(table, "report")
-    P.check_keys(rep, REPORT_KEYS, "report")
-    page = rep.get("page")
-    if page is not None:
-        page = (base / P.string(page, "report.page")).resolve()
-        if page.suffix != ".md":
-            raise P.err("report.page", f"{page.name!r} is not a Markdown file; give a path ending in .md (its "
-                        "tables and figures go to the folder of the same name)")
-        if page.exists() and not page.is_file():
-            raise P.err("report.page", f"{page} exists and is not a file")
-    prose = rep.get("prose")
-    if prose is not None:
-        prose = (base / P.string(prose, "report.prose")).resolve()
-        if not prose.is_file():
-            raise P.err("report.prose", f"no such file {prose}; give a TOML file of slot = \"text\" lines, or "
-                        "leave the key out")
-    figures = P.boolean(rep.get("figures", True), "report.figures")
-    title = P.string(rep["title"], "report.title") if "title" in rep else None
-    if title is not None and not title.strip():
-        raise P.err("report.title", "must not be empty; leave the key out for the default title")
-    paper = P.boolean(rep["paper"], "report.paper") if "paper" in rep else None
-    return ReportOptions(page=page, prose=prose, figures=figures, title=title, paper=paper)
-
-
-def _parse_case(P: _Parser, entry, key, base_grid, g_orders, g_T, g_M, parse_order, parse_T, parse_M) -> CaseSweep:
-    if isinstance(entry, str):
-        if entry.casefold() not in {n.casefold() for n in TEST_CASES}:
-            raise P.err(key, f"unknown test case {entry!r}; the paper's are {', '.join(TEST_CASES)} (case-insensitive); "
-                        "define your own as a table, e.g. {name = \"mine\", naca = \"0012\", mach = 0.5}")
-        entry = {"name": entry}
-    entry = P.table(entry, key)
-    P.check_keys(entry, CASE_KEYS, key)
-    if "name" not in entry:
-        raise P.err(f"{key}.name", "missing: every case needs a name (a paper case T1-T6, or your own label)")
-    name = entry["name"]
-    if not isinstance(name, str):
-        raise P.err(f"{key}.name", f"must be a string, got {name!r}")
-    flow_keys = [k for k in ("naca", "mach", "alpha_deg") if k in entry]
-    grid_t = P.table(entry.get("grid", {}), f"{key}.grid")
-    P.check_keys(grid_t, GRID_KEYS, f"{key}.grid")
-    try:
-        grid = GridSpec(**{**base_grid.kwargs(), **grid_t})
-    except CaseError as e:
-        raise _grid_error(P, f"{key}.grid", e) from None
-    is_paper = name.casefold() in {n.casefold() for n in TEST_CASES}
-    if is_paper:
-        if flow_keys:
-            raise P.err(f"{key}.{flow_keys[0]}", f"{name!r} is a paper case with a fixed aerofoil, Mach number "
-                        "and incidence; give your case another name to define it yourself")
-        case = replace(flow_case(name), grid=grid)
-    else:
-        missing = [k for k in ("naca", "mach") if k not in entry]
-        if missing:
-            raise P.err(f"{key}.{missing[0]}", (
-                f"missing: {name!r} is not a paper case ({', '.join(TEST_CASES)}), so it needs naca and mach "
-                "(and optionally alpha_deg, grid)"))
-        try:
-            naca = naca_code(f"case {name!r}", entry["naca"])
-        except CaseError as e:
-            raise P.err(f"{key}.naca", str(e)) from None
-        mach = P.number(entry["mach"], f"{key}.mach")
-        if not 0.0 < mach < 1.0:
-            raise P.err(f"{key}.mach", f"mach = {mach} is out of range; use 0 < mach < 1 (subsonic free stream)")
-        alpha = P.number(entry.get("alpha_deg", 0.0), f"{key}.alpha_deg")
-        if abs(alpha) >= 90.0:
-            raise P.err(f"{key}.alpha_deg", f"alpha_deg = {alpha} is not an incidence; use |alpha_deg| < 90")
-        try:
-            case = FlowCase(name, naca, mach, alpha, grid)
-        except CaseError as e:
-            raise P.err(f"{key}.name", str(e)) from None
-    orders = P.axis(entry["orders"], f"{key}.orders", parse_order) if "orders" in entry else g_orders
-    if orders is None:
-        raise P.err("sweep.orders", f"missing: give the model orders N_r in [sweep] (orders = [9, 15, 25]) or "
-                    f"in {key}")
-    T = P.axis(entry["T"], f"{key}.T", parse_T) if "T" in entry else g_T
-    M = P.axis(entry["M"], f"{key}.M", parse_M) if "M" in entry else g_M
-    return CaseSweep(case=case, orders=orders, T=T, M=M)

@@ -416,7 +416,9 @@ def draw_figures(results, fig_dir: Path, dpi: int, say, paper: bool = False) -> 
     return figures
 
 
-FIGURE_CODE = ("studies.plots", "studies.report", "studies.report_figures", "studies.report_rows")
+FIGURE_CODE = ("studies.plots", "studies.plot_style", "studies.plot_data", "studies.figure_files",
+               "studies.frf_plots", "studies.hankel_plots", "studies.error_plots", "studies.history_plots",
+               "studies.heatmap_plots", "studies.report", "studies.report_figures", "studies.report_rows")
 """The modules whose source is part of the figures' fingerprint."""
 
 

@@ -66,7 +66,8 @@ def test_keys(tmp_path):
     assert k != ResultStore(tmp_path, code={**CODE, "sources": "edited"}).key("frf", CONFIG)
     # the default code version: package version and the sources of the piece's packages
     default = ResultStore(tmp_path)
-    assert default.code_version("rom")["packages"] == ["cfd", "studies.config", "studies.numbers", "studies.pieces",
+    assert default.code_version("rom")["packages"] == ["cfd", "studies.config", "studies.config_reader",
+                                                       "studies.config_sections", "studies.numbers", "studies.pieces",
                                                        "studies.schema", "studies.tasks", "sysid"]
     assert default.code_version("frf")["packages"] == ["cfd"]
     with pytest.raises(CacheError, match="piece"):

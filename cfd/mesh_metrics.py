@@ -1,0 +1,134 @@
+"""The :class:`Grid` container and its finite-volume metrics: cell areas and centroids, face vectors.
+
+Node, cell and face indices follow the conventions in the docstring of :mod:`cfd.mesh`.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import MeshError
+
+__all__ = ["Grid", "grid_from_nodes"]
+
+
+@dataclass(frozen=True, eq=False)
+class Grid:
+    """A structured C-grid with its finite-volume metrics.
+
+    Attributes
+    ----------
+    x, y : ndarray, shape (ni, nj)
+        Node coordinates in chords.
+    n_wake : int
+        Number of cells on each wake branch along ``j = 0``.
+    xc, yc : ndarray, shape (ni-1, nj-1)
+        Cell centroids.
+    area : ndarray, shape (ni-1, nj-1)
+        Cell areas (positive).
+    si : ndarray, shape (2, ni, nj-1)
+        i-face normals scaled by face length, pointing towards increasing ``i``.
+    sj : ndarray, shape (2, ni-1, nj)
+        j-face normals scaled by face length, pointing towards increasing ``j``.
+    """
+
+    x: np.ndarray
+    y: np.ndarray
+    n_wake: int
+    xc: np.ndarray
+    yc: np.ndarray
+    area: np.ndarray
+    si: np.ndarray
+    sj: np.ndarray
+
+    @property
+    def shape(self):
+        """Node counts ``(ni, nj)``."""
+        return self.x.shape
+
+    @property
+    def cell_shape(self):
+        """Cell counts ``(ni-1, nj-1)``."""
+        return self.area.shape
+
+    @property
+    def n_cells(self):
+        """Total number of cells."""
+        return self.area.size
+
+    @property
+    def n_surface(self):
+        """Number of wall cells (faces on the aerofoil)."""
+        return self.cell_shape[0] - 2 * self.n_wake
+
+    @property
+    def wall(self):
+        """Slice of cell indices ``ic`` that touch the aerofoil in the row ``jc = 0``."""
+        return slice(self.n_wake, self.cell_shape[0] - self.n_wake)
+
+
+def grid_from_nodes(x, y, n_wake):
+    """Build a ``Grid`` (metrics included) from node coordinates.
+
+    Parameters
+    ----------
+    x, y : array_like, shape (ni, nj)
+        Node coordinates in chords, ordered as described in :mod:`cfd.mesh`.
+    n_wake : int
+        Number of cells on each wake branch.
+
+    Returns
+    -------
+    Grid
+
+    Raises
+    ------
+    MeshError
+        If the arrays disagree in shape, are too small for the two-layer JST stencil, contain
+        non-finite values, if the wake branches do not fit, or if any cell is inverted or degenerate.
+    """
+    x = np.asarray(x, dtype=float)
+    y = np.asarray(y, dtype=float)
+    if x.ndim != 2 or x.shape != y.shape:
+        raise MeshError(f"x and y must be 2-D arrays of one shape (ni, nj); got {x.shape} and {y.shape}")
+    ni, nj = x.shape
+    if ni < 8 or nj < 5:
+        raise MeshError(
+            f"grid of {ni} x {nj} nodes is too small for the JST stencil (two ghost layers); "
+            "use at least 8 x 5 nodes"
+        )
+    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
+        raise MeshError("node coordinates contain NaN or inf")
+    n_wake = int(n_wake)
+    if n_wake < 0 or ni - 1 - 2 * n_wake < 4:
+        raise MeshError(
+            f"n_wake = {n_wake} leaves {ni - 1 - 2 * n_wake} wall cells out of {ni - 1}; "
+            "need 0 <= n_wake and at least 4 cells on the aerofoil"
+        )
+
+    # Cell corners: 1 = (i, j), 2 = (i+1, j), 3 = (i+1, j+1), 4 = (i, j+1).
+    x1, x2, x3, x4 = x[:-1, :-1], x[1:, :-1], x[1:, 1:], x[:-1, 1:]
+    y1, y2, y3, y4 = y[:-1, :-1], y[1:, :-1], y[1:, 1:], y[:-1, 1:]
+    area = 0.5 * ((x3 - x1) * (y4 - y2) - (x4 - x2) * (y3 - y1))
+    if np.any(area <= 0.0):
+        bad = np.argwhere(area <= 0.0)
+        raise MeshError(
+            f"{len(bad)} inverted or degenerate cells (area <= 0), first at cell {tuple(bad[0])}; "
+            "check the node ordering (right-handed i, j) or smooth the grid"
+        )
+    # Centroid of a quadrilateral from its two triangles (1, 2, 3) and (1, 3, 4).
+    a123 = 0.5 * ((x2 - x1) * (y3 - y1) - (x3 - x1) * (y2 - y1))
+    a134 = 0.5 * ((x3 - x1) * (y4 - y1) - (x4 - x1) * (y3 - y1))
+    xc = (a123 * (x1 + x2 + x3) + a134 * (x1 + x3 + x4)) / (3.0 * area)
+    yc = (a123 * (y1 + y2 + y3) + a134 * (y1 + y3 + y4)) / (3.0 * area)
+
+    # i-faces: edge (i, j) -> (i, j+1); normal (dy, -dx) points to +i.
+    dx_i = x[:, 1:] - x[:, :-1]
+    dy_i = y[:, 1:] - y[:, :-1]
+    si = np.stack([dy_i, -dx_i])
+    # j-faces: edge (i, j) -> (i+1, j); normal (-dy, dx) points to +j.
+    dx_j = x[1:, :] - x[:-1, :]
+    dy_j = y[1:, :] - y[:-1, :]
+    sj = np.stack([-dy_j, dx_j])
+
+    return Grid(x=x, y=y, n_wake=n_wake, xc=xc, yc=yc, area=area, si=si, sj=sj)
