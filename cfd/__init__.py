@@ -17,5 +17,6 @@ from .linear import LinearError, LinearSystem, linearise
 from .lfd import lfd_response
 from .ltd import LTDHistory, ltd_response, ltd_responses
 from .coupled import CoupledHistory, coupled_ltd
-from .unsteady import (LinearityResult, LocalMachError, NonPhysicalStateError, UnsteadyError, UnsteadyHistory,
-                       UnsteadyStepError, linearity, unsteady_response)
+from .unsteady import (LocalMachError, NonPhysicalStateError, UnsteadyError, UnsteadyHistory, UnsteadyStepError,
+                       unsteady_response)
+from .linearity import LinearityResult, linearity

@@ -4,7 +4,8 @@ Each subclasses a built-in exception so that callers may catch either the specif
 built-in one. Messages say what was wrong and what to do about it.
 """
 
-__all__ = ["GeometryError", "MeshError", "FlowConditionError", "ConvergenceError"]
+__all__ = ["GeometryError", "MeshError", "FlowConditionError", "ConvergenceError", "UnsteadyError",
+           "UnsteadyStepError", "NonPhysicalStateError", "LocalMachError"]
 
 
 class GeometryError(ValueError):
@@ -31,3 +32,40 @@ class ConvergenceError(RuntimeError):
     def __init__(self, message, history=None):
         super().__init__(message)
         self.history = history
+
+
+class UnsteadyError(ValueError):
+    """Bad input to :func:`cfd.unsteady.unsteady_response`: a non-converged steady solution, bad ``dt``, method or gust."""
+
+
+class UnsteadyStepError(ConvergenceError):
+    """A time step of :func:`cfd.unsteady.unsteady_response` failed; the march stops there.
+
+    Attributes
+    ----------
+    partial : cfd.unsteady.UnsteadyHistory
+        The history up to the last converged step (``partial.complete`` is False).
+    history : ndarray
+        ``|F|`` per iteration of the failed step (the meaning of ``ConvergenceError.history``).
+    step : int
+        Index of the failed step (``t = step * dt``).
+    time : float
+        Its convective time.
+    amplitude_deg : float
+        The gust's peak angle.
+    """
+
+    def __init__(self, message, partial=None, history=None, step=None, time=None, amplitude_deg=None):
+        super().__init__(message, history=history)
+        self.partial = partial
+        self.step = step
+        self.time = time
+        self.amplitude_deg = amplitude_deg
+
+
+class NonPhysicalStateError(UnsteadyStepError):
+    """The state reached non-positive density or pressure (or NaN) and a fresh Jacobian did not help."""
+
+
+class LocalMachError(UnsteadyStepError):
+    """The local Mach number exceeded ``max_local_mach``: a shock stronger than the study means to resolve."""

@@ -57,7 +57,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from .errors import ConvergenceError
+from .errors import LocalMachError, NonPhysicalStateError, UnsteadyError, UnsteadyStepError  # noqa: F401 (re-exported)
 from .euler import residual
 from .flow import FlowCondition, primitive
 from .gust import OneMinusCosine, SharpEdged, SineGust, cell_x_gradient, face_gust, gust_face_velocity, svm_source
@@ -72,48 +72,9 @@ __all__ = [
     "LocalMachError",
     "UnsteadyHistory",
     "unsteady_response",
-    "LinearityResult",
-    "linearity",
 ]
 
 log = logging.getLogger(__name__)
-
-
-class UnsteadyError(ValueError):
-    """Bad input to :func:`unsteady_response`: a non-converged steady solution, bad ``dt``, method or gust."""
-
-
-class UnsteadyStepError(ConvergenceError):
-    """A time step of :func:`unsteady_response` failed; the march stops there.
-
-    Attributes
-    ----------
-    partial : UnsteadyHistory
-        The history up to the last converged step (``partial.complete`` is False).
-    history : ndarray
-        ``|F|`` per iteration of the failed step (the meaning of ``ConvergenceError.history``).
-    step : int
-        Index of the failed step (``t = step * dt``).
-    time : float
-        Its convective time.
-    amplitude_deg : float
-        The gust's peak angle.
-    """
-
-    def __init__(self, message, partial=None, history=None, step=None, time=None, amplitude_deg=None):
-        super().__init__(message, history=history)
-        self.partial = partial
-        self.step = step
-        self.time = time
-        self.amplitude_deg = amplitude_deg
-
-
-class NonPhysicalStateError(UnsteadyStepError):
-    """The state reached non-positive density or pressure (or NaN) and a fresh Jacobian did not help."""
-
-
-class LocalMachError(UnsteadyStepError):
-    """The local Mach number exceeded ``max_local_mach``: a shock stronger than the study means to resolve."""
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)  # its fields follow the base class defaults (h, alpha, pivot)
@@ -542,82 +503,3 @@ class _March:
 def _physical(q, gamma):
     rho, _, _, p = primitive(q, gamma)
     return bool(np.all(np.isfinite(q)) and np.all(rho > 0.0) and np.all(p > 0.0))
-
-
-@dataclass(frozen=True, eq=False)
-class LinearityResult:
-    """The nonlinear response of one case and gust shape at several amplitudes against its LTD.
-
-    Attributes
-    ----------
-    amplitudes : ndarray, shape (k,)
-        Gust angles (deg).
-    cl_peak_ratio, cm_peak_ratio : ndarray, shape (k,)
-        ``max |nonlinear| / max |linear|`` of the load perturbation at each amplitude (1 where the linear
-        model holds).
-    cl_error, cm_error : ndarray, shape (k,)
-        ``max_t |nonlinear / A - linear / A|`` over ``max_t |linear / A|`` (``A = tan(angle)``): the history
-        error of the linear model relative to its peak.
-    ltd : LTDHistory
-        The linear history of the gust at the amplitude given to :func:`linearity` (scale by
-        ``tan(a) / gust.amplitude`` for another).
-    histories : tuple of UnsteadyHistory
-        One per amplitude.
-    """
-
-    amplitudes: np.ndarray
-    cl_peak_ratio: np.ndarray
-    cm_peak_ratio: np.ndarray
-    cl_error: np.ndarray
-    cm_error: np.ndarray
-    ltd: object
-    histories: tuple
-
-
-def linearity(sol, gust, amplitudes, dt, t_end, method="svm", x_ref=0.0, lin=None, **kwargs):
-    """Run one case and gust shape at several amplitudes and compare with the LTD (the linear model).
-
-    Parameters
-    ----------
-    sol : SteadySolution
-    gust : SineGust, OneMinusCosine or SharpEdged
-        The shape; its ``angle_deg`` is replaced by each amplitude.
-    amplitudes : sequence of float
-        Gust angles (deg), nonzero.
-    dt, t_end, method, x_ref
-        As :func:`unsteady_response` (shared by the LTD).
-    lin : LinearSystem, optional
-        ``cfd.linearise(sol)``, built if not given.
-    **kwargs
-        Passed to :func:`unsteady_response`.
-
-    Returns
-    -------
-    LinearityResult
-    """
-    from dataclasses import replace
-
-    from .linear import linearise
-    from .ltd import ltd_response
-
-    amps = np.asarray(amplitudes, dtype=float).ravel()
-    if amps.size == 0 or np.any(amps == 0.0):
-        raise UnsteadyError(f"amplitudes must be a non-empty list of nonzero gust angles (deg); got {amplitudes!r}")
-    lin = linearise(sol) if lin is None else lin
-    h = ltd_response(lin, gust, dt, t_end, method=method, x_ref=x_ref,
-                     max_phase_error=kwargs.get("max_phase_error", 0.01))
-    A0 = gust.amplitude
-    rows, hists = [], []
-    for a in amps:
-        g = replace(gust, angle_deg=float(a))
-        u = unsteady_response(sol, g, dt, t_end, method=method, x_ref=x_ref, **kwargs)
-        row = []
-        for y, yl in ((u.cl, h.cl), (u.cm, h.cm)):
-            lin_unit = yl / A0
-            peak = np.abs(lin_unit).max()
-            row += [np.abs(y).max() / (abs(g.amplitude) * peak), np.abs(y / g.amplitude - lin_unit).max() / peak]
-        rows.append(row)
-        hists.append(u)
-    r = np.array(rows)
-    return LinearityResult(amplitudes=amps, cl_peak_ratio=r[:, 0], cm_peak_ratio=r[:, 2], cl_error=r[:, 1],
-                           cm_error=r[:, 3], ltd=h, histories=tuple(hists))
