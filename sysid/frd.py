@@ -20,7 +20,6 @@ Identification needs both (see :func:`sysid.identify`).
 from __future__ import annotations
 
 import copy
-import json
 import types
 from pathlib import Path
 from typing import Any, Mapping, Sequence
@@ -460,72 +459,40 @@ class FrequencyResponse:
 
     # persistence ------------------------------------------------------------------------------------
     def save(self, path: str | Path) -> Path:
-        """Write to a ``.npz`` file (arrays) with names and metadata stored as JSON.
+        """Write to a ``.npz`` file (arrays) with names and metadata stored as JSON (:func:`sysid.frd_io.save_frf`).
 
         Returns the path written (``.npz`` appended when missing). Metadata must be JSON-serialisable.
         """
-        path = Path(path)
-        if path.suffix != ".npz":
-            path = path.with_suffix(path.suffix + ".npz") if path.suffix else path.with_suffix(".npz")
-        try:
-            meta = json.dumps(dict(self.metadata))
-        except (TypeError, ValueError) as exc:
-            raise FrequencyDataError(
-                f"metadata is not JSON-serialisable ({exc}); store plain numbers, strings, lists and dicts"
-            ) from None
-        header = json.dumps(
-            {"format": "lfdrom.FrequencyResponse", "version": 1, "inputs": list(self.inputs),
-             "outputs": list(self.outputs), "T": self.T}
-        )
-        arrays = {"H": self.H, "header": np.array(header), "metadata": np.array(meta)}
-        if self.omega_d is not None:
-            arrays["omega_d"] = self.omega_d
-        if self.omega is not None:
-            arrays["omega"] = self.omega
-        np.savez(path, **arrays)
-        return path
+        from .frd_io import save_frf
+
+        return save_frf(self, path)
 
     @classmethod
     def load(cls, path: str | Path) -> "FrequencyResponse":
-        """Read a file written by :meth:`save`."""
-        with np.load(Path(path), allow_pickle=False) as f:
-            if "header" not in f or "H" not in f:
-                raise FrequencyDataError(f"{path} is not a FrequencyResponse file (no 'header'/'H' entries)")
-            header = json.loads(str(f["header"]))
-            meta = json.loads(str(f["metadata"]))
-            H = f["H"]
-            wd = f["omega_d"] if "omega_d" in f else None
-            w = f["omega"] if "omega" in f else None
-        return cls(H, wd, header.get("T"), inputs=header["inputs"], outputs=header["outputs"], metadata=meta,
-                   omega=w)
+        """Read a file written by :meth:`save` (:func:`sysid.frd_io.load_frf`)."""
+        from .frd_io import load_frf
+
+        return load_frf(cls, path)
 
     # python-control ---------------------------------------------------------------------------------
     def to_control(self):
-        """Convert to :class:`control.FrequencyResponseData` on the continuous frequencies ``omega``.
-
-        The FRD is a continuous-time object (python-control's discrete FRD uses ``z = exp(j omega dt)``,
-        not the bilinear map). An ``omega = inf`` sample is dropped, because FRD interpolation and plots
-        cannot use it; pass :attr:`feedthrough` back to :meth:`from_control` to restore it.
+        """Convert to :class:`control.FrequencyResponseData` on the continuous frequencies ``omega``
+        (:func:`sysid.frd_io.frf_to_control`: an ``omega = inf`` sample is dropped).
 
         Raises
         ------
         FrequencyGridError
             No continuous frequencies (discrete data without ``T``).
         """
-        import control
+        from .frd_io import frf_to_control
 
-        if self.omega is None:
-            raise FrequencyGridError("no continuous frequencies: this response has omega_d but no T; give T")
-        keep = np.isfinite(self.omega)
-        return control.frd(
-            self.H[:, :, keep], self.omega[keep], inputs=list(self.inputs), outputs=list(self.outputs)
-        )
+        return frf_to_control(self)
 
     @classmethod
     def from_control(
         cls, frd, T: float | None = None, *, feedthrough: Any = None, metadata: Mapping[str, Any] | None = None
     ) -> "FrequencyResponse":
-        """Build from a continuous-time :class:`control.FrequencyResponseData`.
+        """Build from a continuous-time :class:`control.FrequencyResponseData` (:func:`sysid.frd_io.frf_from_control`).
 
         Parameters
         ----------
@@ -536,23 +503,6 @@ class FrequencyResponse:
         feedthrough : array_like (p, m), optional
             Value at ``omega = inf`` to append (what :meth:`to_control` dropped).
         """
-        if getattr(frd, "dt", 0) not in (0, None):
-            raise FrequencyGridError(
-                "from_control() expects a continuous-time FRD (dt = 0); a discrete FRD's frequencies follow "
-                "z = exp(j omega dt), not the bilinear map"
-            )
-        H = np.asarray(frd.frdata if hasattr(frd, "frdata") else frd.fresp, dtype=complex)
-        w = np.asarray(frd.omega, dtype=float)
-        order = np.argsort(w, kind="stable")
-        H, w = H[:, :, order], w[order]
-        if feedthrough is not None:
-            Dv = np.asarray(feedthrough, dtype=complex)
-            if Dv.ndim == 0:
-                Dv = Dv.reshape(1, 1)
-            if Dv.shape != H.shape[:2]:
-                raise FrequencyDataError(f"feedthrough has shape {Dv.shape}, expected (p, m) = {H.shape[:2]}")
-            H = np.concatenate([H, Dv[:, :, None]], axis=2)
-            w = np.append(w, np.inf)
-        return cls.from_continuous(
-            H, w, T, inputs=list(frd.input_labels), outputs=list(frd.output_labels), metadata=metadata
-        )
+        from .frd_io import frf_from_control
+
+        return frf_from_control(cls, frd, T, feedthrough=feedthrough, metadata=metadata)
