@@ -297,12 +297,20 @@ def _alive(pid: int) -> bool:
     return not (stat.exists() and stat.read_text().split(") ")[1].startswith("Z"))  # a zombie is gone
 
 
+def _sigint_default():
+    """``preexec_fn`` of the child processes that receive Ctrl-C: SIGINT back to its default disposition. A
+    shell without job control starts background jobs with SIGINT ignored, and an ignored signal stays ignored
+    across exec (Python then installs no KeyboardInterrupt handler): a suite started with ``&`` would otherwise
+    send Ctrl-C to processes that cannot hear it."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _start_pool_script(tmp_path):
     script = tmp_path / "pool.py"
     script.write_text(WORKER_SCRIPT)
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [str(REPO), os.environ.get("PYTHONPATH")])))
     proc = subprocess.Popen([sys.executable, str(script), str(tmp_path / "pid")], cwd=REPO, env=env,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, preexec_fn=_sigint_default)
     assert proc.stdout.readline().strip() == "ready"
     files = [tmp_path / f"pid{i}" for i in range(2)]
     deadline = time.monotonic() + 60
@@ -351,7 +359,7 @@ def test_ctrl_c_on_lfdrom_run(tmp_path):
     (tmp_path / "tiny.toml").write_text(STUDY)
     proc = subprocess.Popen([sys.executable, "-m", "studies.cli", "run", str(tmp_path / "tiny.toml"), "--workers",
                              "2"], cwd=REPO, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            start_new_session=True)
+                            start_new_session=True, preexec_fn=_sigint_default)
     line = proc.stdout.readline()
     deadline = time.monotonic() + 60
     while "study 'tiny'" not in line or "to compute" not in line:  # the runner's first progress line
