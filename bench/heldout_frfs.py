@@ -14,7 +14,6 @@ Run: ``.venv/bin/python bench/heldout_frfs.py [--out results/heldout]`` (about 3
 """
 
 import argparse
-import math
 import sys
 import time
 from pathlib import Path
@@ -25,25 +24,24 @@ import numpy as np  # noqa: E402
 
 import cfd  # noqa: E402
 import sysid  # noqa: E402
-from cfd.lfd import lfd_response  # noqa: E402
+from studies.grid_spec import PAPER_GRID  # noqa: E402
+from studies.schema import T_PAPER, CFDOptions  # noqa: E402
+from studies.tasks import lfd_on_mckelvey_grid  # noqa: E402
 
 #: name -> (NACA code, Mach, incidence in degrees, description)
 CASES = {
     "A": ("0021", 0.2, 0.0, "thick symmetric section at low Mach"),
     "B": ("4410", 0.72, 1.0, "cambered section at incidence, transonic"),
 }
-GRID = dict(ni=181, nj=60, n_surface=100, farfield=25.0)
-T = 70.0 / (2.0 * math.pi)
 M = 256
 
 
 def heldout_frf(name: str) -> sysid.FrequencyResponse:
-    """The gust FRF of held-out case ``name`` (a key of :data:`CASES`), shape (2, 1, M + 1), ``T`` set."""
+    """The gust FRF of held-out case ``name`` (a key of :data:`CASES`), shape (2, 1, M + 1), ``T`` set: the
+    paper study's grid and path (``studies.tasks.lfd_on_mckelvey_grid``)."""
     code, mach, alpha, _ = CASES[name]
-    sol = cfd.solve_steady(cfd.c_grid(cfd.naca(code), **GRID), mach, alpha)
-    frf = lfd_response(cfd.linearise(sol), sysid.mckelvey_grid(M, T), gust="svm", outputs=("Cl", "Cm"),
-                       method="auto")
-    return frf if frf.T is not None and math.isclose(frf.T, T, rel_tol=1e-9) else frf.with_T(T)
+    sol = cfd.solve_steady(cfd.c_grid(cfd.naca(code), **PAPER_GRID.kwargs()), mach, alpha)
+    return lfd_on_mckelvey_grid(cfd.linearise(sol), T_PAPER, M, CFDOptions())[0]
 
 
 def main(argv=None):

@@ -171,14 +171,16 @@ def _ltds(lin, gust_cases, sim, cfd_options, progress=None):
 # Tasks (top-level functions: picklable for process pools and Dask)
 # ---------------------------------------------------------------------------------------------
 
-def _report(piece, label, entry, seconds, computed=True) -> dict:
+def piece_report(piece, label, entry, seconds, computed=True) -> dict:
+    """The report of one stored piece (``piece``, ``label``, ``status``, ``error``, ``seconds``, ``computed``)."""
     md = entry.metadata if entry is not None else {}
     return dict(piece=piece, label=label, status=md.get("status", "ok"), error=md.get("error"),
                 seconds=float(seconds), computed=computed)
 
 
-def _compute_piece(store, piece, cfg, compute: Callable[[], tuple], catch=True):
-    """Compute a piece and store it (a failure is stored as such). Returns ``(entry, seconds)``."""
+def compute_piece(store, piece, cfg, compute: Callable[[], tuple], catch=True):
+    """Compute a piece with ``compute() -> (arrays, metadata)`` and store it (a failure is stored as such, unless
+    ``catch`` is False: then it raises). Returns ``(entry, seconds)``."""
     t0 = time.perf_counter()
     try:
         with warnings.catch_warnings(record=True) as caught:
@@ -194,28 +196,6 @@ def _compute_piece(store, piece, cfg, compute: Callable[[], tuple], catch=True):
     seconds = time.perf_counter() - t0
     entry = store.put(piece, cfg, arrays, metadata, extra_provenance={"compute_s": seconds})
     return entry, seconds
-
-
-def compute_piece(store, piece: str, cfg, compute: Callable[[], tuple]) -> tuple:
-    """Compute a piece with ``compute() -> (arrays, metadata)`` and store it; a failure is stored as such (for the
-    tasks of other modules, e.g. :mod:`studies.aeroelastic_study`). Returns ``(entry, seconds)``."""
-    return _compute_piece(store, piece, cfg, compute)
-
-
-def piece_report(piece: str, label: str, entry, seconds: float) -> dict:
-    """The report of one stored piece (``piece``, ``label``, ``status``, ``error``, ``seconds``, ``computed``)."""
-    return _report(piece, label, entry, seconds)
-
-
-def load_linear_system(store, case):
-    """The linear system of a case about its stored steady flow (a converged restart and ``cfd.linearise``).
-
-    Raises
-    ------
-    RuntimeError
-        The steady flow is missing or failed.
-    """
-    return _load_lin(store, case)
 
 
 def steady_task(config: StudyConfig, case_name: str, root: str, codes: dict) -> list:
@@ -247,11 +227,18 @@ def steady_task(config: StudyConfig, case_name: str, root: str, codes: dict) -> 
             case, progress=reporter.steady(_default(cfd.solve_steady, "tol")))
         return steady_payload(sol, time.perf_counter() - t0)
 
-    entry, seconds = _compute_piece(store, "steady", steady_piece(case), compute)
-    return [_report("steady", f"steady {case.name}", entry, seconds)]
+    entry, seconds = compute_piece(store, "steady", steady_piece(case), compute)
+    return [piece_report("steady", f"steady {case.name}", entry, seconds)]
 
 
-def _load_lin(store, case):
+def load_linear_system(store, case):
+    """The linear system of a case about its stored steady flow (a converged restart and ``cfd.linearise``).
+
+    Raises
+    ------
+    RuntimeError
+        The steady flow is missing or failed.
+    """
     e = store.get("steady", steady_piece(case))
     if e is None or is_failed(e):
         why = "missing" if e is None else e.metadata.get("error")
@@ -279,7 +266,7 @@ def frf_task(config: StudyConfig, case_name: str, T: float, root: str, codes: di
     state = {}
 
     def compute():
-        lin = _load_lin(store, case)
+        lin = load_linear_system(store, case)
         t0 = time.perf_counter()
         reporter = piece_reporter(task_key("frf", case.name, T))
         kw = {} if reporter is None else {"progress": reporter}
@@ -288,9 +275,9 @@ def frf_task(config: StudyConfig, case_name: str, T: float, root: str, codes: di
         state["method"] = used
         return frf_payload(frf, config.M_base, used, seconds)
 
-    entry, seconds = _compute_piece(store, "frf", frf_piece(case, T, config.M_base, config.cfd), compute)
+    entry, seconds = compute_piece(store, "frf", frf_piece(case, T, config.M_base, config.cfd), compute)
     label = f"frf {case.name} T={T:.6g} ({config.M_base + 1} frequencies, {state.get('method', '-')})"
-    return [_report("frf", label, entry, seconds)]
+    return [piece_report("frf", label, entry, seconds)]
 
 
 def ltd_task(config: StudyConfig, case_name: str, gust_names: list, root: str, codes: dict) -> list:
@@ -318,7 +305,7 @@ def ltd_task(config: StudyConfig, case_name: str, gust_names: list, root: str, c
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            lin = _load_lin(store, case)
+            lin = load_linear_system(store, case)
             reporter = piece_reporter(task_key("ltd", case.name))
             kw = {} if reporter is None else {"progress": reporter.ltd()}
             histories = _ltds(lin, gusts, config.simulation, config.cfd, **kw)
@@ -337,8 +324,8 @@ def ltd_task(config: StudyConfig, case_name: str, gust_names: list, root: str, c
             arrays, metadata = ltd_payload(hist, share, config.cfd.gust_method)
             return arrays, dict(metadata, marched_with=len(gusts))
 
-        entry, _ = _compute_piece(store, "ltd", ltd_piece(case, gust, config.simulation, config.cfd), compute)
-        reports.append(_report("ltd", f"ltd {case.name} {gust.name} ({n} steps, {len(gusts)} gusts marched "
+        entry, _ = compute_piece(store, "ltd", ltd_piece(case, gust, config.simulation, config.cfd), compute)
+        reports.append(piece_report("ltd", f"ltd {case.name} {gust.name} ({n} steps, {len(gusts)} gusts marched "
                                       "together)", entry, share))
     return reports
 
@@ -419,8 +406,8 @@ def rom_task(config: StudyConfig, case_name: str, root: str, codes: dict, force:
             frf = sysid.FrequencyResponse(frf_entry["H"], frf_entry["omega_d"], pt.T,
                                           inputs=frf_entry.metadata.get("inputs", ["gust"]),
                                           outputs=frf_entry.metadata.get("outputs", outputs), omega=frf_entry["omega"])
-            rom, s = _compute_piece(store, "rom", rom_key, lambda: _identify(frf, pt, config.M_base))
-            reports.append(_report("rom", f"rom {label}", rom, s))
+            rom, s = compute_piece(store, "rom", rom_key, lambda: _identify(frf, pt, config.M_base))
+            reports.append(piece_report("rom", f"rom {label}", rom, s))
         else:
             rom = store.get("rom", rom_key)
         if is_failed(rom):
@@ -444,6 +431,6 @@ def rom_task(config: StudyConfig, case_name: str, root: str, codes: dict, force:
                                       float(ltd_entry.metadata.get("seconds", float("nan"))))
                 return sim_payload(ltd_entry["t"], ys.get("Cl", zero), ys.get("Cm", zero), metrics)
 
-            sim, s = _compute_piece(store, "sim", sim_key, compute)
-            reports.append(_report("sim", f"sim {label} {g.name}", sim, s))
+            sim, s = compute_piece(store, "sim", sim_key, compute)
+            reports.append(piece_report("sim", f"sim {label} {g.name}", sim, s))
     return reports

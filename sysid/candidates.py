@@ -8,6 +8,7 @@ import numpy as np
 
 from .errors import SolverError
 from .residues import minimax_cd
+from .state_space import evaluate_ss
 
 __all__ = ["EQ_TOL", "channel_errors", "candidate_score", "bound_candidate_gaps", "pick_candidates", "gap_excess",
            "equality_residual"]
@@ -17,8 +18,7 @@ EQ_TOL = 1e-11
 
 
 def channel_errors(A, B, C, D, z, G):
-    from .state_space import evaluate_ss
-
+    """Max error per output over inputs and samples, relative to the output's data peak: shape (p,)."""
     Gm = evaluate_ss(A, B, C, D, z)
     peak = np.maximum(np.abs(G).max(axis=(1, 2)), np.finfo(float).tiny)
     return np.abs(Gm - G).max(axis=(1, 2)) / peak
@@ -33,8 +33,6 @@ def bound_candidate_gaps(c, z, G, dc, ft, weights, zb, ub, peak, rounds: int = 4
     """Minimax residues of candidate ``c`` under the :func:`gap_bounds` (cutting planes: the bounds enter the
     cone programme where the gain is within 10 % of them, then where a solution came within 5 % of them or
     broke them); updates ``c`` when a solution meets every bound."""
-    from .state_space import evaluate_ss
-
     def ratio(C, D):
         with np.errstate(all="ignore"):
             return (np.abs(evaluate_ss(c["A"], c["B"], C, D, zb)) / ub).max(axis=(0, 1))
@@ -81,8 +79,6 @@ def pick_candidates(cands, trust=None):
 
 def gap_excess(c, zb, ub) -> float:
     """Largest ratio of a candidate's gain to the :func:`gap_bounds` between the samples (<= 1: within)."""
-    from .state_space import evaluate_ss
-
     with np.errstate(all="ignore"):
         Gb = evaluate_ss(c["A"], c["B"], c["C"], c["D"], zb)
     r = float(np.max(np.abs(Gb) / ub)) if zb.size else 0.0
@@ -91,8 +87,6 @@ def gap_excess(c, zb, ub) -> float:
 
 def equality_residual(c, dc, ft, peak):
     """Largest violation of the DC / feedthrough equalities of a candidate, relative to each output's peak."""
-    from .state_space import evaluate_ss
-
     pts, vals = [], []
     if dc is not None:
         pts.append(1.0 + 0j)
