@@ -169,6 +169,7 @@ class ProcessPool:
             self._close_queue()
             return
         self.ex.shutdown(wait=True, cancel_futures=True)
+        self._drain()  # events a worker queued just before its last result (the result's pipe can overtake them)
         self._close_queue()
 
     def _close_queue(self):
