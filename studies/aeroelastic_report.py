@@ -19,14 +19,13 @@ and returns the Markdown of the section, which :func:`studies.report.write_repor
 from __future__ import annotations
 
 import math
-import re
 from pathlib import Path
 from typing import Callable, Optional
 
 import numpy as np
 
 from .aeroelastic_study import load_flutter
-from .files import atomic_savefig
+from .files import atomic_savefig, page_link as _rel, safe_name as _safe
 from .pieces import open_store
 from .tables import Column, format_table, write_tables
 
@@ -53,10 +52,6 @@ FLUTTER_COLUMNS = (
 """Columns of the flutter table (keys of the CSV; headers of the Markdown and LaTeX)."""
 
 
-def _safe(name: str) -> str:
-    return re.sub(r"[^A-Za-z0-9_.-]+", "_", str(name))
-
-
 def flutter_rows(records) -> list:
     """One dict per :class:`studies.aeroelastic_study.FlutterRecord` (keys of :data:`FLUTTER_COLUMNS`)."""
     rows = []
@@ -72,15 +67,6 @@ def flutter_rows(records) -> list:
                          gust_fit_max_err=float(r.fit.get("gust_max_error", math.nan)),
                          seconds_motion=r.motion_seconds, seconds=r.seconds))
     return rows
-
-
-def _rel(path: Path, page_dir: Path) -> str:
-    try:
-        return Path(path).resolve().relative_to(Path(page_dir).resolve()).as_posix()
-    except ValueError:
-        import os
-
-        return Path(os.path.relpath(Path(path).resolve(), Path(page_dir).resolve())).as_posix()
 
 
 def aeroelastic_section(results, out_dir, page_dir, *, figures: bool = True, dpi: int = 120,

@@ -45,6 +45,7 @@ from typing import Any, Callable, Iterator, Mapping, Optional
 import numpy as np
 
 from .aeroelastic_schema import AEROELASTIC_DEPENDENCIES
+from .nonlinear_schema import NONLINEAR_DEPENDENCIES
 from .hashing import canonical_json
 from .files import TEMP_PREFIX, atomic_write_bytes, jsonable
 from .provenance import code_version, provenance
@@ -81,6 +82,7 @@ PIECE_DEPENDENCIES: Mapping[str, tuple] = {
     "rom": ROM_DEPENDENCIES,
     "sim": ROM_DEPENDENCIES,
     **AEROELASTIC_DEPENDENCIES,  # motion_frf, flutter: studies.aeroelastic_schema
+    **NONLINEAR_DEPENDENCIES,  # nonlinear: studies.nonlinear_schema
 }
 """Packages and modules whose sources enter the key of each piece; other pieces depend on
 ``DEFAULT_DEPENDENCIES``. The CFD pieces (expensive) depend on ``cfd`` only: the tasks' wrappers around

@@ -310,6 +310,10 @@ def _plan(config: StudyConfig) -> str:
         from .aeroelastic_schema import describe
 
         lines.append(describe(config.aeroelastic))
+    if getattr(config, "nonlinear", None) is not None:  # the [nonlinear] section: studies.nonlinear_schema
+        from .nonlinear_schema import describe as describe_nonlinear
+
+        lines.append(describe_nonlinear(config.nonlinear))
     return "\n".join(lines)
 
 

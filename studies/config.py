@@ -463,6 +463,12 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
         from .aeroelastic_schema import parse_aeroelastic
 
         aero = parse_aeroelastic(data["aeroelastic"], P.err, tuple(sweeps), tuple(gusts))
+    nonlinear = None
+    if "nonlinear" in data:  # the [nonlinear] section: studies.nonlinear_schema
+        from .nonlinear_schema import parse_nonlinear
+
+        nonlinear = parse_nonlinear(data["nonlinear"], P.err, tuple(sweeps), tuple(gusts))
     return StudyConfig(name=name, description=description, source=source, output_dir=output_dir,
                        store_dir=store_dir, cases=tuple(sweeps), gusts=tuple(gusts), M_base=M_base,
-                       methods=tuple(methods), simulation=sim, cfd=cfd, report=report, aeroelastic=aero)
+                       methods=tuple(methods), simulation=sim, cfd=cfd, report=report, aeroelastic=aero,
+                       nonlinear=nonlinear)

@@ -32,7 +32,7 @@ __all__ = [
 
 # the keys each table of a study file allows (the schema is in the docstring of studies.config)
 TOP_KEYS = ("name", "description", "output", "store", "cases", "gusts", "grid", "sweep", "method", "methods",
-            "simulation", "cfd", "report", "aeroelastic")
+            "simulation", "cfd", "report", "aeroelastic", "nonlinear")
 GRID_KEYS = ("ni", "nj", "n_surface", "farfield")
 SWEEP_KEYS = ("orders", "T", "M_base", "M")
 CASE_KEYS = ("name", "naca", "mach", "alpha_deg", "grid", "orders", "T", "M")

@@ -40,6 +40,8 @@ __all__ = [
     "is_generated_page",
     "jsonable",
     "TEMP_PREFIX",
+    "page_link",
+    "safe_name",
 ]
 
 TEMP_PREFIX = ".tmp-"
@@ -309,3 +311,19 @@ def jsonable(obj: Any) -> Any:
         return str(obj)
     raise TypeError(f"metadata value of type {type(obj).__name__} is not JSON-serialisable; store arrays as "
                     "arrays and metadata as numbers, strings, lists and dicts")
+
+
+def safe_name(name: str) -> str:
+    """``name`` with every run of characters other than letters, digits, ``_``, ``.`` and ``-`` replaced by ``_``
+    (for file names made from case and section names)."""
+    import re
+
+    return re.sub(r"[^A-Za-z0-9_.-]+", "_", str(name))
+
+
+def page_link(path, page_dir) -> str:
+    """The link from a page in ``page_dir`` to ``path`` (POSIX, relative; ``..`` where ``path`` is outside)."""
+    try:
+        return Path(path).resolve().relative_to(Path(page_dir).resolve()).as_posix()
+    except ValueError:
+        return Path(os.path.relpath(Path(path).resolve(), Path(page_dir).resolve())).as_posix()

@@ -177,6 +177,10 @@ def write_report(results, out_dir, *, page=None, prose=None, progress: bool = Fa
         from .aeroelastic_report import aeroelastic_section
 
         text += "\n" + aeroelastic_section(results, out_dir, page_dir, figures=figures, dpi=dpi, say=say)
+    if getattr(config, "nonlinear", None) is not None:  # the [nonlinear] section: studies.nonlinear_report
+        from .nonlinear_report import nonlinear_section
+
+        text += "\n" + nonlinear_section(results, out_dir, page_dir, figures=figures, dpi=dpi, say=say)
     atomic_write_text(page_path, text)
     say(f"report {config.name}: {page_path}")
     return page_path

@@ -477,6 +477,12 @@ def load_results(study_or_path, *, store_dir=None) -> StudyResults:
         aero_missing, aero_failed = aeroelastic_status(config, store)
         missing += [m for m in aero_missing if m.split()[1] not in case_fail]
         failed += aero_failed
+    if getattr(config, "nonlinear", None) is not None:  # the [nonlinear] pieces: studies.nonlinear_study
+        from .nonlinear_study import nonlinear_status
+
+        nl_missing, nl_failed = nonlinear_status(config, store)
+        missing += [m for m in nl_missing if m.split()[1] not in case_fail]
+        failed += nl_failed
 
     return StudyResults(config=config, frf=frfs, ltd=ltds, roms=roms, sims=sims, missing=missing, failed=failed,
                         steady=steady)

@@ -39,6 +39,8 @@ from typing import Optional
 
 from .aeroelastic_schema import AEROELASTIC_PIECES
 from .aeroelastic_study import aeroelastic_plan, flutter_task, motion_frf_task
+from .nonlinear_schema import NONLINEAR_PIECES
+from .nonlinear_study import nonlinear_plan, nonlinear_task
 from .config import as_config
 from .executors import RunnerError, make_pool
 from .files import atomic_write_bytes
@@ -124,7 +126,8 @@ def auto_workers(config: StudyConfig, cpus: Optional[int] = None) -> int:
 def _width(config: StudyConfig) -> int:
     """Parallel tasks of the study's widest stage: per case, one per ``T`` and one for its gusts."""
     return (sum(max(1, len(case_sweep.T) + (1 if config.gusts else 0)) for case_sweep in config.cases)
-            + len(getattr(config.aeroelastic, "cases", ())))  # [aeroelastic]: one motion FRF per case
+            + len(getattr(config.aeroelastic, "cases", ()))  # [aeroelastic]: one motion FRF per case
+            + len(getattr(config.nonlinear, "cases", ())) * len(getattr(config.nonlinear, "gusts", ())))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -249,7 +252,7 @@ def run_study(study, *, output_dir=None, store_dir=None, scheduler: Optional[str
 def _run(config: StudyConfig, pool, display: ProgressDisplay, force: bool, state: dict) -> StudyResults:
     root = str(config.store_dir)
     base = open_store(config)
-    codes = {p: base.code_version(p) for p in PIECES + AEROELASTIC_PIECES}
+    codes = {p: base.code_version(p) for p in PIECES + AEROELASTIC_PIECES + NONLINEAR_PIECES}
     store = pinned_store(root, codes)
 
     # what is needed, per case
@@ -276,6 +279,8 @@ def _run(config: StudyConfig, pool, display: ProgressDisplay, force: bool, state
     aero = aeroelastic_plan(config, store, force)  # [aeroelastic]: motion FRF and flutter pieces per case
     n_cfd += sum(p["motion"] for p in aero.values())
     n_id += sum(p["flutter"] for p in aero.values())
+    nonlinear = nonlinear_plan(config, store, force)  # [nonlinear]: one march per case, gust and amplitude
+    n_cfd += sum(len(v) for v in nonlinear.values())
     # ROM/sim counts are upper bounds known now; pieces of failed CFD are skipped
     tracker = _Progress(display, n_cfd + n_id)
     tracker.say(f"study {config.name!r}: {len(config.cases)} case(s), {len(config.points())} sweep point(s), "
@@ -315,6 +320,15 @@ def _run(config: StudyConfig, pool, display: ProgressDisplay, force: bool, state
     def start_roms(name):
         if plan[name]["rom"] or plan[name]["sim"]:
             submit("roms", name, rom_task, config, name, root, codes, force, key=task_key("roms", name))
+        start_nonlinear(name)
+
+    def start_nonlinear(name):  # after the case's linear pieces: an interrupted run has its ROMs first
+        by_gust: dict = {}
+        for gust, a in nonlinear.get(name, ()):
+            by_gust.setdefault(gust, []).append(a)
+        for gust, amps in by_gust.items():
+            submit("nonlinear", name, nonlinear_task, config, name, gust, amps, root, codes,
+                   key=task_key("nonlinear", f"{name} {gust}"))
 
     for name, case_plan in plan.items():
         if case_plan["steady"]:

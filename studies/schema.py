@@ -218,6 +218,8 @@ class StudyConfig:
     report : ReportOptions
     aeroelastic : studies.aeroelastic_study.AeroelasticOptions or None
         The ``[aeroelastic]`` section (None: the study has none).
+    nonlinear : studies.nonlinear_schema.NonlinearOptions or None
+        The ``[nonlinear]`` section (None: the study has none).
     """
 
     name: str
@@ -233,6 +235,7 @@ class StudyConfig:
     cfd: CFDOptions = field(default_factory=CFDOptions)
     report: ReportOptions = field(default_factory=ReportOptions)
     aeroelastic: Optional[object] = None
+    nonlinear: Optional[object] = None
 
     def case(self, name: str) -> CaseSweep:
         """The case sweep named ``name`` (case-insensitive)."""
@@ -267,6 +270,8 @@ class StudyConfig:
         )
         if self.aeroelastic is not None:  # absent otherwise: the hashes of studies without it are unchanged
             out["aeroelastic"] = self.aeroelastic.canonical()
+        if self.nonlinear is not None:  # likewise
+            out["nonlinear"] = self.nonlinear.canonical()
         return out
 
     def canonical_json(self) -> str:

@@ -50,7 +50,8 @@ from .progress import piece_reporter, task_key
 from .schema import StudyConfig
 
 __all__ = ["PinnedStore", "pinned_store", "lfd_on_mckelvey_grid", "needs_compute", "steady_task", "frf_task",
-           "ltd_task", "rom_task", "compute_piece", "piece_report", "load_linear_system"]
+           "ltd_task", "rom_task", "compute_piece", "piece_report", "load_linear_system",
+           "load_steady_solution"]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -101,14 +102,6 @@ def _default(fn, name):
     import inspect
 
     return inspect.signature(fn).parameters[name].default
-
-
-def _linear_system(case, q):
-    """The linear system about a stored steady state (a converged restart, then ``cfd.linearise``)."""
-    import cfd
-
-    sol = cfd.solve_steady(_grid(case), case.mach, case.alpha_deg, q0=q)
-    return cfd.linearise(sol)
 
 
 def lfd_on_mckelvey_grid(lin, T, M, cfd_options, progress=None):
@@ -231,6 +224,39 @@ def steady_task(config: StudyConfig, case_name: str, root: str, codes: dict) -> 
     return [piece_report("steady", f"steady {case.name}", entry, seconds)]
 
 
+def _steady_restart(case, q):
+    """The steady solution from a stored converged state (a converged restart: one or two Newton steps)."""
+    import cfd
+
+    return cfd.solve_steady(_grid(case), case.mach, case.alpha_deg, q0=q)
+
+
+def _linear_system(case, q):
+    """The linear system about a stored steady state (a converged restart, then ``cfd.linearise``)."""
+    import cfd
+
+    return cfd.linearise(_steady_restart(case, q))
+
+
+def _stored_state(store, case):
+    e = store.get("steady", steady_piece(case))
+    if e is None or is_failed(e):
+        why = "missing" if e is None else e.metadata.get("error")
+        raise RuntimeError(f"the steady flow of {case.name} is not available ({why})")
+    return e["q"]
+
+
+def load_steady_solution(store, case):
+    """The ``cfd.SteadySolution`` of a case from its stored steady flow (a converged restart).
+
+    Raises
+    ------
+    RuntimeError
+        The steady flow is missing or failed.
+    """
+    return _steady_restart(case, _stored_state(store, case))
+
+
 def load_linear_system(store, case):
     """The linear system of a case about its stored steady flow (a converged restart and ``cfd.linearise``).
 
@@ -239,11 +265,7 @@ def load_linear_system(store, case):
     RuntimeError
         The steady flow is missing or failed.
     """
-    e = store.get("steady", steady_piece(case))
-    if e is None or is_failed(e):
-        why = "missing" if e is None else e.metadata.get("error")
-        raise RuntimeError(f"the steady flow of {case.name} is not available ({why})")
-    return _linear_system(case, e["q"])
+    return _linear_system(case, _stored_state(store, case))
 
 
 def frf_task(config: StudyConfig, case_name: str, T: float, root: str, codes: dict) -> list:

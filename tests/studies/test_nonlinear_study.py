@@ -1,0 +1,169 @@
+"""The [nonlinear] section of a study: parsing and its errors, the march end times, the nonlinear pieces computed,
+cached and compared with the study's LTD and ROMs (on the tiny study's store), and the report's section."""
+
+import math
+from dataclasses import replace
+
+import numpy as np
+import pytest
+from tinystudy import STUDY, copy_study
+
+from studies.cases import GUST_CASES
+from studies.config import StudyConfigError, loads_study
+from studies.nonlinear_schema import describe, march_amplitudes, march_end
+from studies.nonlinear_study import compare_histories, load_linearity, nonlinear_plan
+from studies.pieces import open_store
+from studies.report import write_report
+from studies.runner import run_study
+
+PAPER_GUSTS = """
+name = "nl"
+cases = ["T2", "T3"]
+gusts = ["G1", "G3", "G4", "G6"]
+[sweep]
+orders = [4]
+T = ["70/(2*pi)"]
+M_base = 8
+[simulation]
+dt = 0.02
+t_end = 40.0
+x0 = -2.0
+"""
+
+
+def study(tmp_path, section, base=PAPER_GUSTS):
+    return loads_study(base + section, source="nl.toml", base_dir=tmp_path)
+
+
+# ---------------------------------------------------------------------------------------------
+# Parsing
+# ---------------------------------------------------------------------------------------------
+
+def test_defaults_take_every_case_and_gust_at_its_own_angle_below_max_angle(tmp_path):
+    cfg = study(tmp_path, "[nonlinear]\n")
+    nl = cfg.nonlinear
+    # G6's 45 deg is the indicial normalisation, above max_angle: left out when gusts are not named
+    assert nl.cases == ("T2", "T3") and nl.gusts == ("G1", "G3", "G4")
+    assert nl.amplitudes == () and nl.gust_angle and nl.max_angle == 15.0 and nl.tail == 8.0
+    assert march_amplitudes(nl, GUST_CASES["G6"]) == ()
+    assert march_amplitudes(nl, GUST_CASES["G3"]) == (5.0,)
+    assert "nonlinear" in cfg.canonical() and "nonlinear" not in study(tmp_path, "").canonical()
+
+
+def test_amplitudes_and_the_gusts_own_angle_are_merged(tmp_path):
+    cfg = study(tmp_path, '[nonlinear]\ncases = ["t3"]\ngusts = ["G3", "G6"]\namplitudes = [0.5, 1, 2]\n')
+    nl = cfg.nonlinear
+    assert nl.cases == ("T3",) and nl.gusts == ("G3", "G6")
+    assert march_amplitudes(nl, GUST_CASES["G3"]) == (0.5, 1.0, 2.0, 5.0)
+    assert march_amplitudes(nl, GUST_CASES["G6"]) == (0.5, 1.0, 2.0)
+    assert "amplitudes 0.5, 1, 2 deg" in describe(nl)
+
+
+@pytest.mark.parametrize("gust, end", [("G1", 2 + 0.5 + 1 + 8), ("G3", 2 + 1 + 1 + 8), ("G4", 2 + 10 + 1 + 8),
+                                       ("G6", 2 + 1 + 16)])
+def test_march_ends_after_the_gust_has_left_the_trailing_edge(tmp_path, gust, end):
+    cfg = study(tmp_path, "[nonlinear]\n")
+    assert march_end(cfg.nonlinear, GUST_CASES[gust], cfg.simulation) == pytest.approx(end, abs=1e-12)
+
+
+def test_march_end_is_capped_by_the_study_t_end(tmp_path):
+    cfg = study(tmp_path, "[nonlinear]\n", PAPER_GUSTS.replace("t_end = 40.0", "t_end = 10.0"))
+    assert march_end(cfg.nonlinear, GUST_CASES["G4"], cfg.simulation) == 10.0
+
+
+@pytest.mark.parametrize("section, key, match", [
+    ("[nonlinear]\namplitude = [1]\n", "nonlinear.amplitude", "did you mean 'amplitudes'"),
+    ('[nonlinear]\ncases = ["T7"]\n', "nonlinear.cases[0]", "'T7' is not a case of this study"),
+    ('[nonlinear]\ngusts = ["G2"]\n', "nonlinear.gusts[0]", "'G2' is not a gust of this study"),
+    ('[nonlinear]\ngusts = ["G1", "g1"]\n', "nonlinear.gusts[1]", "appears twice"),
+    ("[nonlinear]\namplitudes = [2, 1]\n", "nonlinear.amplitudes", "strictly increasing"),
+    ("[nonlinear]\namplitudes = [20]\n", "nonlinear.amplitudes[0]", r"must be in \(0, 15\]"),
+    ("[nonlinear]\namplitudes = [0]\n", "nonlinear.amplitudes[0]", "must be in"),
+    ("[nonlinear]\nmax_angle = 60\n", "nonlinear.max_angle", "must be in"),
+    ("[nonlinear]\ngust_angle = false\n", "nonlinear.amplitudes", "nothing to march"),
+    ('[nonlinear]\ngusts = ["G6"]\n', "nonlinear.max_angle", "no amplitude of gust"),
+    ("[nonlinear]\ngust_angle = 1\n", "nonlinear.gust_angle", "true or false"),
+    ("[nonlinear]\ntail = -1\n", "nonlinear.tail", "must be in"),
+    ("nonlinear = 3\n", "nonlinear", "must be a table"),
+])
+def test_bad_sections_name_the_key(tmp_path, section, key, match):
+    text = PAPER_GUSTS.replace('name = "nl"\n', 'name = "nl"\n' + section) if section.startswith("nonlinear =") \
+        else PAPER_GUSTS + section
+    with pytest.raises(StudyConfigError, match=match) as info:
+        loads_study(text, source="nl.toml", base_dir=tmp_path)
+    assert info.value.key == key
+
+
+def test_compare_histories_scales_the_linear_model_and_measures_peak_and_error():
+    t = np.linspace(0.0, 1.0, 11)
+    lin = {"Cl": np.sin(np.pi * t), "Cm": -0.1 * np.sin(np.pi * t)}
+    scale = 3.0
+    nl = {"Cl": scale * lin["Cl"] * 1.02, "Cm": scale * lin["Cm"][:11]}
+    m = compare_histories(nl, lin, scale)
+    assert m["ratio_Cl"] == pytest.approx(1.02) and m["error_Cl"] == pytest.approx(0.02)
+    assert m["ratio_Cm"] == pytest.approx(1.0) and m["error_Cm"] == pytest.approx(0.0, abs=1e-15)
+    assert math.isnan(compare_histories(nl, {"Cl": 0 * t, "Cm": lin["Cm"]}, 1.0)["error_Cl"])
+
+
+# ---------------------------------------------------------------------------------------------
+# Computed on the tiny study's store (T2 on a 61 x 16 grid, G4, dt = 0.1)
+# ---------------------------------------------------------------------------------------------
+
+NONLINEAR = """
+[nonlinear]
+amplitudes = [0.01, 3]
+gust_angle = false
+tail = 2
+"""
+
+
+@pytest.fixture(scope="module")
+def marched(computed, tmp_path_factory):
+    config, _, _ = computed
+    tmp = tmp_path_factory.mktemp("nl")
+    base = copy_study(config, tmp)
+    cfg = loads_study(STUDY + NONLINEAR, source="tiny.toml", base_dir=tmp)
+    cfg = replace(cfg, store_dir=base.store_dir, output_dir=base.output_dir)
+    assert nonlinear_plan(cfg, open_store(cfg), False) == {"T2": [("G4", 0.01), ("G4", 3.0)]}
+    res = run_study(cfg, progress=False)
+    return cfg, res
+
+
+def test_marches_are_stored_and_a_second_run_computes_nothing(marched):
+    cfg, res = marched
+    assert res.complete and res.failed == []
+    assert nonlinear_plan(cfg, open_store(cfg), False) == {}
+    assert run_study(cfg, progress=False).run.computed == 0
+
+
+def test_a_tiny_gust_follows_the_ltd_and_a_large_one_departs_from_it(marched):
+    cfg, res = marched
+    small, large = load_linearity(res)
+    assert (small.amplitude_deg, large.amplitude_deg) == (0.01, 3.0) and small.ok and large.ok
+    # G4 from x0 = -2 with tail 2: 2 + 10 + 1 + 2 = 15 chords, 150 steps of the LTD's dt
+    assert small.t.size == 151 and small.t[-1] == pytest.approx(15.0)
+    # the LTD is the nonlinear scheme's derivative: at 0.01 deg (1.7e-4 rad) the difference is the second-order
+    # term, ~1e-5 of the peak on subsonic cases (docs/nonlinear.md: 5e-6 on S1, 3e-5 on S0 with the far-field
+    # switch at alpha = 0); 1e-3 leaves a decade and a half
+    assert small.ltd["error_Cl"] < 1e-3 and abs(small.ltd["ratio_Cl"] - 1.0) < 1e-3
+    assert small.ltd["error_Cm"] < 1e-2
+    # at 3 deg the difference is 300x the 0.01-deg one at least to first order in the amplitude: it must grow
+    assert large.ltd["error_Cl"] > 10 * small.ltd["error_Cl"]
+    # against the ROMs: the ROM's own error (a few % at order 4) dominates at 0.01 deg
+    assert set(small.roms) and all(np.isfinite(m["error_Cl"]) for m in small.roms.values())
+    rom = small.rom()
+    assert abs(rom["error_Cl"] - np.max(np.abs(small.cl - small.rom_cl)) / np.max(np.abs(small.rom_cl))) < 1e-12
+    assert small.metadata["n_factorisations"] >= 1 and small.metadata["iterations_per_step"] >= 1
+
+
+def test_report_section_has_the_table_and_the_figures(marched, tmp_path):
+    cfg, res = marched
+    page = write_report(res, tmp_path / "rep", page=tmp_path / "rep" / "page.md")
+    text = page.read_text()
+    assert "## Where the linear models hold" in text
+    assert "(case, gust) pairs stay within 1 % / 5 % / 10 %" in text
+    assert (tmp_path / "rep" / "tables" / "linearity.csv").exists()
+    for name in ("linearity-map-ltd.png", "linearity-map-rom.png", "linearity-T2.png"):
+        assert (tmp_path / "rep" / "figures" / name).stat().st_size > 1000
+    csv = (tmp_path / "rep" / "tables" / "linearity.csv").read_text().splitlines()
+    assert len(csv) == 3 and csv[1].startswith("T2,G4,0.01")
