@@ -186,6 +186,25 @@ def _count_line(records, model: str, output: str) -> str:
     return "; ".join(parts)
 
 
+def _cost_line(records, results) -> str:
+    """The marches' cost against the LTD's, per time step (wall seconds of the pieces)."""
+    ok = [r for r in records if r.ok and np.isfinite(r.metadata.get("seconds", math.nan))]
+    if not ok:
+        return ""
+    per_step = np.array([r.metadata["seconds"] / max(r.t.size - 1, 1) for r in ok])
+    total = float(sum(r.metadata["seconds"] for r in ok))
+    ltd = [rec.seconds / max(rec.t.size - 1, 1) for (case, _), rec in results.ltd.items()
+           if np.isfinite(rec.seconds) and case in {r.case for r in ok}]
+    text = (f"**Cost**: {len(ok)} marches in {total / 60:.1f} min of worker time, {1e3 * np.median(per_step):.1f} ms "
+            f"per step (median; {1e3 * per_step.min():.1f} - {1e3 * per_step.max():.1f}), iterations per step "
+            f"{np.median([r.metadata.get('iterations_per_step', math.nan) for r in ok]):.2f} (median)")
+    if ltd:
+        text += (f"; the LTD: {1e3 * np.median(ltd):.1f} ms per step and gust (median; its gusts are marched "
+                 f"together, one back-substitution with several right-hand sides), so a nonlinear gust costs "
+                 f"{np.median(per_step) / np.median(ltd):.0f}x an LTD gust here")
+    return text + ". Wall times of the pieces, on the machine and with the load of the run.\n"
+
+
 def nonlinear_section(results, out_dir, page_dir, *, figures: bool = True, dpi: int = 120,
                       say: Optional[Callable[[str], None]] = None) -> str:
     """Write the linearity table and figures of a study and return the page's section.
@@ -241,6 +260,8 @@ def nonlinear_section(results, out_dir, page_dir, *, figures: bool = True, dpi: 
             line = _count_line(records, model, output)
             if line:
                 blocks.append(f"- {label}, {output}: {line}")
+    blocks.append("")
+    blocks.append(_cost_line(records, results))
     failed = [r for r in records if not r.ok]
     if failed:
         blocks.append("")
