@@ -29,7 +29,8 @@ from .files import atomic_savefig, page_link, safe_name
 from .nonlinear_study import load_linearity
 from .tables import Column, format_table, write_tables
 
-__all__ = ["nonlinear_section", "linearity_rows", "linearity_grid", "LINEARITY_COLUMNS", "THRESHOLDS",
+__all__ = ["nonlinear_section", "linearity_rows", "linearity_grid", "linearity_limits", "LINEARITY_COLUMNS",
+           "LIMIT_COLUMNS", "THRESHOLDS",
            "linearity_map_plot", "linearity_history_plot"]
 
 THRESHOLDS = (0.01, 0.05, 0.10)
@@ -172,6 +173,58 @@ def linearity_history_plot(records, case: str, gust: str, *, title: str = ""):
     return fig
 
 
+def linearity_limits(records, model: str, output: str) -> list:
+    """Per (case, gust): the largest marched angle up to which the linear model's history error stays within
+    each of :data:`THRESHOLDS`, and the log-log slope of the error against the angle.
+
+    Parameters
+    ----------
+    records : list of LinearityRecord
+    model : {"ltd", "rom"}
+    output : {"Cl", "Cm"}
+
+    Returns
+    -------
+    list of dict
+        ``case``, ``gust``, ``within_1``, ``within_5``, ``within_10`` (deg; 0 when the smallest angle already
+        exceeds it; an angle counts only if every smaller one is within too, and a failed march ends the run of
+        angles) and ``slope`` (least squares of ``log error`` on ``log angle`` over the marched angles: 1 when
+        the error is the second-order term of a smooth response, 2 for the third-order one; NaN with fewer than
+        two angles).
+    """
+    out = []
+    pairs = list(dict.fromkeys((r.case, r.gust) for r in records))
+    for case, gust in pairs:
+        rs = sorted((r for r in records if (r.case, r.gust) == (case, gust)), key=lambda r: r.amplitude_deg)
+        row = dict(case=case, gust=gust)
+        for t in THRESHOLDS:
+            best = 0.0
+            for r in rs:
+                e = (r.ltd if model == "ltd" else r.rom()).get(f"error_{output}", math.nan) if r.ok else math.inf
+                if not e <= t:
+                    break
+                best = r.amplitude_deg
+            row[f"within_{round(100 * t)}"] = best
+        pts = [(r.amplitude_deg, (r.ltd if model == "ltd" else r.rom()).get(f"error_{output}", math.nan))
+               for r in rs if r.ok]
+        pts = [(a, e) for a, e in pts if np.isfinite(e) and e > 0]
+        row["slope"] = (float(np.polyfit(np.log([a for a, _ in pts]), np.log([e for _, e in pts]), 1)[0])
+                        if len(pts) >= 2 else math.nan)
+        out.append(row)
+    return out
+
+
+LIMIT_COLUMNS = (
+    Column("case", "case"),
+    Column("gust", "gust"),
+    Column("within_1", "within 1 % up to (deg)", ".3g"),
+    Column("within_5", "within 5 % up to (deg)", ".3g"),
+    Column("within_10", "within 10 % up to (deg)", ".3g"),
+    Column("slope", "slope of the error", ".2f"),
+)
+"""Columns of the limits tables (:func:`linearity_limits`)."""
+
+
 def _count_line(records, model: str, output: str) -> str:
     parts = []
     for a in sorted({r.amplitude_deg for r in records}):
@@ -270,6 +323,25 @@ def nonlinear_section(results, out_dir, page_dir, *, figures: bool = True, dpi: 
         blocks += [f"- {r.case} {r.gust} {r.amplitude_deg:g} deg: {r.error}" for r in failed]
     blocks.append("")
 
+    limit_blocks = ["**Where the linear models hold**: per case and gust, the largest gust angle up to which the "
+                    "history error stays within 1 %, 5 %, 10 % (0: not even at the smallest angle marched). For the "
+                    "LTD also the log-log slope of its error against the angle: 1 where the error is the "
+                    "second-order term of a smooth response, 2 where it is the third-order one (Cl and Cm of a "
+                    "symmetric aerofoil at zero incidence are odd in the gust), other values where the discrete "
+                    "response is not smooth over these angles (a shock moving across cells, the switches of the "
+                    "JST sensor: docs/nonlinear.md). The ROM's error also holds its own identification error, "
+                    "which dominates at small angles.\n"]
+    for model, label in (("rom", "ROM"), ("ltd", "LTD")):
+        if model == "rom" and not rom_names:
+            continue
+        columns = LIMIT_COLUMNS if model == "ltd" else LIMIT_COLUMNS[:-1]
+        for output in ("Cl", "Cm"):
+            lim = linearity_limits(records, model, output)
+            write_tables(lim, out_dir / "tables" / f"linearity-limits-{model}-{output}", columns,
+                         caption=f"{config.name}: where the {label} holds ({output})",
+                         label=f"tab:{config.name}-limits-{model}-{output}")
+            limit_blocks.append(f"*{label}, {output}:*\n")
+            limit_blocks.append(format_table(lim, columns, "markdown"))
     rows = linearity_rows(records)
     write_tables(rows, out_dir / "tables" / "linearity", LINEARITY_COLUMNS, caption=f"{config.name}: linearity",
                  label=f"tab:{config.name}-linearity")
@@ -308,6 +380,7 @@ def nonlinear_section(results, out_dir, page_dir, *, figures: bool = True, dpi: 
                           f"angle, with the LTD and the ROM (linear: one line each). At {worst.amplitude_deg:g} deg "
                           f"the LTD's history error is {worst.ltd.get('error_Cl', math.nan):.2%} in Cl and "
                           f"{worst.ltd.get('error_Cm', math.nan):.2%} in Cm.*\n")
+    blocks += limit_blocks
     blocks.append(f"**Every march** ([CSV]({page_link(out_dir / 'tables' / 'linearity.csv', page_dir)})):\n")
     blocks.append(format_table(rows, LINEARITY_COLUMNS, "markdown"))
     return "\n".join(blocks)

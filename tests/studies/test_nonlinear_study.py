@@ -167,3 +167,23 @@ def test_report_section_has_the_table_and_the_figures(marched, tmp_path):
         assert (tmp_path / "rep" / "figures" / name).stat().st_size > 1000
     csv = (tmp_path / "rep" / "tables" / "linearity.csv").read_text().splitlines()
     assert len(csv) == 3 and csv[1].startswith("T2,G4,0.01")
+
+
+def test_limits_are_the_largest_angle_within_each_level_and_the_slope_is_the_error_order():
+    from studies.nonlinear_report import linearity_limits
+    from studies.nonlinear_study import LinearityRecord
+
+    amps = [0.5, 1.0, 2.0, 5.0]
+    # LTD error 0.004 a^2 (third-order term: slope 2): 0.1 %, 0.4 %, 1.6 %, 10 %
+    recs = [LinearityRecord(case="T1", gust="G1", amplitude_deg=a, gust_angle_deg=2.0, status="ok",
+                            ltd={"error_Cl": 0.004 * a ** 2}, roms={"r": {"error_Cl": 0.02 + 0.001 * a}})
+            for a in amps]
+    # a failed march ends the run of angles
+    recs += [LinearityRecord(case="T1", gust="G6", amplitude_deg=a, gust_angle_deg=45.0, status="ok" if a < 2 else
+                             "failed", ltd={"error_Cl": 1e-3} if a < 2 else {}) for a in amps]
+    (g1, g6) = linearity_limits(recs, "ltd", "Cl")
+    assert (g1["within_1"], g1["within_5"], g1["within_10"]) == (1.0, 2.0, 5.0)
+    assert g1["slope"] == pytest.approx(2.0, abs=1e-12)
+    assert (g6["within_1"], g6["within_10"]) == (1.0, 1.0) and g6["slope"] == pytest.approx(0.0, abs=1e-12)
+    (rom, _) = linearity_limits(recs, "rom", "Cl")
+    assert (rom["within_1"], rom["within_5"]) == (0.0, 5.0)
