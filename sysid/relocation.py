@@ -68,8 +68,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .candidates import (bound_candidate_gaps, candidate_score, channel_errors, equality_residual, gap_excess,
-                         pick_candidates)
+from .candidates import (POLISH_FROM, bound_candidate_gaps, candidate_score, channel_errors, equality_residual,
+                         gap_excess, pick_candidates, polish_equalities)
 from .errors import FrequencyDataError, OrderError
 from .pole_refinement import refine_poles
 from .poles import (RESOLUTION, discrete_basis, initial_poles, input_normal, modal_realisation,
@@ -264,6 +264,8 @@ def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson,
     for c in cands:
         c["gap"] = gap_excess(c, zb, ub)
         c["eq"] = equality_residual(c, dc, ft, peak)
+        if c["eq"] > POLISH_FROM:
+            polish_equalities(c, z, G, dc, ft, peak, zb, ub)
     if bound_gaps:
         wbm = np.broadcast_to(1.0 / peak[:, None, None], (p, 1, K))
         cands.sort(key=lambda c: candidate_score(c["err"]))

@@ -341,6 +341,38 @@ def test_bounded_minimax_residues_meet_the_bounds():
     assert np.all(np.isnan(C2))  # the start breaks the bound: no model rather than a wrong one
 
 
+def test_polish_restores_the_equalities_with_the_minimum_norm_change_of_C():
+    # an exactly DC- and feedthrough-consistent model whose C is perturbed by 1e-9: the residual is far above
+    # EQ_TOL; one polish brings it to round-off, and the change of each row of C is the minimum-norm one that
+    # cancels the perturbation's effect at z = +1 and z = -1 (the perturbation's projection onto the span of
+    # x_dc = (I - A)^-1 B and x_ft = (-I - A)^-1 B); D, the errors and the gap follow
+    from sysid.candidates import EQ_TOL, channel_errors, equality_residual, polish_equalities
+    from sysid.subspace import evaluate_ss
+
+    frf, poles = frf_of(LIGHT, T=1.0, M=64)
+    z, G = frf.z, np.asarray(frf.H)
+    A, B = discrete_basis(np.array(LIGHT, dtype=complex), frf.T)
+    dc, ft = G[:, :, 0].real, G[:, :, -1].real
+    C0, D0, _ = minimax_cd(A, B, z, G, dc_gain=dc, feedthrough=ft)
+    peak = np.abs(G[:, 0]).max(axis=1)
+    dC = 1e-9 * np.random.default_rng(3).standard_normal(C0.shape) * np.abs(C0).max()
+    c = dict(A=A, B=B, C=C0 + dC, D=D0.copy())
+    c["eq"] = equality_residual(c, dc, ft, peak)
+    c["err"] = channel_errors(A, B, c["C"], c["D"], z, G)
+    assert c["eq"] > 2 * EQ_TOL
+    zb, ub = gap_bounds(z, G)
+    assert polish_equalities(c, z, G, dc, ft, peak, zb, ub)
+    assert c["eq"] < 1e-13 and c["eq"] == equality_residual(c, dc, ft, peak)
+    X = np.hstack([np.linalg.solve(np.eye(A.shape[0]) - A, B), np.linalg.solve(-np.eye(A.shape[0]) - A, B)])
+    P = X @ np.linalg.pinv(X)  # projector onto span(x_dc, x_ft)
+    change = c["C"] - (C0 + dC)
+    np.testing.assert_allclose(change, -dC @ P.T, rtol=0, atol=1e-6 * np.abs(dC).max())
+    np.testing.assert_array_equal(c["D"], D0)
+    np.testing.assert_allclose(c["err"], channel_errors(A, B, c["C"], D0, z, G), rtol=0, atol=0)
+    assert c["gap"] == pytest.approx(float(np.max(np.abs(evaluate_ss(A, B, c["C"], D0, zb)) / ub)))
+    assert not polish_equalities(dict(c, eq=0.0), z, G, dc, ft, peak)  # nothing to gain: unchanged
+
+
 @pytest.mark.parametrize("case, order", [("T4", 25), ("T4", 55), ("T5", 55)])
 def test_paper_data_default_stays_within_the_gap_bounds(case, order):
     # without the floor and the bounds these relocations resonated between omega = 14.6 and 29.2 (gain 28 x,
