@@ -8,10 +8,10 @@ import numpy as np
 
 from .errors import SolverError
 from .residues import minimax_cd
-from .state_space import evaluate_ss
+from .state_space import eigen_parts, evaluate_ss
 
 __all__ = ["EQ_TOL", "channel_errors", "candidate_score", "bound_candidate_gaps", "pick_candidates", "gap_excess",
-           "equality_residual", "equality_gaps", "polish_equalities", "POLISH_FROM"]
+           "equality_residual", "equality_gaps", "polish_equalities", "POLISH_FROM", "candidate_eig"]
 
 #: Accepted violation of the DC / feedthrough equalities, relative to each output's peak.
 EQ_TOL = 1e-11
@@ -19,9 +19,18 @@ EQ_TOL = 1e-11
 POLISH_FROM = 1e-13
 
 
-def channel_errors(A, B, C, D, z, G):
-    """Max error per output over inputs and samples, relative to the output's data peak: shape (p,)."""
-    Gm = evaluate_ss(A, B, C, D, z)
+def candidate_eig(c):
+    """The :func:`sysid.state_space.eigen_parts` of a candidate's ``A`` (False: no modal form), computed once
+    and kept in ``c["eig"]`` (its ``A`` never changes)."""
+    if "eig" not in c:
+        c["eig"] = eigen_parts(c["A"]) or False
+    return c["eig"]
+
+
+def channel_errors(A, B, C, D, z, G, eig=None):
+    """Max error per output over inputs and samples, relative to the output's data peak: shape (p,).
+    ``eig``: :func:`sysid.state_space.eigen_parts` of ``A`` precomputed (optional)."""
+    Gm = evaluate_ss(A, B, C, D, z, eig)
     peak = np.maximum(np.abs(G).max(axis=(1, 2)), np.finfo(float).tiny)
     return np.abs(Gm - G).max(axis=(1, 2)) / peak
 
@@ -35,9 +44,11 @@ def bound_candidate_gaps(c, z, G, dc, ft, weights, zb, ub, peak, rounds: int = 4
     """Minimax residues of candidate ``c`` under the :func:`gap_bounds` (cutting planes: the bounds enter the
     cone programme where the gain is within 10 % of them, then where a solution came within 5 % of them or
     broke them); updates ``c`` when a solution meets every bound."""
+    eig = candidate_eig(c)
+
     def ratio(C, D):
         with np.errstate(all="ignore"):
-            return (np.abs(evaluate_ss(c["A"], c["B"], C, D, zb)) / ub).max(axis=(0, 1))
+            return (np.abs(evaluate_ss(c["A"], c["B"], C, D, zb, eig)) / ub).max(axis=(0, 1))
 
     active = ratio(c["C"], c["D"]) > 0.9
     for _ in range(rounds):
@@ -51,7 +62,7 @@ def bound_candidate_gaps(c, z, G, dc, ft, weights, zb, ub, peak, rounds: int = 4
         r = ratio(C, D)
         if r.max() <= 1.0 + 1e-6:
             trial = dict(c, C=C, D=D)
-            c.update(C=C, D=D, err=channel_errors(c["A"], c["B"], C, D, z, G), residues="bounded minimax",
+            c.update(C=C, D=D, err=channel_errors(c["A"], c["B"], C, D, z, G, eig), residues="bounded minimax",
                      gap=float(r.max()), eq=equality_residual(trial, dc, ft, peak))
             if c["eq"] > POLISH_FROM:
                 polish_equalities(c, z, G, dc, ft, peak, zb, ub)
@@ -84,7 +95,7 @@ def pick_candidates(cands, trust=None):
 def gap_excess(c, zb, ub) -> float:
     """Largest ratio of a candidate's gain to the :func:`gap_bounds` between the samples (<= 1: within)."""
     with np.errstate(all="ignore"):
-        Gb = evaluate_ss(c["A"], c["B"], c["C"], c["D"], zb)
+        Gb = evaluate_ss(c["A"], c["B"], c["C"], c["D"], zb, candidate_eig(c))
     r = float(np.max(np.abs(Gb) / ub)) if zb.size else 0.0
     return r if np.isfinite(r) else np.inf
 
@@ -97,7 +108,7 @@ def _equality_points(dc, ft):
     return pts, vals
 
 
-def equality_gaps(A, B, C, D, dc, ft):
+def equality_gaps(A, B, C, D, dc, ft, eig=None):
     """The model's gain minus the DC / feedthrough targets, evaluated as :func:`sysid.evaluate_ss` does.
 
     Parameters
@@ -105,6 +116,8 @@ def equality_gaps(A, B, C, D, dc, ft):
     A : ndarray, shape (n, n); B : ndarray, shape (n, m); C : ndarray, shape (p, n); D : ndarray, shape (p, m)
     dc, ft : ndarray, shape (p, m), or None
         Targets at ``z = 1`` and ``z = -1`` (None: not constrained).
+    eig : tuple or False, optional
+        :func:`sysid.state_space.eigen_parts` of ``A`` precomputed.
 
     Returns
     -------
@@ -115,13 +128,18 @@ def equality_gaps(A, B, C, D, dc, ft):
     if not pts.size:
         return np.zeros((0,) + np.shape(D), dtype=complex)
     with np.errstate(all="ignore"):
-        Gm = evaluate_ss(A, B, C, D, pts.astype(complex))  # (p, m, k)
+        Gm = evaluate_ss(A, B, C, D, pts.astype(complex), eig)  # (p, m, k)
     return np.moveaxis(Gm, 2, 0) - vals
 
 
 def equality_residual(c, dc, ft, peak):
     """Largest violation of the DC / feedthrough equalities of a candidate, relative to each output's peak."""
-    R = equality_gaps(c["A"], c["B"], c["C"], c["D"], dc, ft)
+    return _relative_gap(equality_gaps(c["A"], c["B"], c["C"], c["D"], dc, ft, candidate_eig(c)), peak)
+
+
+def _relative_gap(R, peak):
+    """``max |R| / peak`` of :func:`equality_gaps` ``R`` (k, p, m) (0 when nothing is constrained, inf when
+    not finite)."""
     if not R.size:
         return 0.0
     r = float(np.max(np.abs(R) / peak[None, :, None]))
@@ -150,7 +168,8 @@ def polish_equalities(c, z, G, dc, ft, peak, zb=None, ub=None, steps: int = 3):
     peak : ndarray, shape (p,)
         Each output's data peak (the scale of ``eq``).
     steps : int
-        Correction steps (each is one evaluation at the constrained points).
+        Most correction steps (each is one evaluation at the constrained points); they stop once the
+        residual is below ``POLISH_FROM``.
     zb, ub : ndarray, shapes (J,) and (p, m, J), optional
         The :func:`sysid.residues.gap_bounds`: ``gap`` is recomputed for the polished ``C``.
 
@@ -170,18 +189,20 @@ def polish_equalities(c, z, G, dc, ft, peak, zb=None, ub=None, steps: int = 3):
         return False
     E = np.swapaxes(X, 1, 2).reshape(pts.size * m, n)  # rows (point, input)
     pinv = np.linalg.pinv(E)  # (n, k m): minimum-norm solutions, computed once
+    eig = candidate_eig(c)
     best_C, best_eq, C = c["C"], c["eq"], c["C"]
+    R = equality_gaps(A, B, C, c["D"], dc, ft, eig).real  # (k, p, m)
     for _ in range(steps):
-        R = equality_gaps(A, B, C, c["D"], dc, ft).real  # (k, p, m)
-        if not np.all(np.isfinite(R)):
+        if not np.all(np.isfinite(R)) or best_eq <= POLISH_FROM:
             break
         C = C - (pinv @ np.swapaxes(R, 0, 1).reshape(R.shape[1], -1).T).T  # r_i ordered (point, input)
-        eq = equality_residual(dict(c, C=C), dc, ft, peak)
+        Rc = equality_gaps(A, B, C, c["D"], dc, ft, eig)
+        eq, R = _relative_gap(Rc, peak), Rc.real
         if eq < best_eq:
             best_C, best_eq = C, eq
     if best_C is c["C"]:
         return False
-    c.update(C=best_C, eq=best_eq, err=channel_errors(A, B, best_C, c["D"], z, G))
+    c.update(C=best_C, eq=best_eq, err=channel_errors(A, B, best_C, c["D"], z, G, eig))
     if zb is not None:
         c["gap"] = gap_excess(c, zb, ub)
     return True

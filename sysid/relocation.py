@@ -68,13 +68,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .candidates import (POLISH_FROM, bound_candidate_gaps, candidate_score, channel_errors, equality_residual,
-                         gap_excess, pick_candidates, polish_equalities)
+from .candidates import (POLISH_FROM, bound_candidate_gaps, candidate_eig, candidate_score, channel_errors,
+                         equality_residual, gap_excess, pick_candidates, polish_equalities)
 from .errors import FrequencyDataError, OrderError
 from .pole_refinement import refine_poles
 from .poles import (RESOLUTION, discrete_basis, initial_poles, input_normal, modal_realisation,
                     partial_fraction_basis, pole_distance, resolution_floor, stability_region)
 from .residues import gap_bounds, minimax_cd
+from .state_space import eigen_parts
 from .vector_fitting import relocate_poles
 
 __all__ = [
@@ -181,9 +182,10 @@ def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson,
         A, B = discrete_basis(pl, T, 1)
         A, B = input_normal(A, B)
         ls = fit_cd(A, B, z, G, weights=wls, dc_gain=dc, feedthrough=ft, solver="numpy")  # closed form
-        e_ls = channel_errors(A, B, ls.C, ls.D, z, G)
+        eig = eigen_parts(A) or False
+        e_ls = channel_errors(A, B, ls.C, ls.D, z, G, eig)
         cands.append(dict(label=label, poles=pl, A=A, B=B, C=ls.C, D=ls.D, err=e_ls, residues="least-squares",
-                          its=its, refined=refined))
+                          its=its, refined=refined, eig=eig))
 
     def refine_from(c):
         pr = refine_poles(s, Hn, c["poles"], weights=Wf, dc=None if dc is None else dc[:, 0] / peak,
@@ -254,7 +256,7 @@ def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson,
                 break
             C, D, st = minimax_cd(c["A"], c["B"], z, G, dc_gain=dc, feedthrough=ft, weights=wmm,
                                   start=(c["C"], c["D"]), within=minimax_within)
-            e = channel_errors(c["A"], c["B"], C, D, z, G)
+            e = channel_errors(c["A"], c["B"], C, D, z, G, candidate_eig(c))
             if candidate_score(e) <= candidate_score(c["err"]):
                 c.update(C=C, D=D, err=e, residues="minimax")
         cands.sort(key=lambda c: candidate_score(c["err"]))
