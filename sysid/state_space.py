@@ -148,8 +148,17 @@ def lstsq_bd(A: np.ndarray, C: np.ndarray, z: np.ndarray, G: np.ndarray,
 
 
 def evaluate_ss(A: np.ndarray, B: np.ndarray, C: np.ndarray, D: np.ndarray, z: np.ndarray, eig=None) -> np.ndarray:
-    """``G(z_k) = C (z_k I - A)^-1 B + D`` for all k: shape (p, m, K) (:func:`resolvent_C`, then ``B``).
-    ``eig``: :func:`eigen_parts` of ``A`` precomputed (optional; the same arithmetic as without it)."""
+    """``G(z_k) = C (z_k I - A)^-1 B + D`` for all k: shape (p, m, K).
+
+    In the modal form (:func:`modal_form`) the products are ``(C V) diag(1 / (z_k - lam)) (V^-1 B)``
+    (``O(K p n m)``, against ``O(K p n^2)`` for :func:`resolvent_C` then ``B``); else one batched solve.
+    ``eig``: :func:`eigen_parts` of ``A`` precomputed (optional).
+    """
     z = np.asarray(z, dtype=complex).reshape(-1)
-    phi = resolvent_C(A, C, z, modal_form(A, C, eig) or False)  # (K, p, n)
-    return (phi @ B + D[None]).transpose(1, 2, 0)
+    modal = modal_form(A, C, eig)
+    if modal:
+        lam, CV, Vinv = modal
+        G = (CV[None, :, :] / (z[:, None, None] - lam[None, None, :])) @ (Vinv @ B)  # (K, p, m)
+    else:
+        G = resolvent_C(A, C, z, False) @ B
+    return (G + D[None]).transpose(1, 2, 0)
