@@ -6,7 +6,7 @@ import numpy as np
 
 from .poles import floor_at, pair_poles, partial_fraction_basis, pole_groups
 
-__all__ = ["refine_poles", "stable_params", "params_to_poles", "derivative_columns"]
+__all__ = ["refine_poles", "stable_params", "params_to_poles", "derivative_columns", "derivative_factors"]
 
 
 # --------------------------------------------------------------------------------------------- refinement
@@ -62,33 +62,52 @@ def params_to_poles(x: np.ndarray, template: np.ndarray, floor=None) -> np.ndarr
     return out
 
 
-def derivative_columns(s, poles, theta, floor=None):
+def derivative_columns(s, poles, theta, floor=None, factors=None):
     """``(dPhi / dx_q) theta`` for every stable parameter ``x_q`` (:func:`stable_params`): shape (K, n_par).
 
     Vectorised form of :func:`_basis_derivatives` contracted with the coefficients ``theta`` (length >= n;
     entries beyond ``n``, e.g. the constant, do not depend on the poles). With a :func:`resolution_floor`
     ``f``, a pair's real part is ``-(f(Im) + exp(u))``: ``dRe/du = Re + f`` and ``dRe/dIm = -f'(Im)``.
+    ``factors``: :func:`derivative_factors` of ``(s, poles, floor)`` precomputed (they do not depend on
+    ``theta``; the same arithmetic).
+    """
+    if factors is None:
+        factors = derivative_factors(s, poles, floor)
+    q1, q2, idx, pair, a, f, slope, pos_u, n_par = factors
+    n = poles.size
+    t1 = theta[idx]
+    t2 = np.where(pair, theta[np.minimum(idx + 1, n - 1)], 0.0)
+    d_re = np.where(pair, (q1 + q2) * t1 + 1j * (q1 - q2) * t2, q1 * t1)  # d(contribution)/d(Re a)
+    du = (a.real + f) * d_re
+    dv = 1j * (q1 - q2) * t1 - (q1 + q2) * t2 - slope * d_re
+    out = np.empty((s.size, n_par), dtype=complex)
+    out[:, pos_u] = du
+    out[:, pos_u[pair] + 1] = dv[:, pair]
+    return out
+
+
+def derivative_factors(s, poles, floor=None):
+    """The parts of :func:`derivative_columns` that depend on the poles only.
+
+    Returns
+    -------
+    tuple
+        ``(q1, q2, idx, pair, a, f, slope, pos_u, n_par)``: ``1 / (s - a)^2`` and ``1 / (s - conj a)^2``
+        (K, g) per group ``a`` (:func:`pole_groups` ``idx``, ``pair``), the floor ``f`` and its slope (g,), each
+        group's first parameter ``pos_u`` (g,) and the number of parameters.
     """
     fin = np.isfinite(s)
-    n = poles.size
     idx, pair = pole_groups(poles)
     a = poles[idx]
     q1 = np.zeros((s.size, idx.size), dtype=complex)
     q2 = np.zeros((s.size, idx.size), dtype=complex)
     q1[fin] = 1.0 / (s[fin, None] - a[None, :]) ** 2
     q2[fin] = 1.0 / (s[fin, None] - np.conj(a)[None, :]) ** 2
-    t1 = theta[idx]
-    t2 = np.where(pair, theta[np.minimum(idx + 1, n - 1)], 0.0)
     f, slope = floor_at(a.imag, floor)
-    d_re = np.where(pair, (q1 + q2) * t1 + 1j * (q1 - q2) * t2, q1 * t1)  # d(contribution)/d(Re a)
-    du = (a.real + f) * d_re
-    dv = 1j * (q1 - q2) * t1 - (q1 + q2) * t2 - slope * d_re
     # parameter order: per real pole u; per pair (u, v)
-    pos_u = np.cumsum(np.where(pair, 2, 1)) - np.where(pair, 2, 1)
-    out = np.empty((s.size, int(np.sum(np.where(pair, 2, 1)))), dtype=complex)
-    out[:, pos_u] = du
-    out[:, pos_u[pair] + 1] = dv[:, pair]
-    return out
+    width = np.where(pair, 2, 1)
+    pos_u = np.cumsum(width) - width
+    return q1, q2, idx, pair, a, f, slope, pos_u, int(np.sum(width))
 
 
 def _bad_step(P, K, dc, x, n_coef):
@@ -168,6 +187,7 @@ def refine_poles(s, H, poles, *, weights=None, dc=None, ft=None, max_nfev: int =
             b0 = np.concatenate([b0, [1.0]])
         rs, Js = [], []
         Q = None
+        fac, fac0 = derivative_factors(s, pl, floor), derivative_factors(s0, pl, floor)
         for c in range(P):
             hc = [W[c] * Hs[c].real, W[c] * Hs[c].imag]
             if dc is not None:
@@ -184,10 +204,10 @@ def refine_poles(s, H, poles, *, weights=None, dc=None, ft=None, max_nfev: int =
                     return _bad_step(P, K, dc, x, Phi.shape[1])
             th = solve_triangular(R, Q.T @ hr)
             r = Ar @ th - hr
-            V = W[c][:, None] * derivative_columns(s, pl, th, floor)  # (K, n_par): (dPhi/dx_q) theta
+            V = W[c][:, None] * derivative_columns(s, pl, th, floor, fac)  # (K, n_par): (dPhi/dx_q) theta
             parts = [V.real, V.imag]
             if dc is not None:
-                parts.append(mu * derivative_columns(s0, pl, th, floor).real)
+                parts.append(mu * derivative_columns(s0, pl, th, floor, fac0).real)
             parts.append(np.zeros((Phi.shape[1], V.shape[1])))  # the ridge rows do not depend on the poles
             V = np.vstack(parts)
             Js.append(V - Q @ (Q.T @ V))  # Kaufman: the projection onto the complement of range(Ar)

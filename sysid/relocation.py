@@ -68,13 +68,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .candidates import (bound_candidate_gaps, candidate_score, channel_errors, equality_residual, gap_excess,
-                         pick_candidates)
+from .candidates import (POLISH_FROM, bound_candidate_gaps, candidate_eig, candidate_score, channel_errors,
+                         check_equalities, gap_excess, pick_candidates, polish_equalities)
 from .errors import FrequencyDataError, OrderError
 from .pole_refinement import refine_poles
 from .poles import (RESOLUTION, discrete_basis, initial_poles, input_normal, modal_realisation,
                     partial_fraction_basis, pole_distance, resolution_floor, stability_region)
 from .residues import gap_bounds, minimax_cd
+from .state_space import eigen_parts
 from .vector_fitting import relocate_poles
 
 __all__ = [
@@ -124,9 +125,10 @@ class RelocationResult:
         True when the Gauss-Newton pole refinement lowered the error and was kept.
     candidates : tuple of (str, ndarray, bool)
         ``(label, max error per output, admissible)`` of every candidate of the first input column, best
-        first; admissible: its DC / feedthrough equalities hold to ``EQ_TOL`` of the peak when evaluated, and
-        its gain between the samples stays within :func:`gap_bounds` (or the data determine it, see
-        :func:`pick_candidates`).
+        first; admissible: the model meets its DC / feedthrough equalities to ``EQ_TOL`` of the peak (after
+        :func:`sysid.candidates.polish_equalities`), a double-precision evaluation of them is exact to
+        ``ROUNDOFF_TOL``, and its gain between the samples stays within :func:`gap_bounds` (or the data
+        determine it, see :func:`pick_candidates`).
     iterations : int
         Relocation iterations run for the winning start.
     seconds : float
@@ -180,10 +182,11 @@ def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson,
         seen.append(pl)
         A, B = discrete_basis(pl, T, 1)
         A, B = input_normal(A, B)
-        ls = fit_cd(A, B, z, G, weights=wls, dc_gain=dc, feedthrough=ft, solver="numpy")  # closed form
-        e_ls = channel_errors(A, B, ls.C, ls.D, z, G)
+        eig = eigen_parts(A) or False
+        ls = fit_cd(A, B, z, G, weights=wls, dc_gain=dc, feedthrough=ft, solver="numpy", eig=eig)  # closed form
+        e_ls = channel_errors(A, B, ls.C, ls.D, z, G, eig)
         cands.append(dict(label=label, poles=pl, A=A, B=B, C=ls.C, D=ls.D, err=e_ls, residues="least-squares",
-                          its=its, refined=refined))
+                          its=its, refined=refined, eig=eig))
 
     def refine_from(c):
         pr = refine_poles(s, Hn, c["poles"], weights=Wf, dc=None if dc is None else dc[:, 0] / peak,
@@ -253,8 +256,8 @@ def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson,
             if time.perf_counter() - t0 > budget:
                 break
             C, D, st = minimax_cd(c["A"], c["B"], z, G, dc_gain=dc, feedthrough=ft, weights=wmm,
-                                  start=(c["C"], c["D"]), within=minimax_within)
-            e = channel_errors(c["A"], c["B"], C, D, z, G)
+                                  start=(c["C"], c["D"]), within=minimax_within, eig=candidate_eig(c))
+            e = channel_errors(c["A"], c["B"], C, D, z, G, candidate_eig(c))
             if candidate_score(e) <= candidate_score(c["err"]):
                 c.update(C=C, D=D, err=e, residues="minimax")
         cands.sort(key=lambda c: candidate_score(c["err"]))
@@ -263,7 +266,9 @@ def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson,
     zb, ub = gap_bounds(z, G)
     for c in cands:
         c["gap"] = gap_excess(c, zb, ub)
-        c["eq"] = equality_residual(c, dc, ft, peak)
+        check_equalities(c, dc, ft, peak)
+        if c["eq"] > POLISH_FROM:
+            polish_equalities(c, z, G, dc, ft, peak, zb, ub)
     if bound_gaps:
         wbm = np.broadcast_to(1.0 / peak[:, None, None], (p, 1, K))
         cands.sort(key=lambda c: candidate_score(c["err"]))

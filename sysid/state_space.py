@@ -6,26 +6,27 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["modal_form", "resolvent_C", "lstsq_bd_phi", "lstsq_bd", "evaluate_ss"]
+__all__ = ["eigen_parts", "modal_form", "resolvent_C", "lstsq_bd_phi", "lstsq_bd", "evaluate_ss"]
 
 #: Largest 1-norm condition number of the eigenvector matrix for which the modal (eigenvalue) form is used
 #: to evaluate C (zI - A)^-1; beyond it a batched linear solve is used (accuracy ~ cond * eps).
 _MODAL_COND_MAX = 1e6
 
 
-def modal_form(A: np.ndarray, C: np.ndarray):
-    """The modal form of ``(A, C)`` when ``A`` is diagonalisable and its eigenvectors well conditioned.
+def eigen_parts(A: np.ndarray):
+    """The eigendecomposition of ``A`` when it is diagonalisable and its eigenvectors well conditioned.
 
     Parameters
     ----------
     A : ndarray, shape (n, n)
-    C : ndarray, shape (p, n)
 
     Returns
     -------
     tuple or None
-        ``(lam, C V, V^-1)``: eigenvalues (n,), (p, n) and (n, n) with ``A = V diag(lam) V^-1``; None when
-        ``n = 0``, ``V`` is singular or its 1-norm condition number exceeds ``_MODAL_COND_MAX``.
+        ``(lam, V, V^-1)``: eigenvalues (n,), eigenvectors (n, n) and their inverse (n, n), with
+        ``A = V diag(lam) V^-1``; None when ``n = 0``, ``V`` is singular or its 1-norm condition number exceeds
+        ``_MODAL_COND_MAX``. Depends on ``A`` only: compute it once per state matrix and pass it to
+        :func:`modal_form` or :func:`evaluate_ss` (same arithmetic, same results).
     """
     if A.shape[0] == 0:
         return None
@@ -37,6 +38,30 @@ def modal_form(A: np.ndarray, C: np.ndarray):
     cond = np.linalg.norm(V, 1) * np.linalg.norm(Vinv, 1)
     if not np.isfinite(cond) or cond > _MODAL_COND_MAX:
         return None
+    return lam, V, Vinv
+
+
+def modal_form(A: np.ndarray, C: np.ndarray, eig=None):
+    """The modal form of ``(A, C)`` when ``A`` is diagonalisable and its eigenvectors well conditioned.
+
+    Parameters
+    ----------
+    A : ndarray, shape (n, n)
+    C : ndarray, shape (p, n)
+    eig : tuple, None or False, optional
+        :func:`eigen_parts` of ``A`` precomputed (None: computed here; False: no modal form).
+
+    Returns
+    -------
+    tuple or None
+        ``(lam, C V, V^-1)``: eigenvalues (n,), (p, n) and (n, n) with ``A = V diag(lam) V^-1``; None when
+        ``n = 0``, ``V`` is singular or its 1-norm condition number exceeds ``_MODAL_COND_MAX``.
+    """
+    if eig is None:
+        eig = eigen_parts(A)
+    if not eig:
+        return None
+    lam, V, Vinv = eig
     return lam, C @ V, Vinv
 
 
@@ -122,7 +147,18 @@ def lstsq_bd(A: np.ndarray, C: np.ndarray, z: np.ndarray, G: np.ndarray,
                          np.asarray(G, complex), weights)
 
 
-def evaluate_ss(A: np.ndarray, B: np.ndarray, C: np.ndarray, D: np.ndarray, z: np.ndarray) -> np.ndarray:
-    """``G(z_k) = C (z_k I - A)^-1 B + D`` for all k: shape (p, m, K)."""
-    phi = resolvent_C(A, C, np.asarray(z, dtype=complex).reshape(-1))  # (K, p, n)
-    return (phi @ B + D[None]).transpose(1, 2, 0)
+def evaluate_ss(A: np.ndarray, B: np.ndarray, C: np.ndarray, D: np.ndarray, z: np.ndarray, eig=None) -> np.ndarray:
+    """``G(z_k) = C (z_k I - A)^-1 B + D`` for all k: shape (p, m, K).
+
+    In the modal form (:func:`modal_form`) the products are ``(C V) diag(1 / (z_k - lam)) (V^-1 B)``
+    (``O(K p n m)``, against ``O(K p n^2)`` for :func:`resolvent_C` then ``B``); else one batched solve.
+    ``eig``: :func:`eigen_parts` of ``A`` precomputed (optional).
+    """
+    z = np.asarray(z, dtype=complex).reshape(-1)
+    modal = modal_form(A, C, eig)
+    if modal:
+        lam, CV, Vinv = modal
+        G = (CV[None, :, :] / (z[:, None, None] - lam[None, None, :])) @ (Vinv @ B)  # (K, p, m)
+    else:
+        G = resolvent_C(A, C, z, False) @ B
+    return (G + D[None]).transpose(1, 2, 0)

@@ -341,6 +341,64 @@ def test_bounded_minimax_residues_meet_the_bounds():
     assert np.all(np.isnan(C2))  # the start breaks the bound: no model rather than a wrong one
 
 
+def test_polish_restores_the_equalities_with_the_minimum_norm_change_of_C():
+    # an exactly DC- and feedthrough-consistent model whose C is perturbed by 1e-9: the residual is far above
+    # EQ_TOL; one polish brings it to round-off, and the change of each row of C is the minimum-norm one that
+    # cancels the perturbation's effect at z = +1 and z = -1 (the perturbation's projection onto the span of
+    # x_dc = (I - A)^-1 B and x_ft = (-I - A)^-1 B); D, the errors and the gap follow
+    from sysid.candidates import EQ_TOL, channel_errors, equality_residual, polish_equalities
+    from sysid.subspace import evaluate_ss
+
+    frf, poles = frf_of(LIGHT, T=1.0, M=64)
+    z, G = frf.z, np.asarray(frf.H)
+    A, B = discrete_basis(np.array(LIGHT, dtype=complex), frf.T)
+    dc, ft = G[:, :, 0].real, G[:, :, -1].real
+    C0, D0, _ = minimax_cd(A, B, z, G, dc_gain=dc, feedthrough=ft)
+    peak = np.abs(G[:, 0]).max(axis=1)
+    dC = 1e-9 * np.random.default_rng(3).standard_normal(C0.shape) * np.abs(C0).max()
+    c = dict(A=A, B=B, C=C0 + dC, D=D0.copy())
+    c["eq"] = equality_residual(c, dc, ft, peak)
+    c["err"] = channel_errors(A, B, c["C"], c["D"], z, G)
+    assert c["eq"] > 2 * EQ_TOL
+    zb, ub = gap_bounds(z, G)
+    assert polish_equalities(c, z, G, dc, ft, peak, zb, ub)
+    assert c["eq"] < 1e-13 and c["eq"] == equality_residual(c, dc, ft, peak)
+    X = np.hstack([np.linalg.solve(np.eye(A.shape[0]) - A, B), np.linalg.solve(-np.eye(A.shape[0]) - A, B)])
+    P = X @ np.linalg.pinv(X)  # projector onto span(x_dc, x_ft)
+    change = c["C"] - (C0 + dC)
+    np.testing.assert_allclose(change, -dC @ P.T, rtol=0, atol=1e-6 * np.abs(dC).max())
+    np.testing.assert_array_equal(c["D"], D0)
+    np.testing.assert_allclose(c["err"], channel_errors(A, B, c["C"], D0, z, G), rtol=0, atol=0)
+    assert c["gap"] == pytest.approx(float(np.max(np.abs(evaluate_ss(A, B, c["C"], D0, zb)) / ub)))
+    assert not polish_equalities(dict(c, eq=0.0), z, G, dc, ft, peak)  # nothing to gain: unchanged
+
+
+def test_equalities_are_checked_on_the_model_and_against_the_roundoff_of_its_evaluation():
+    # adding to C a huge component orthogonal to x_dc and x_ft keeps the equalities in exact arithmetic, but a
+    # double evaluation of the DC gain is then uncertain by eps sum |C_ij x_j| >> ROUNDOFF_TOL (and storing C
+    # alone loses about as much): inadmissible, whatever its errors
+    from sysid.candidates import ROUNDOFF_TOL, check_equalities, pick_candidates
+
+    frf, _ = frf_of(LIGHT, T=1.0, M=64)
+    z, G = frf.z, np.asarray(frf.H)
+    A, B = discrete_basis(np.array(LIGHT, dtype=complex), frf.T)
+    dc, ft = G[:, :, 0].real, G[:, :, -1].real
+    C0, D0, _ = minimax_cd(A, B, z, G, dc_gain=dc, feedthrough=ft)
+    peak = np.abs(G[:, 0]).max(axis=1)
+    n = A.shape[0]
+    X = np.hstack([np.linalg.solve(np.eye(n) - A, B), np.linalg.solve(-np.eye(n) - A, B)])  # (n, 2)
+    w = np.random.default_rng(4).standard_normal(n)
+    w -= X @ np.linalg.lstsq(X, w, rcond=None)[0]  # orthogonal to x_dc and x_ft
+    good = dict(A=A, B=B, C=C0, D=D0, err=np.array([0.2, 0.2]), gap=0.5)
+    bad = dict(A=A, B=B, C=C0 + 1e7 * peak[:, None] * w / np.abs(w).max(), D=D0, err=np.array([0.1, 0.1]), gap=0.5)
+    for c in (good, bad):
+        check_equalities(c, dc, ft, peak)
+    assert good["eq"] < 1e-13 and good["eq_roundoff"] < 1e-14
+    assert bad["eq_roundoff"] > 10 * ROUNDOFF_TOL
+    picked = pick_candidates([bad, good])
+    assert picked[0] is good and not bad["admissible"]
+
+
 @pytest.mark.parametrize("case, order", [("T4", 25), ("T4", 55), ("T5", 55)])
 def test_paper_data_default_stays_within_the_gap_bounds(case, order):
     # without the floor and the bounds these relocations resonated between omega = 14.6 and 29.2 (gain 28 x,
