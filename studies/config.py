@@ -467,7 +467,7 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
     if "nonlinear" in data:  # the [nonlinear] section: studies.nonlinear_schema
         from .nonlinear_schema import parse_nonlinear
 
-        nonlinear = parse_nonlinear(data["nonlinear"], P.err, tuple(sweeps), tuple(gusts))
+        nonlinear = parse_nonlinear(data["nonlinear"], P.err, tuple(sweeps), tuple(gusts), sim)
     return StudyConfig(name=name, description=description, source=source, output_dir=output_dir,
                        store_dir=store_dir, cases=tuple(sweeps), gusts=tuple(gusts), M_base=M_base,
                        methods=tuple(methods), simulation=sim, cfd=cfd, report=report, aeroelastic=aero,

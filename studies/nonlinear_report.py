@@ -10,8 +10,9 @@ where                                       what
                                             and of the case's first ROM, solver counts, time
 ``figures/linearity-map-ltd.png``           heat maps (cases x gusts, one column of panels per amplitude,
 ``figures/linearity-map-rom.png``           Cl above, Cm below) of the history error of the LTD / the ROM
-``figures/linearity-CASE.png``              the histories (per unit gust angle) of the case's gust with
-                                            the largest Cl error: nonlinear at each amplitude, LTD, ROM
+``figures/linearity-CASE.png``              the histories (per unit gust input) of the case's gust with
+                                            the largest Cl error of the LTD: nonlinear at each amplitude,
+                                            LTD, ROM
 =========================================== ==========================================================
 
 and returns the Markdown of the section, which :func:`studies.report.write_report` appends to the page.
@@ -26,6 +27,7 @@ from typing import Callable, Optional
 import numpy as np
 
 from .files import atomic_savefig, page_link, safe_name
+from .nonlinear_schema import gust_shapes, march_end
 from .nonlinear_study import load_linearity
 from .tables import Column, format_table, write_tables
 
@@ -46,12 +48,14 @@ LINEARITY_COLUMNS = (
     Column("ltd_error_Cm", "Cm err LTD", ".2%"),
     Column("rom_ratio_Cl", "Cl peak NL/ROM", ".4f"),
     Column("rom_error_Cl", "Cl err ROM", ".2%"),
+    Column("rom_ratio_Cm", "Cm peak NL/ROM", ".4f"),
     Column("rom_error_Cm", "Cm err ROM", ".2%"),
     Column("max_local_mach", "max local Mach", ".3f"),
     Column("iterations_per_step", "iterations / step", ".2f"),
     Column("n_factorisations", "factorisations", "d"),
     Column("seconds", "seconds", ".1f"),
     Column("status", "status"),
+    Column("notes", "notes"),
 )
 """Columns of the linearity table (keys of the CSV; headers of the Markdown and LaTeX)."""
 
@@ -61,7 +65,7 @@ def linearity_rows(records) -> list:
     rows = []
     for r in records:
         row = dict(case=r.case, gust=r.gust, amplitude_deg=r.amplitude_deg,
-                   status="ok" if r.ok else "failed: " + (r.error or "")[:120])
+                   status="ok" if r.ok else f"{r.status}: " + (r.error or "")[:160], notes=_notes(r))
         if r.ok:
             md = r.metadata
             row.update({f"ltd_{k}": v for k, v in r.ltd.items()})
@@ -70,6 +74,17 @@ def linearity_rows(records) -> list:
                        n_factorisations=md.get("n_factorisations"), seconds=md.get("seconds"))
         rows.append(row)
     return rows
+
+
+def _notes(record) -> str:
+    """Short flags for the solver's warnings of a march (stored with the piece)."""
+    notes = []
+    for w in record.metadata.get("warnings", []):
+        if "separat" in w:
+            notes.append("peak local Mach above the separation limit: a viscous flow would separate")
+        elif "phase" in w:
+            notes.append("dt coarse for the gust (BDF2 phase error above 1 %; the LTD has the same)")
+    return "; ".join(dict.fromkeys(notes))
 
 
 def linearity_grid(records, model: str, output: str) -> tuple:
@@ -138,7 +153,7 @@ def linearity_map_plot(records, model: str, *, vmin: float = 1e-4, vmax: float =
 
 
 def linearity_history_plot(records, case: str, gust: str, *, title: str = ""):
-    """The nonlinear histories of one case and gust per unit gust angle (``/ tan(angle)``) at each amplitude,
+    """The nonlinear histories of one case and gust per unit gust input (``/ tan(angle)``) at each amplitude,
     with the LTD's and the ROM's (one line each: they are linear): Cl above, Cm below.
 
     Returns
@@ -163,7 +178,7 @@ def linearity_history_plot(records, case: str, gust: str, *, title: str = ""):
                 y = getattr(longest, attr)
                 if y.size:
                     ax.plot(longest.t, y / A, label=label, **style)
-        ax.set_ylabel(f"{'Cl' if name == 'cl' else 'Cm'} per rad of gust angle")
+        ax.set_ylabel(f"{'Cl' if name == 'cl' else 'Cm'} / tan(gust angle)")
         ax.grid(alpha=0.3)
     axes[0].legend(fontsize=8, ncol=2)
     axes[-1].set_xlabel("convective time s = t U / c")
@@ -187,8 +202,8 @@ def linearity_limits(records, model: str, output: str) -> list:
     -------
     list of dict
         ``case``, ``gust``, ``within_1``, ``within_5``, ``within_10`` (deg; 0 when the smallest angle already
-        exceeds it; an angle counts only if every smaller one is within too, and a failed march ends the run of
-        angles) and ``slope`` (least squares of ``log error`` on ``log angle`` over the marched angles: 1 when
+        exceeds it, NaN when the linear model is not stored; an angle counts only if every smaller one is within
+        too, and a march that stopped or failed ends the run of angles) and ``slope`` (least squares of ``log error`` on ``log angle`` over the marched angles: 1 when
         the error is the second-order term of a smooth response, 2 for the third-order one; NaN with fewer than
         two angles).
     """
@@ -197,11 +212,13 @@ def linearity_limits(records, model: str, output: str) -> list:
     for case, gust in pairs:
         rs = sorted((r for r in records if (r.case, r.gust) == (case, gust)), key=lambda r: r.amplitude_deg)
         row = dict(case=case, gust=gust)
+        errors = [(r.ltd if model == "ltd" else r.rom()).get(f"error_{output}", math.nan) if r.ok else math.inf
+                  for r in rs]
+        absent = all(math.isnan(e) for e in errors if not math.isinf(e))  # no linear model to judge
         for t in THRESHOLDS:
-            best = 0.0
-            for r in rs:
-                e = (r.ltd if model == "ltd" else r.rom()).get(f"error_{output}", math.nan) if r.ok else math.inf
-                if not e <= t:
+            best = math.nan if absent else 0.0
+            for r, e in zip(rs, errors):
+                if absent or not e <= t:
                     break
                 best = r.amplitude_deg
             row[f"within_{round(100 * t)}"] = best
@@ -232,10 +249,9 @@ def _count_line(records, model: str, output: str) -> str:
                 for r in records if r.amplitude_deg == a and r.ok]
         errs = [e for e in errs if np.isfinite(e)]
         n_all = sum(r.amplitude_deg == a for r in records)
-        if not errs:
-            continue
+        n_stop = sum(r.amplitude_deg == a and not r.ok for r in records)
         within = " / ".join(str(sum(e <= t for e in errs)) for t in THRESHOLDS)
-        parts.append(f"{a:g} deg: {within} of {n_all}")
+        parts.append(f"{a:g} deg: {within} of {n_all}" + (f" ({n_stop} stopped or failed)" if n_stop else ""))
     return "; ".join(parts)
 
 
@@ -301,6 +317,10 @@ def nonlinear_section(results, out_dir, page_dir, *, figures: bool = True, dpi: 
         "compared with the linear models of the same gust shape, scaled to its angle: the LTD and the case's "
         "ROM. *Peak ratio*: `max|y_NL| / max|y_lin|` (above 1: the linear model under-predicts the peak load); "
         "*history error*: `max_t |y_NL - y_lin| / max_t |y_lin|` over the march.\n")
+    ends = ", ".join(f"{label} {march_end(opts, g, sim):g}" for label, g, _ in gust_shapes(opts, config.gusts))
+    blocks.append(f"March ends (convective time s): {ends}. Gusts of the same shape (kind and length) share "
+                  "their marches (the LTD and ROM of the first are the linear models; the others differ only "
+                  "in angle).\n")
     if not records:
         blocks.append("No nonlinear march is in the store yet (see the missing and failed pieces above); run "
                       f"`lfdrom run {config.source}`.\n")
@@ -318,8 +338,9 @@ def nonlinear_section(results, out_dir, page_dir, *, figures: bool = True, dpi: 
     failed = [r for r in records if not r.ok]
     if failed:
         blocks.append("")
-        blocks.append(f"**{len(failed)} march(es) failed** (the linear models cannot be judged there; the solver's "
-                      "message):\n")
+        blocks.append(f"**{len(failed)} march(es) stopped or failed** (the linear models cannot be judged there; "
+                      "stopped: the solver stopped at a step it could not resolve, or the march was skipped after a "
+                      "smaller angle of its gust stopped; the message):\n")
         blocks += [f"- {r.case} {r.gust} {r.amplitude_deg:g} deg: {r.error}" for r in failed]
     blocks.append("")
 
@@ -364,21 +385,22 @@ def nonlinear_section(results, out_dir, page_dir, *, figures: bool = True, dpi: 
                           f"{label}'s peak, per case (rows), gust (columns) and gust angle (panels); Cl above, Cm "
                           "below; hatched: not marched; top colour with 'inf': the march failed.*\n")
         for case in dict.fromkeys(r.case for r in records):
-            worst = max((r for r in records if r.case == case and r.ok),
-                        key=lambda r: (r.amplitude_deg, r.ltd.get("error_Cl", -1.0)), default=None)
+            worst = max((r for r in records if r.case == case and r.ok and np.isfinite(r.ltd.get("error_Cl", np.nan))),
+                        key=lambda r: r.ltd["error_Cl"], default=None)
             if worst is None:
                 continue
-            path = fig_dir / f"linearity-{safe_name(case)}.png"
+            path = fig_dir / f"linearity-case-{safe_name(case)}.png"
             fig = linearity_history_plot(records, case, worst.gust,
-                                         title=f"{config.name}: {case}, gust {worst.gust} (largest Cl error of the "
-                                               f"LTD at {worst.amplitude_deg:g} deg)")
+                                         title=f"{config.name}: {case}, gust {worst.gust} (the largest Cl error of "
+                                               f"the LTD: {worst.ltd['error_Cl']:.2%} at {worst.amplitude_deg:g} deg)")
             atomic_savefig(fig, path, dpi=dpi)
             plt.close(fig)
             say(f"report {config.name}: {path.name}")
             blocks.append(f"![{case} {worst.gust} at every amplitude]({page_link(path, page_dir)})\n")
-            blocks.append(f"*{case}, gust {worst.gust}: the nonlinear Cl and Cm per radian of gust angle at each "
-                          f"angle, with the LTD and the ROM (linear: one line each). At {worst.amplitude_deg:g} deg "
-                          f"the LTD's history error is {worst.ltd.get('error_Cl', math.nan):.2%} in Cl and "
+            blocks.append(f"*{case}, gust {worst.gust} (the case's largest Cl history error of the LTD): the "
+                          "nonlinear Cl and Cm per unit gust input (divided by tan of the gust angle) at each angle "
+                          f"marched, with the LTD and the ROM (linear: one line each). At {worst.amplitude_deg:g} "
+                          f"deg the LTD's history error is {worst.ltd.get('error_Cl', math.nan):.2%} in Cl and "
                           f"{worst.ltd.get('error_Cm', math.nan):.2%} in Cm.*\n")
     blocks += limit_blocks
     blocks.append(f"**Every march** ([CSV]({page_link(out_dir / 'tables' / 'linearity.csv', page_dir)})):\n")

@@ -54,6 +54,7 @@ __all__ = [
     "parse_nonlinear",
     "describe",
     "march_amplitudes",
+    "gust_shapes",
     "march_end",
     "nonlinear_piece",
 ]
@@ -142,7 +143,7 @@ def _names(source, table, key, known, what) -> tuple:
 
 
 def parse_nonlinear(table: Any, source: Callable[[str, str], Exception], cases: tuple,
-                    gusts: tuple) -> NonlinearOptions:
+                    gusts: tuple, simulation=None) -> NonlinearOptions:
     """Validate the ``[nonlinear]`` table of a study file.
 
     Parameters
@@ -156,6 +157,8 @@ def parse_nonlinear(table: Any, source: Callable[[str, str], Exception], cases: 
         The study's cases.
     gusts : tuple of studies.cases.GustCase
         The study's gusts.
+    simulation : studies.schema.SimulationOptions, optional
+        The study's ``[simulation]``: a gust that has not left the trailing edge by its ``t_end`` is refused.
 
     Returns
     -------
@@ -193,6 +196,15 @@ def parse_nonlinear(table: Any, source: Callable[[str, str], Exception], cases: 
     opts = NonlinearOptions(cases=case_names, gusts=gust_names, amplitudes=tuple(amps), gust_angle=gust_angle,
                             max_angle=max_angle, tail=tail)
     by_name = {g.name: g for g in gusts}
+    if simulation is not None:
+        for i, name in enumerate(gust_names):
+            g = by_name[name]
+            passed = -simulation.x0 + (float(g.length) if g.kind == "one_minus_cosine" else 0.0) + 1.0
+            if passed > simulation.t_end:
+                where = f"nonlinear.gusts[{i}]" if "gusts" in table else "nonlinear"
+                raise source(where, f"gust {name} has not left the trailing edge at [simulation] t_end = "
+                                    f"{simulation.t_end:g} (it does at s = {passed:g} from x0 = {simulation.x0:g}): "
+                                    "raise t_end or leave the gust out of [nonlinear]")
     empty = [g for g in gust_names if not march_amplitudes(opts, by_name[g])]
     if empty and "gusts" not in table and len(empty) < len(gust_names):  # default: the gusts with an amplitude
         return replace(opts, gusts=tuple(g for g in gust_names if g not in empty))
@@ -203,12 +215,44 @@ def parse_nonlinear(table: Any, source: Callable[[str, str], Exception], cases: 
 
 
 def march_amplitudes(options: NonlinearOptions, gust) -> tuple:
-    """The gust angles (deg, increasing) marched for the study gust ``gust`` (a :class:`studies.cases.GustCase`):
-    the section's ``amplitudes``, and the gust's own angle when ``gust_angle`` and it is at most ``max_angle``."""
-    amps = set(options.amplitudes)
+    """The gust angles (deg) marched for the study gust ``gust`` (a :class:`studies.cases.GustCase`): the
+    section's ``amplitudes`` with the sign of the gust's angle, and the gust's own angle when ``gust_angle`` and
+    ``|angle|`` is at most ``max_angle``; by increasing magnitude."""
+    sign = -1.0 if gust.angle_deg < 0 else 1.0
+    amps = {sign * a for a in options.amplitudes}
     if options.gust_angle and abs(gust.angle_deg) <= options.max_angle:
-        amps.add(float(abs(gust.angle_deg)))
-    return tuple(sorted(amps))
+        amps.add(float(gust.angle_deg))
+    return tuple(sorted(amps, key=lambda a: (abs(a), a)))
+
+
+def gust_shapes(options: NonlinearOptions, gusts) -> list:
+    """The section's gusts grouped by shape: gusts of the same kind and length (G2 and G3 of the paper differ
+    only in angle) share their marches, which are keyed by shape and angle.
+
+    Parameters
+    ----------
+    options : NonlinearOptions
+    gusts : sequence of studies.cases.GustCase
+        The study's gusts.
+
+    Returns
+    -------
+    list of (str, GustCase, tuple of float)
+        ``(label, gust, angles)`` per shape, in the section's order: the label joins the names (``"G2/G3"``),
+        ``gust`` is the first of them (its LTD and ROM histories are the linear models of the shape), ``angles``
+        the union of their :func:`march_amplitudes`, by increasing magnitude.
+    """
+    by_name = {g.name: g for g in gusts}
+    groups: dict = {}
+    for name in options.gusts:
+        g = by_name[name]
+        groups.setdefault((g.kind, g.length), []).append(g)
+    out = []
+    for members in groups.values():
+        angles = {a for g in members for a in march_amplitudes(options, g)}
+        out.append(("/".join(g.name for g in members), members[0],
+                    tuple(sorted(angles, key=lambda a: (abs(a), a)))))
+    return out
 
 
 def march_end(options: NonlinearOptions, gust, simulation) -> float:

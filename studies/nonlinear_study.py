@@ -25,10 +25,10 @@ from typing import Optional
 
 import numpy as np
 
-from .nonlinear_schema import march_amplitudes, march_end, nonlinear_piece
+from .nonlinear_schema import gust_shapes, march_end, nonlinear_piece
 from .pieces import is_failed
 from .progress import piece_reporter, task_key
-from .tasks import compute_piece, load_steady_solution, needs_compute, piece_report, pinned_store
+from .tasks import compute_piece, load_steady_solution, piece_report, pinned_store
 
 __all__ = [
     "nonlinear_plan",
@@ -43,27 +43,38 @@ OUTPUTS = ("Cl", "Cm")
 
 
 def _marches(config):
-    """``(case, gust, amplitude)`` of every march of the section, in case, gust, amplitude order."""
+    """``(case, gust, amplitude, label)`` of every march of the section, in case, shape, angle order: one per
+    gust shape and angle (:func:`studies.nonlinear_schema.gust_shapes`; ``gust`` is the shape's first gust,
+    ``label`` names all of them)."""
     opts = config.nonlinear
-    gusts = {g.name: g for g in config.gusts}
+    shapes = gust_shapes(opts, config.gusts)
     out = []
     for name in opts.cases:
         case = config.case(name).case
-        for g in opts.gusts:
-            for a in march_amplitudes(opts, gusts[g]):
-                out.append((case, gusts[g], a))
+        for label, gust, angles in shapes:
+            out += [(case, gust, a, label) for a in angles]
     return out
 
 
 def nonlinear_plan(config, store, force: bool) -> dict:
-    """What the store lacks: case name -> list of ``(gust name, amplitude)`` (empty without the section)."""
+    """What the store lacks: case name -> list of ``(gust name, amplitude)`` (empty without the section).
+
+    A march stored as stopped by the solver (:func:`is_limit`: the flow left what the solver resolves, a result
+    rather than a transient failure) is not marched again unless ``force``."""
     if getattr(config, "nonlinear", None) is None:
         return {}
     plan: dict = {}
-    for case, gust, a in _marches(config):
-        if needs_compute(store, "nonlinear", nonlinear_piece(config, case, gust, a), force):
+    for case, gust, a, _ in _marches(config):
+        e = store.get("nonlinear", nonlinear_piece(config, case, gust, a))
+        if force or e is None or (is_failed(e) and not is_limit(e)):
             plan.setdefault(case.name, []).append((gust.name, a))
     return plan
+
+
+def is_limit(entry) -> bool:
+    """Whether a stored march stopped at the solver's limits (a step that did not converge, a local Mach number
+    beyond the limit, a non-physical state) or was skipped after a smaller angle of its gust stopped."""
+    return entry is not None and is_failed(entry) and bool(entry.metadata.get("limit"))
 
 
 def nonlinear_status(config, store) -> tuple:
@@ -71,12 +82,12 @@ def nonlinear_status(config, store) -> tuple:
     missing, failed = [], []
     if getattr(config, "nonlinear", None) is None:
         return missing, failed
-    for case, gust, a in _marches(config):
+    for case, gust, a, label in _marches(config):
         e = store.get("nonlinear", nonlinear_piece(config, case, gust, a))
         if e is None:
-            missing.append(f"nonlinear {case.name} {gust.name} {a:g} deg")
-        elif is_failed(e):
-            failed.append(f"nonlinear response of {case.name} to {gust.name} at {a:g} deg failed: "
+            missing.append(f"nonlinear {case.name} {label} {a:g} deg")
+        elif is_failed(e) and not is_limit(e):  # a march stopped at the solver's limits is a result (the report)
+            failed.append(f"nonlinear response of {case.name} to {label} at {a:g} deg failed: "
                           f"{e.metadata.get('error')}")
     return missing, failed
 
@@ -111,22 +122,45 @@ def _march(config, case, gust, amplitude, sol, progress=None):
     return arrays, meta
 
 
-def _reporter(case, gust, amplitude):
-    """``progress`` of ``cfd.unsteady_response`` for the task's line of the runner's progress output."""
+def _reporter(case, gust, amplitude, done: int, total: int):
+    """``progress`` of ``cfd.unsteady_response`` for the task's line of the runner's progress output (the bar: the
+    share of the task's angles done)."""
     rep = piece_reporter(task_key("nonlinear", f"{case.name} {gust.name}"))
     if rep is None:
         return None
 
     def progress(step, n_steps, t, iterations):
-        rep.update(f"{amplitude:g} deg: step {step}/{n_steps} (s = {t:.2f}, {iterations} iterations)",
-                   f"{amplitude:g} deg {step}/{n_steps}", step / max(n_steps, 1), force=step == n_steps)
+        frac = (done + step / max(n_steps, 1)) / max(total, 1)
+        rep.update(f"{amplitude:g} deg ({done + 1}/{total}): step {step}/{n_steps} (s = {t:.2f}, {iterations} "
+                   "iterations)", f"{amplitude:g} deg {step}/{n_steps}", frac, force=step == n_steps)
 
     return progress
 
 
-def nonlinear_task(config, case_name: str, gust_name: str, amplitudes: list, root: str, codes: dict) -> list:
+def _limit_payload(exc, skipped_after=None) -> tuple:
+    """``(arrays, metadata)`` of a march stopped by the solver (the history so far) or skipped after one."""
+    from .pieces import error_text
+
+    if skipped_after is not None:
+        return {}, dict(status="failed", limit=True, error=f"not marched: the {skipped_after:g} deg march of the "
+                                                            f"same gust stopped ({error_text(exc)[:300]})")
+    arrays = {}
+    h = getattr(exc, "partial", None)
+    if h is not None:
+        arrays = {"t": h.t, "cl": h.cl, "cm": h.cm, "cd": h.cd, "max_mach": h.max_mach}
+    return arrays, dict(status="failed", limit=True, error=error_text(exc),
+                        step=getattr(exc, "step", None), time=getattr(exc, "time", None))
+
+
+def nonlinear_task(config, case_name: str, gust_name: str, amplitudes: list, root: str, codes: dict,
+                   force: bool = False) -> list:
     """The nonlinear marches of one flow case and gust shape at ``amplitudes`` (its steady flow stored), one
-    ``nonlinear`` piece each.
+    ``nonlinear`` piece each, by increasing magnitude.
+
+    A march that the solver stops (``cfd.UnsteadyStepError``: a step that does not converge, a local Mach
+    number beyond the limit, a non-physical state) is stored with ``limit = True`` and its history so far, and
+    the larger angles of the same gust are stored as skipped (``limit = True``): neither is marched again
+    unless the run is forced. Another error is stored as an ordinary failure (retried by the next run).
 
     Parameters
     ----------
@@ -138,27 +172,45 @@ def nonlinear_task(config, case_name: str, gust_name: str, amplitudes: list, roo
         The store's folder.
     codes : dict
         Piece -> code version pinned by the main process.
+    force : bool
+        March even where a piece is stored (else a piece stored meanwhile, e.g. by another run, is kept).
 
     Returns
     -------
     list of dict
         One report per piece stored (as the other tasks).
     """
+    from cfd.unsteady import UnsteadyStepError
+
     store = pinned_store(root, codes)
     case = config.case(case_name).case
     gust = next(g for g in config.gusts if g.name == gust_name)
     state: dict = {}
     reports = []
-    for a in amplitudes:
-        def compute(a=a):
+    amps = sorted(amplitudes, key=lambda a: (abs(a), a))
+    n = int(round(march_end(config.nonlinear, gust, config.simulation) / config.simulation.dt))
+    for i, a in enumerate(amps):
+        key = nonlinear_piece(config, case, gust, a)
+        e = store.get("nonlinear", key)
+        if e is not None and not is_failed(e) and not force:
+            continue  # stored meanwhile (e.g. by another run)
+
+        def compute(a=a, i=i):
+            if "stopped" in state:
+                return _limit_payload(state["stopped"][1], skipped_after=state["stopped"][0])
             if "sol" not in state:
                 state["sol"] = load_steady_solution(store, case)
-            return _march(config, case, gust, a, state["sol"], _reporter(case, gust, a))
+            try:
+                return _march(config, case, gust, a, state["sol"], _reporter(case, gust, a, i, len(amps)))
+            except UnsteadyStepError as exc:
+                state["stopped"] = (a, exc)
+                return _limit_payload(exc)
 
-        entry, seconds = compute_piece(store, "nonlinear", nonlinear_piece(config, case, gust, a), compute)
-        n = int(round(march_end(config.nonlinear, gust, config.simulation) / config.simulation.dt))
-        reports.append(piece_report("nonlinear", f"nonlinear {case.name} {gust.name} {a:g} deg ({n} steps)", entry,
-                                    seconds))
+        entry, seconds = compute_piece(store, "nonlinear", key, compute)
+        report = piece_report("nonlinear", f"nonlinear {case.name} {gust.name} {a:g} deg ({n} steps)", entry, seconds)
+        if is_limit(entry):
+            report["status"] = "stopped"
+        reports.append(report)
     return reports
 
 
@@ -209,17 +261,22 @@ class LinearityRecord:
 
     Attributes
     ----------
-    case, gust : str
+    case : str
+    gust : str
+        The gusts of this shape (``"G2/G3"``: :func:`studies.nonlinear_schema.gust_shapes`).
     amplitude_deg : float
         The march's gust angle.
     gust_angle_deg : float
-        The study gust's own angle (the amplitude of its LTD and ROM histories).
+        The angle of the shape's first gust (the amplitude of the LTD and ROM histories compared).
     status : str
-        ``"ok"`` or ``"failed"``.
+        ``"ok"``; ``"stopped"``: the solver stopped the march (the flow left what it resolves: a local Mach
+        number beyond its limit, a non-physical state, a step that did not converge) or it was skipped after a
+        smaller angle of its gust stopped; ``"failed"``: any other error (retried by the next run).
     error : str or None
-        The solver's message of a failed march.
+        The solver's message of a march that did not end.
     t, cl, cm, cd : ndarray, shape (n + 1,)
-        Nonlinear history (perturbations at the march's amplitude); empty when failed.
+        Nonlinear history (perturbations at the march's amplitude); the part before the stop of a stopped march;
+        empty when skipped or failed.
     ltd : dict
         :func:`compare_histories` against the LTD (``ratio_Cl``, ``error_Cl``, ``ratio_Cm``, ``error_Cm``); empty
         when the LTD history is not stored.
@@ -290,14 +347,16 @@ def load_linearity(results) -> list:
         return []
     store = open_store(config)
     records = []
-    for case, gust, a in _marches(config):
+    for case, gust, a, label in _marches(config):
         e = store.get("nonlinear", nonlinear_piece(config, case, gust, a))
         if e is None:
             continue
-        base = dict(case=case.name, gust=gust.name, amplitude_deg=float(a), gust_angle_deg=float(gust.angle_deg))
+        base = dict(case=case.name, gust=label, amplitude_deg=float(a), gust_angle_deg=float(gust.angle_deg))
         if is_failed(e):
-            records.append(LinearityRecord(status="failed", error=str(e.metadata.get("error")),
-                                           metadata=dict(e.metadata), **base))
+            partial = {k: e[k] for k in ("t", "cl", "cm", "cd") if k in e.arrays}
+            records.append(LinearityRecord(status="stopped" if is_limit(e) else "failed",
+                                           error=str(e.metadata.get("error")), metadata=dict(e.metadata),
+                                           **partial, **base))
             continue
         scale = math.tan(math.radians(a)) / math.tan(math.radians(gust.angle_deg))
         nl = {"Cl": e["cl"], "Cm": e["cm"]}

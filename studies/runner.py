@@ -157,7 +157,8 @@ class _Progress:
         self.log.append(report)
         bad = report["status"] == "failed"
         self.failed += bad
-        tail = f" FAILED: {report['error']}" if bad else ""
+        tail = (f" FAILED: {report['error']}" if bad else
+                f" STOPPED (a result, not retried): {report['error']}" if report["status"] == "stopped" else "")
         self.say(f"{report['label']}: {report['seconds']:.2f} s ({self.done}/{self.total} pieces, {self.failed} failed)"
                  f"{tail}")
 
@@ -327,7 +328,7 @@ def _run(config: StudyConfig, pool, display: ProgressDisplay, force: bool, state
         for gust, a in nonlinear.get(name, ()):
             by_gust.setdefault(gust, []).append(a)
         for gust, amps in by_gust.items():
-            submit("nonlinear", name, nonlinear_task, config, name, gust, amps, root, codes,
+            submit("nonlinear", name, nonlinear_task, config, name, gust, amps, root, codes, force,
                    key=task_key("nonlinear", f"{name} {gust}"))
 
     for name, case_plan in plan.items():

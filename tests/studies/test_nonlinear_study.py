@@ -10,7 +10,7 @@ from tinystudy import STUDY, copy_study
 
 from studies.cases import GUST_CASES
 from studies.config import StudyConfigError, loads_study
-from studies.nonlinear_schema import describe, march_amplitudes, march_end
+from studies.nonlinear_schema import describe, march_amplitudes, march_end, nonlinear_piece
 from studies.nonlinear_study import compare_histories, load_linearity, nonlinear_plan
 from studies.pieces import open_store
 from studies.report import write_report
@@ -59,6 +59,32 @@ def test_amplitudes_and_the_gusts_own_angle_are_merged(tmp_path):
     assert "amplitudes 0.5, 1, 2 deg" in describe(nl)
 
 
+def test_gusts_of_one_shape_share_their_marches(tmp_path):
+    from studies.nonlinear_schema import gust_shapes
+    from studies.nonlinear_study import _marches
+
+    text = PAPER_GUSTS.replace('gusts = ["G1", "G3", "G4", "G6"]', 'gusts = ["G2", "G3"]')
+    cfg = study(tmp_path, '[nonlinear]\ncases = ["T2"]\namplitudes = [1, 2]\n', text)
+    ((label, gust, angles),) = gust_shapes(cfg.nonlinear, cfg.gusts)
+    assert (label, gust.name, angles) == ("G2/G3", "G2", (1.0, 2.0, 5.0))  # G2's 2 deg once, G3's 5 deg
+    assert [(m[1].name, m[2], m[3]) for m in _marches(cfg)] == [("G2", 1.0, "G2/G3"), ("G2", 2.0, "G2/G3"),
+                                                               ("G2", 5.0, "G2/G3")]
+
+
+def test_a_negative_gust_is_marched_with_its_sign(tmp_path):
+    text = PAPER_GUSTS.replace('gusts = ["G1", "G3", "G4", "G6"]',
+                               'gusts = [{ name = "down", kind = "one_minus_cosine", length = 2.0, angle_deg = -3.0 }]')
+    cfg = study(tmp_path, "[nonlinear]\namplitudes = [1]\n", text)
+    assert march_amplitudes(cfg.nonlinear, cfg.gusts[0]) == (-1.0, -3.0)
+
+
+def test_a_gust_still_on_the_aerofoil_at_t_end_is_refused(tmp_path):
+    text = PAPER_GUSTS.replace("t_end = 40.0", "t_end = 10.0")
+    with pytest.raises(StudyConfigError, match="G4 has not left the trailing edge at .* t_end = 10") as info:
+        study(tmp_path, '[nonlinear]\ngusts = ["G1", "G4"]\n', text)
+    assert info.value.key == "nonlinear.gusts[1]"
+
+
 @pytest.mark.parametrize("gust, end", [("G1", 2 + 0.5 + 1 + 8), ("G3", 2 + 1 + 1 + 8), ("G4", 2 + 10 + 1 + 8),
                                        ("G6", 2 + 1 + 16)])
 def test_march_ends_after_the_gust_has_left_the_trailing_edge(tmp_path, gust, end):
@@ -67,8 +93,8 @@ def test_march_ends_after_the_gust_has_left_the_trailing_edge(tmp_path, gust, en
 
 
 def test_march_end_is_capped_by_the_study_t_end(tmp_path):
-    cfg = study(tmp_path, "[nonlinear]\n", PAPER_GUSTS.replace("t_end = 40.0", "t_end = 10.0"))
-    assert march_end(cfg.nonlinear, GUST_CASES["G4"], cfg.simulation) == 10.0
+    cfg = study(tmp_path, "[nonlinear]\n", PAPER_GUSTS.replace("t_end = 40.0", "t_end = 15.0"))
+    assert march_end(cfg.nonlinear, GUST_CASES["G4"], cfg.simulation) == 15.0
 
 
 @pytest.mark.parametrize("section, key, match", [
@@ -142,6 +168,11 @@ def test_a_tiny_gust_follows_the_ltd_and_a_large_one_departs_from_it(marched):
     assert (small.amplitude_deg, large.amplitude_deg) == (0.01, 3.0) and small.ok and large.ok
     # G4 from x0 = -2 with tail 2: 2 + 10 + 1 + 2 = 15 chords, 150 steps of the LTD's dt
     assert small.t.size == 151 and small.t[-1] == pytest.approx(15.0)
+    # the same time grid and gust input as the LTD's (scaled to the angle): x0, dt and the gust agree
+    ltd = res.ltd[("T2", "G4")]
+    e = open_store(cfg).get("nonlinear", nonlinear_piece(cfg, cfg.cases[0].case, cfg.gusts[0], 0.01))
+    scale = math.tan(math.radians(0.01)) / math.tan(math.radians(cfg.gusts[0].angle_deg))
+    assert np.array_equal(small.t, ltd.t[:151]) and np.allclose(e["u"], scale * ltd.u[:151], rtol=1e-12, atol=0)
     # the LTD is the nonlinear scheme's derivative: at 0.01 deg (1.7e-4 rad) the difference is the second-order
     # term, ~1e-5 of the peak on subsonic cases (docs/nonlinear.md: 5e-6 on S1, 3e-5 on S0 with the far-field
     # switch at alpha = 0); 1e-3 leaves a decade and a half
@@ -163,7 +194,7 @@ def test_report_section_has_the_table_and_the_figures(marched, tmp_path):
     assert "## Where the linear models hold" in text
     assert "(case, gust) pairs stay within 1 % / 5 % / 10 %" in text
     assert (tmp_path / "rep" / "tables" / "linearity.csv").exists()
-    for name in ("linearity-map-ltd.png", "linearity-map-rom.png", "linearity-T2.png"):
+    for name in ("linearity-map-ltd.png", "linearity-map-rom.png", "linearity-case-T2.png"):
         assert (tmp_path / "rep" / "figures" / name).stat().st_size > 1000
     csv = (tmp_path / "rep" / "tables" / "linearity.csv").read_text().splitlines()
     assert len(csv) == 3 and csv[1].startswith("T2,G4,0.01")
@@ -174,16 +205,56 @@ def test_limits_are_the_largest_angle_within_each_level_and_the_slope_is_the_err
     from studies.nonlinear_study import LinearityRecord
 
     amps = [0.5, 1.0, 2.0, 5.0]
-    # LTD error 0.004 a^2 (third-order term: slope 2): 0.1 %, 0.4 %, 1.6 %, 10 %
+    # LTD error 0.0039 a^2 (third-order term: slope 2): 0.1 %, 0.39 %, 1.6 %, 9.75 %
     recs = [LinearityRecord(case="T1", gust="G1", amplitude_deg=a, gust_angle_deg=2.0, status="ok",
-                            ltd={"error_Cl": 0.004 * a ** 2}, roms={"r": {"error_Cl": 0.02 + 0.001 * a}})
+                            ltd={"error_Cl": 0.0039 * a ** 2}, roms={"r": {"error_Cl": 0.02 + 0.001 * a}})
             for a in amps]
     # a failed march ends the run of angles
     recs += [LinearityRecord(case="T1", gust="G6", amplitude_deg=a, gust_angle_deg=45.0, status="ok" if a < 2 else
-                             "failed", ltd={"error_Cl": 1e-3} if a < 2 else {}) for a in amps]
-    (g1, g6) = linearity_limits(recs, "ltd", "Cl")
+                             "stopped", ltd={"error_Cl": 1e-3} if a < 2 else {}) for a in amps]
+    # no linear model stored: NaN, not 0
+    recs += [LinearityRecord(case="T2", gust="G1", amplitude_deg=a, gust_angle_deg=2.0, status="ok") for a in amps]
+    (g1, g6, none) = linearity_limits(recs, "ltd", "Cl")
     assert (g1["within_1"], g1["within_5"], g1["within_10"]) == (1.0, 2.0, 5.0)
     assert g1["slope"] == pytest.approx(2.0, abs=1e-12)
     assert (g6["within_1"], g6["within_10"]) == (1.0, 1.0) and g6["slope"] == pytest.approx(0.0, abs=1e-12)
-    (rom, _) = linearity_limits(recs, "rom", "Cl")
+    assert math.isnan(none["within_1"]) and math.isnan(none["slope"])
+    (rom, _, _) = linearity_limits(recs, "rom", "Cl")
     assert (rom["within_1"], rom["within_5"]) == (0.0, 5.0)
+
+
+def test_a_march_the_solver_stops_is_kept_and_the_larger_angles_are_skipped(marched, tmp_path, monkeypatch):
+    """A march stopped by the solver (here: a LocalMachError injected at 3 deg) is a result: stored with its
+    history so far, the larger angles of the gust skipped, not in ``results.failed``, not marched again."""
+    import cfd
+    from cfd.errors import LocalMachError
+
+    cfg, _ = marched
+    from tinystudy import copy_study
+
+    cfg2 = copy_study(cfg, tmp_path)
+    cfg2 = replace(cfg2, nonlinear=replace(cfg2.nonlinear, amplitudes=(0.01, 2.0, 4.0)))
+    real = cfd.unsteady_response
+    calls = []
+
+    def stop_at_two(sol, gust, dt, t_end, **kw):
+        calls.append(gust.angle_deg)
+        if gust.angle_deg < 1.0:
+            return real(sol, gust, dt, t_end, **kw)
+        partial = real(sol, gust, dt, 2.0, **kw)
+        raise LocalMachError(f"local Mach number above the limit at step 20 (gust {gust.angle_deg} deg)",
+                             partial=partial, step=20, time=2.0, amplitude_deg=gust.angle_deg)
+
+    monkeypatch.setattr(cfd, "unsteady_response", stop_at_two)
+    res = run_study(cfg2, progress="lines")
+    assert calls == [2.0]  # 0.01 deg is stored; 4 deg is skipped after 2 deg stopped
+    assert res.failed == [] and res.complete
+    recs = {r.amplitude_deg: r for r in load_linearity(res)}
+    assert recs[0.01].ok and recs[2.0].status == recs[4.0].status == "stopped"
+    assert recs[2.0].t.size == 21 and "local Mach number" in recs[2.0].error  # s = 0 .. 2 at dt = 0.1
+    assert recs[4.0].t.size == 0 and "not marched: the 2 deg march of the same gust stopped" in recs[4.0].error
+    assert nonlinear_plan(cfg2, open_store(cfg2), False) == {}
+    assert run_study(cfg2, progress=False).run.computed == 0
+    page = write_report(res, tmp_path / "rep", page=tmp_path / "rep" / "page.md").read_text()
+    assert "2 march(es) stopped or failed" in page and "(2 stopped or failed)" not in page
+    assert "2 deg: " in page and "(1 stopped or failed)" in page
