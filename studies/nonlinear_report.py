@@ -214,7 +214,8 @@ def linearity_limits(records, model: str, output: str) -> list:
         row = dict(case=case, gust=gust)
         errors = [(r.ltd if model == "ltd" else r.rom()).get(f"error_{output}", math.nan) if r.ok else math.inf
                   for r in rs]
-        absent = all(math.isnan(e) for e in errors if not math.isinf(e))  # no linear model to judge
+        judged = [e for e in errors if not math.isinf(e)]
+        absent = bool(judged) and all(math.isnan(e) for e in judged)  # marches, but no linear model to judge
         for t in THRESHOLDS:
             best = math.nan if absent else 0.0
             for r, e in zip(rs, errors):
@@ -364,7 +365,8 @@ def nonlinear_section(results, out_dir, page_dir, *, figures: bool = True, dpi: 
             limit_blocks.append(f"*{label}, {output}:*\n")
             limit_blocks.append(format_table(lim, columns, "markdown"))
     rows = linearity_rows(records)
-    write_tables(rows, out_dir / "tables" / "linearity", LINEARITY_COLUMNS, caption=f"{config.name}: linearity",
+    columns = [c for c in LINEARITY_COLUMNS if any(c.key in r for r in rows)]  # no ROM columns without ROMs
+    write_tables(rows, out_dir / "tables" / "linearity", columns, caption=f"{config.name}: linearity",
                  label=f"tab:{config.name}-linearity")
     if figures:
         fig_dir = out_dir / "figures"
@@ -404,5 +406,5 @@ def nonlinear_section(results, out_dir, page_dir, *, figures: bool = True, dpi: 
                           f"{worst.ltd.get('error_Cm', math.nan):.2%} in Cm.*\n")
     blocks += limit_blocks
     blocks.append(f"**Every march** ([CSV]({page_link(out_dir / 'tables' / 'linearity.csv', page_dir)})):\n")
-    blocks.append(format_table(rows, LINEARITY_COLUMNS, "markdown"))
+    blocks.append(format_table(rows, columns, "markdown"))
     return "\n".join(blocks)

@@ -219,6 +219,10 @@ def test_limits_are_the_largest_angle_within_each_level_and_the_slope_is_the_err
     assert g1["slope"] == pytest.approx(2.0, abs=1e-12)
     assert (g6["within_1"], g6["within_10"]) == (1.0, 1.0) and g6["slope"] == pytest.approx(0.0, abs=1e-12)
     assert math.isnan(none["within_1"]) and math.isnan(none["slope"])
+    # every march stopped: 0 (not even the smallest angle), not "no model"
+    stopped = [LinearityRecord(case="T3", gust="G1", amplitude_deg=a, gust_angle_deg=2.0, status="stopped")
+               for a in amps]
+    assert linearity_limits(stopped, "ltd", "Cl")[0]["within_10"] == 0.0
     (rom, _, _) = linearity_limits(recs, "rom", "Cl")
     assert (rom["within_1"], rom["within_5"]) == (0.0, 5.0)
 
