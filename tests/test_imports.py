@@ -10,8 +10,11 @@ from pathlib import Path
 
 import pytest
 
-KNOWN = ()
-"""Known exceptions (module prefixes), each to be removed with its module's next edit; none now."""
+KNOWN = ("bench.nonlinear_stall",)
+"""Known exceptions (module prefixes), each to be removed with its module's next edit. ``bench.nonlinear_stall``
+instruments ``cfd.unsteady._March.step`` to print the cells that hold the residual of a failed step (a diagnostic;
+changing ``cfd`` would recompute every stored result): it goes when ``cfd.UnsteadyStepError`` reports those cells
+itself."""
 
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGES = ("cfd", "sysid", "studies", "aeroelastic", "bench")
