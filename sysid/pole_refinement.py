@@ -23,8 +23,7 @@ def stable_params(poles: np.ndarray, floor=None) -> np.ndarray:
             out.append(a.imag)
             i += 2
         else:
-            f = float(floor_at(np.array([0.0]), floor)[0][0])
-            out.append(np.log(max(-a.real - f, 1e-9 * -a.real)))
+            out.append(np.log(-a.real))
             i += 1
     return np.array(out)
 
@@ -56,7 +55,7 @@ def params_to_poles(x: np.ndarray, template: np.ndarray, floor=None) -> np.ndarr
     u = np.exp(x[pos])
     im = np.where(pair, np.abs(x[np.minimum(pos + 1, x.size - 1)]), 0.0)
     im = np.where(pair & (im == 0), 1e-300, im)
-    a = -(u + floor_at(im, floor)[0]) + 1j * im
+    a = -(u + np.where(pair, floor_at(im, floor)[0], 0.0)) + 1j * im
     out = np.empty(template.size, dtype=complex)
     out[idx] = a
     out[idx[pair] + 1] = np.conj(a[pair])
@@ -118,7 +117,7 @@ def _bad_step(P, K, dc, x, n_coef):
 
 
 def refine_poles(s, H, poles, *, weights=None, dc=None, ft=None, max_nfev: int = 60, region=None,
-                 ridge_weight: float = 1e-4, ftol: float = 1e-12, info=None):
+                 ridge_weight: float = 1e-4):
     """Gauss-Newton refinement of stable poles by variable projection.
 
     Minimises over the poles ``sum_c ||W_c (f_c(s_k) - H_c(s_k))||^2 + mu^2 sum_c (f_c(0) - dc_c)^2``, where
@@ -145,10 +144,6 @@ def refine_poles(s, H, poles, *, weights=None, dc=None, ft=None, max_nfev: int =
         Cap on residual evaluations.
     region : (float, float, float), optional
         ``(centre, radius, smax)`` as in :func:`relocate_poles`; the result is projected into it.
-    ftol : float
-        Stop once a step lowers the objective by less than ``ftol`` times its value (SciPy's ``ftol``).
-    info : dict, optional
-        Receives ``nfev`` and SciPy's ``status`` (0: stopped at ``max_nfev``).
     ridge_weight : float
         Tikhonov term ``ridge_weight * ||phi_l|| * theta_cl`` per coefficient (column norms at the start),
         which keeps poles from merging with huge cancelling residues.
@@ -242,12 +237,10 @@ def refine_poles(s, H, poles, *, weights=None, dc=None, ft=None, max_nfev: int =
         warnings.simplefilter("ignore")
         try:
             sol = least_squares(lambda x: evaluate(x)[0], x0, jac=lambda x: evaluate(x)[1], method="trf",
-                                x_scale="jac", max_nfev=max_nfev, xtol=1e-12, ftol=ftol, gtol=1e-12,
+                                x_scale="jac", max_nfev=max_nfev, xtol=1e-12, ftol=1e-12, gtol=1e-12,
                                 bounds=bounds)
         except (np.linalg.LinAlgError, ValueError):
             return poles
-    if info is not None:
-        info.update(nfev=sol.nfev, status=sol.status)
     if not np.all(np.isfinite(sol.x)) or not np.sum(sol.fun ** 2) < np.sum(f0 ** 2):
         return poles
     scale = float(np.abs(s[np.isfinite(s)]).max()) if np.isfinite(s).any() else 1.0

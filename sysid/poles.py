@@ -87,18 +87,15 @@ def resolution_floor(omega: np.ndarray, resolution: float = RESOLUTION) -> tuple
 
 
 def floor_at(im: np.ndarray, floor) -> tuple[np.ndarray, np.ndarray]:
-    """Value and slope of the :func:`resolution_floor` ``(xp, fp)`` at ``|im|`` (0 for real poles, unless
-    the floor is given as ``(xp, fp, True)``: then real poles get its value at ``im = 0``)."""
+    """Value and slope of the :func:`resolution_floor` ``(xp, fp)`` at ``|im|`` (0 for real poles)."""
     im = np.abs(np.asarray(im, dtype=float))
     if floor is None:
         return np.zeros_like(im), np.zeros_like(im)
-    xp, fp = floor[:2]
+    xp, fp = floor
     val = np.interp(im, xp, fp)
     slopes = np.diff(fp) / np.diff(xp)
     seg = np.clip(np.searchsorted(xp, im, side="right") - 1, 0, slopes.size - 1)
     slope = np.where((im > xp[0]) & (im < xp[-1]), slopes[seg], 0.0)
-    if len(floor) > 2 and floor[2]:  # real poles too (at the floor's value for omega -> 0)
-        return val, np.where(im > 0, slope, 0.0)
     return np.where(im > 0, val, 0.0), np.where(im > 0, slope, 0.0)
 
 
@@ -114,8 +111,7 @@ def pair_poles(lam: np.ndarray, scale: float, region=None) -> np.ndarray:
     re = lam.real.copy()
     re = np.where(re >= -MIN_DAMPING * scale, -np.maximum(np.abs(re), MIN_DAMPING * scale), re)
     if region is not None and len(region) > 3:
-        floored = (np.abs(lam.imag) > tol) | (len(region[3]) > 2 and bool(region[3][2]))  # (real poles too)
-        re = np.where(floored, np.minimum(re, -floor_at(lam.imag, region[3])[0]), re)
+        re = np.where(np.abs(lam.imag) > tol, np.minimum(re, -floor_at(lam.imag, region[3])[0]), re)
     lam = re + 1j * lam.imag
     if region is not None:  # (centre, radius, smax[, floor])
         c0, r0, smax = region[:3]

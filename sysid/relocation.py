@@ -68,8 +68,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .candidates import (POLISH_FROM, _equalities_hold, bound_candidate_gaps, candidate_eig, candidate_score,
-                         channel_errors, check_equalities, gap_excess, pick_candidates, polish_equalities)
+from .candidates import (POLISH_FROM, bound_candidate_gaps, candidate_eig, candidate_score, channel_errors,
+                         check_equalities, gap_excess, pick_candidates, polish_equalities)
 from .errors import FrequencyDataError, OrderError
 from .pole_refinement import refine_poles
 from .poles import (RESOLUTION, discrete_basis, initial_poles, input_normal, modal_realisation,
@@ -153,56 +153,9 @@ class RelocationResult:
         return float(np.max(self.max_error_per_output))
 
 
-#: Gauss-Newton evaluations of each refinement run (every start, its Lawson candidate, the IRLS rounds).
-_GN_NFEV = 25
-#: Continuation of the picked refined candidate (:func:`_continue_winner`): evaluations per round, most
-#: rounds, and the relative decrease of the objective below which a round stops (SciPy's ``ftol``).
-_GN_CONTINUE = 25
-_GN_ROUNDS = 3
-_GN_CONT_FTOL = 1e-4
-
-
-def _continue_winner(cands, args, passes):
-    """Continue the Gauss-Newton refinement of the picked candidate ``cands[0]`` (a ``+gn`` one).
-
-    Every refinement run stops at ``_GN_NFEV`` evaluations, which at ``N_r >= 25`` is short of a minimum
-    (the objective still falls by percents per step); the runs serve to rank the starts. The one the pick
-    chose is continued in rounds of ``_GN_CONTINUE`` evaluations (at most ``_GN_ROUNDS``; a round ends early once
-    a step lowers the objective by less than ``_GN_CONT_FTOL`` of it, and then no further round runs), in the
-    pass it came from (same region, floor and residue stages). Each round's result replaces the pick only
-    when it is admissible (equalities, gap bounds) and at least as accurate on every output, so the
-    continuation never makes the identification worse; the next round starts from it.
-
-    In a pass with the :func:`resolution_floor`, the continuation applies it to the real poles too (their
-    damping at least the floor at ``omega -> 0``, ``resolution`` times the first sample spacing): run longer,
-    the least-squares refinement otherwise drifts real poles below the first nonzero sample frequency, where
-    the samples cannot place them, in nearly coincident pairs with cancelling residues (T5 at ``N_r = 55``: two at
-    ``s = -1.1e-4`` and ``-9.0e-5``, the first sample at ``1.1e-3``; the model's gain 3.5e6 times the gap
-    bound between the samples, and the bounded minimax residues failed).
-    """
-    for _ in range(_GN_ROUNDS):
-        best = cands[0]
-        kw = dict(passes[best["pass"]])
-        if len(kw["region"]) > 3:
-            kw["region"] = kw["region"][:3] + (tuple(kw["region"][3][:2]) + (True,),)
-        new = _fit_simo(*args, cont=best, **kw)
-        if not new:
-            break
-        c = new[0]
-        c["pass"] = best["pass"]
-        c["admissible"] = _equalities_hold(c) and c["gap"] <= 1.0 + 1e-6
-        if not (c["admissible"] and np.all(c["err"] <= best["err"])):
-            cands.append(c)
-            break
-        cands = [c] + cands
-        if c.get("converged"):
-            break
-    return cands
-
-
 # --------------------------------------------------------------------------------------------- pipeline
 def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson, refine, minimax, budget, region,
-              minimax_rounds=0, bound_gaps=False, minimax_within=None, cont=None):
+              minimax_rounds=0, bound_gaps=False, minimax_within=None):
     """One-input fit: poles relocated on all outputs, residues by convex fits. Returns the candidates (dicts
     with ``err``, ``eq`` and ``gap``, see :func:`pick_candidates`); with ``bound_gaps`` the leading ones that
     break the :func:`gap_bounds` get bounded minimax residues (:func:`sysid.candidates.bound_candidate_gaps`)."""
@@ -237,21 +190,10 @@ def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson,
 
     def refine_from(c):
         pr = refine_poles(s, Hn, c["poles"], weights=Wf, dc=None if dc is None else dc[:, 0] / peak,
-                          ft=None if ft is None else ft[:, 0] / peak, max_nfev=_GN_NFEV, region=region)
+                          ft=None if ft is None else ft[:, 0] / peak, max_nfev=25, region=region)
         if pr is not c["poles"]:
             finish(c["label"] + "+gn", pr, c["its"], refined=True)
 
-    if cont is not None:  # only the continued refinement of candidate ``cont`` (see _continue_winner)
-        info = {}
-        pr = refine_poles(s, Hn, cont["poles"], weights=Wf, dc=None if dc is None else dc[:, 0] / peak,
-                          ft=None if ft is None else ft[:, 0] / peak, max_nfev=_GN_CONTINUE, ftol=_GN_CONT_FTOL,
-                          region=region, info=info)
-        if pr is cont["poles"]:
-            return []
-        converged = info.get("status", 0) != 0
-        finish(cont["label"] if cont["label"].endswith("+") else cont["label"] + "+", pr, cont["its"], refined=True)
-        cands[-1]["converged"] = converged
-        starts, refine, lawson, minimax_rounds = [], 0, 0, 0
     # 1. relocation from every start
     for label, p0 in starts:
         if p0 is None or p0.size != n:
@@ -299,7 +241,7 @@ def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson,
                 Wl[i] = Wl[i] * e / max(float(e.mean()), np.finfo(float).tiny)
             Wl = Wl / Wl.mean()
             pr = refine_poles(s, Hn, pl, weights=Wl, dc=None if dc is None else dc[:, 0] / peak,
-                              ft=None if ft is None else ft[:, 0] / peak, max_nfev=_GN_NFEV, region=region)
+                              ft=None if ft is None else ft[:, 0] / peak, max_nfev=25, region=region)
             if pr is pl:
                 break
             pl = pr
@@ -484,22 +426,13 @@ def _fit_relocated(omega, z, G, T, order, *, dc_gain, feedthrough, weights, star
                   minimax=minimax, minimax_rounds=minimax_rounds, budget=np.inf if budget is None else budget / m)
         # free poles first; where the best fit breaks the gap bounds (a resonance the samples do not see), the
         # poles again with the resolution floor and bounded residues, and the best admissible of both
-        free = _fit_simo(*args, region=region, **kw)
-        passes = [dict(kw, region=region)]
-        for c in free:
-            c["pass"] = 0
-        cands = pick_candidates(free)
+        cands = pick_candidates(_fit_simo(*args, region=region, **kw))
         if min(cands, key=lambda c: candidate_score(c["err"]))["gap"] > 1.0 + 1e-6 and resolution > 0:
             # (fewer refinements, and minimax residues only from the bounded fits: the second pass costs about
             # half the first)
             kw.update(refine=min(kw["refine"], 2), minimax=0)
-            passes.append(dict(kw, region=region + (resolution_floor(omega, resolution),), bound_gaps=True))
-            floored = _fit_simo(*args, **passes[1])
-            for c in floored:
-                c["pass"] = 1
+            floored = _fit_simo(*args, region=region + (resolution_floor(omega, resolution),), bound_gaps=True, **kw)
             cands = pick_candidates(cands + floored, trust=_TRUST_FACTOR)
-        if _GN_ROUNDS and cands[0]["refined"] and cands[0]["admissible"]:
-            cands = _continue_winner(cands, args, passes)
         blocks.append(cands)
     import scipy.linalg
 
