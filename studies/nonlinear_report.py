@@ -87,6 +87,12 @@ def _notes(record) -> str:
     return "; ".join(dict.fromkeys(notes))
 
 
+def _history_error(record, model: str, output: str) -> float:
+    """The history error of ``model`` ("ltd" or "rom": the case's closest ROM) in ``output``; NaN if absent."""
+    measures = record.ltd if model == "ltd" else record.rom()
+    return float(measures.get(f"error_{output}", math.nan))
+
+
 def linearity_grid(records, model: str, output: str) -> tuple:
     """The history errors as arrays for the heat maps.
 
@@ -113,8 +119,7 @@ def linearity_grid(records, model: str, output: str) -> tuple:
         if not r.ok:
             v[i, j, k] = np.inf
             continue
-        measures = r.ltd if model == "ltd" else r.rom()
-        v[i, j, k] = measures.get(f"error_{output}", np.nan)
+        v[i, j, k] = _history_error(r, model, output)
     return cases, gusts, amps, v
 
 
@@ -212,7 +217,7 @@ def linearity_limits(records, model: str, output: str) -> list:
     for case, gust in pairs:
         rs = sorted((r for r in records if (r.case, r.gust) == (case, gust)), key=lambda r: r.amplitude_deg)
         row = dict(case=case, gust=gust)
-        errors = [(r.ltd if model == "ltd" else r.rom()).get(f"error_{output}", math.nan) if r.ok else math.inf
+        errors = [_history_error(r, model, output) if r.ok else math.inf
                   for r in rs]
         judged = [e for e in errors if not math.isinf(e)]
         absent = bool(judged) and all(math.isnan(e) for e in judged)  # marches, but no linear model to judge
@@ -223,7 +228,7 @@ def linearity_limits(records, model: str, output: str) -> list:
                     break
                 best = r.amplitude_deg
             row[f"within_{round(100 * t)}"] = best
-        pts = [(r.amplitude_deg, (r.ltd if model == "ltd" else r.rom()).get(f"error_{output}", math.nan))
+        pts = [(r.amplitude_deg, _history_error(r, model, output))
                for r in rs if r.ok]
         pts = [(a, e) for a, e in pts if np.isfinite(e) and e > 0]
         row["slope"] = (float(np.polyfit(np.log([a for a, _ in pts]), np.log([e for _, e in pts]), 1)[0])
@@ -246,7 +251,7 @@ LIMIT_COLUMNS = (
 def _count_line(records, model: str, output: str) -> str:
     parts = []
     for a in sorted({r.amplitude_deg for r in records}):
-        errs = [(r.ltd if model == "ltd" else r.rom()).get(f"error_{output}", math.nan)
+        errs = [_history_error(r, model, output)
                 for r in records if r.amplitude_deg == a and r.ok]
         errs = [e for e in errs if np.isfinite(e)]
         n_all = sum(r.amplitude_deg == a for r in records)
