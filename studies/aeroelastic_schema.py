@@ -45,13 +45,13 @@ piece is stored as such and computed again by the next run.
 
 from __future__ import annotations
 
-import difflib
 import math
 from dataclasses import dataclass
 from typing import Any, Callable, Optional
 
 import numpy as np
 
+from .config_reader import did_you_mean
 from .numbers import normalise_float, parse_number
 from .schema import case_canonical
 
@@ -186,21 +186,17 @@ def _error(source, key, problem):
     return source(key, problem)
 
 
-def _suggest(word, options) -> str:
-    if not isinstance(word, str):
-        return ""
-    low = {o.lower(): o for o in options}
-    if word.lower() in low:
-        return f" (did you mean {low[word.lower()]!r}?)"
-    close = difflib.get_close_matches(word, list(options), n=1, cutoff=0.6)
-    return f" (did you mean {close[0]!r}?)" if close else ""
-
-
 def _check_keys(source, table, allowed, prefix):
     for k in table:
         if k not in allowed:
-            raise _error(source, f"{prefix}.{k}", f"unknown key{_suggest(k, allowed)}; allowed here: "
+            raise _error(source, f"{prefix}.{k}", f"unknown key{_did_you_mean(k, allowed)}; allowed here: "
                                                    f"{', '.join(allowed)}")
+
+
+
+def _did_you_mean(word, options) -> str:
+    """:func:`studies.config_reader.did_you_mean` for a name from the file (not always a string)."""
+    return did_you_mean(word, options) if isinstance(word, str) else ""
 
 
 def _number(source, value, key, *, positive=False) -> float:
@@ -292,7 +288,7 @@ def parse_aeroelastic(table: Any, source: Callable[[str, str], Exception], cases
         match = [n for n in names if isinstance(w, str) and n.casefold() == w.casefold()]
         if not match:
             raise _error(source, f"aeroelastic.cases[{i}]",
-                         f"{w!r} is not a case of this study{_suggest(w, names)}; its cases: {', '.join(names)}")
+                         f"{w!r} is not a case of this study{_did_you_mean(w, names)}; its cases: {', '.join(names)}")
         if match[0] in chosen:
             raise _error(source, f"aeroelastic.cases[{i}]", f"case {match[0]!r} appears twice")
         chosen.append(match[0])

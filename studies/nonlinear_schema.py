@@ -38,11 +38,11 @@ stored as a failure with the solver's message, which the report shows: the linea
 
 from __future__ import annotations
 
-import difflib
 import math
 from dataclasses import dataclass, replace
 from typing import Any, Callable
 
+from .config_reader import did_you_mean
 from .numbers import normalise_float, parse_number
 
 __all__ = [
@@ -105,11 +105,10 @@ class NonlinearOptions:
                     gust_angle=self.gust_angle, max_angle=self.max_angle, tail=self.tail)
 
 
-def _suggest(word, options) -> str:
-    if not isinstance(word, str):
-        return ""
-    close = difflib.get_close_matches(word, list(options), n=1, cutoff=0.6)
-    return f" (did you mean {close[0]!r}?)" if close else ""
+
+def _did_you_mean(word, options) -> str:
+    """:func:`studies.config_reader.did_you_mean` for a name from the file (not always a string)."""
+    return did_you_mean(word, options) if isinstance(word, str) else ""
 
 
 def _number(source, value, key, *, lo=None, hi=None) -> float:
@@ -134,7 +133,7 @@ def _names(source, table, key, known, what) -> tuple:
     for i, w in enumerate(wanted):
         match = [n for n in known if isinstance(w, str) and n.casefold() == w.casefold()]
         if not match:
-            raise source(f"nonlinear.{key}[{i}]", f"{w!r} is not a {what} of this study{_suggest(w, known)}; "
+            raise source(f"nonlinear.{key}[{i}]", f"{w!r} is not a {what} of this study{_did_you_mean(w, known)}; "
                                                   f"its {what}s: {', '.join(known) or 'none'}")
         if match[0] in chosen:
             raise source(f"nonlinear.{key}[{i}]", f"{what} {match[0]!r} appears twice")
@@ -173,7 +172,7 @@ def parse_nonlinear(table: Any, source: Callable[[str, str], Exception], cases: 
         raise source("nonlinear", f"must be a table, got {type(table).__name__} {table!r}")
     for k in table:
         if k not in NONLINEAR_KEYS:
-            raise source(f"nonlinear.{k}", f"unknown key{_suggest(k, NONLINEAR_KEYS)}; allowed here: "
+            raise source(f"nonlinear.{k}", f"unknown key{_did_you_mean(k, NONLINEAR_KEYS)}; allowed here: "
                                            f"{', '.join(NONLINEAR_KEYS)}")
     if not gusts:
         raise source("nonlinear", "the study has no gusts: add gusts = [...] (the nonlinear march needs a gust)")
