@@ -2,7 +2,7 @@
 
 The residual (``cfd.euler``) works on the state padded with two ghost layers on each side; this module
 fills them. Everything is complex-safe for complex-step differentiation: ``abs`` is ``x sign(Re x)``,
-and the branch choices (inflow or outflow) are made on real parts.
+and the branch choices (``cabs``, ``cmax``) are made on real parts; the far field's upwind choice is a smooth blend.
 
 Layout: states here are component-first, ``(..., 4, n)`` or ``(..., 4, ni-1, nj-1)``.
 
@@ -19,14 +19,15 @@ Far field (``j = nj-1`` and the two outflow ends ``i = 0``, ``i = ni-1``)
     Riemann invariants along the outward face normal ``n``: ``R+ = u.n + 2c/(gamma-1)`` from the interior
     cell, ``R- = u_inf.n - 2c_inf/(gamma-1)`` from the free stream; tangential velocity and entropy
     ``p / rho^gamma`` from the free stream where the relative normal velocity ``(u - w).n`` points in,
-    from the interior where it points out. Both ghost layers get this boundary state. With
+    from the interior where it points out, blended smoothly across ``|(u - w).n| < 0.05 c_inf``
+    (``outflow_weight``: a hard switch stalls Newton's method where the normal velocity crosses zero). Both ghost layers get this boundary state. With
     ``vortex=True`` the free stream seen by the far field includes the compressible point vortex of
     Thomas & Salas (AIAA J. 24(7), 1986) at the quarter chord with circulation ``Gamma = U c Cl / 2``.
 """
 
 import numpy as np
 
-__all__ = ["cabs", "cmax", "wall_pressure", "farfield_state", "wall_mirror", "vortex_free_stream"]
+__all__ = ["cabs", "cmax", "wall_pressure", "farfield_state", "outflow_weight", "FARFIELD_BLEND", "wall_mirror", "vortex_free_stream"]
 
 
 def cabs(x):
@@ -107,6 +108,36 @@ def vortex_free_stream(xf, yf, flow, cl):
     return rho, u, v, rho * c2 / g
 
 
+FARFIELD_BLEND = 0.05
+"""Width of the far field's inflow/outflow blend, as a fraction of the free-stream speed of sound."""
+
+
+def outflow_weight(qn, c_free):
+    """Smooth upwind weight of the interior state at a far-field face: ``(1 + tanh(qn / (FARFIELD_BLEND c)))/2``.
+
+    A hard switch on the sign of ``qn`` makes the residual non-differentiable wherever the relative normal
+    velocity of a far-field face passes through zero - on the far-field lines nearly parallel to the free
+    stream and at the corners where they meet the downstream boundary - and Newton's method cycles there
+    instead of converging (an unsteady step stalled at ``|F| ~ 1e-6 .. 1e-5``, all of it in those cells). The
+    blend is the far-field counterpart of Harten's entropy fix: the upwind choice is smoothed over a band of
+    normal velocities small against the speed of sound, where the interior and the free-stream states it
+    chooses between differ only by the far field's small disturbance.
+
+    Parameters
+    ----------
+    qn : ndarray, shape (..., n)
+        Relative normal velocity ``(u - w).n`` of the boundary state (outward normal), complex allowed.
+    c_free : ndarray or float
+        Free-stream speed of sound (same units).
+
+    Returns
+    -------
+    ndarray, shape (..., n)
+        Weight in (0, 1): 1 for outflow, 0 for inflow, 1/2 at ``qn = 0``.
+    """
+    return 0.5 * (1.0 + np.tanh(qn / (FARFIELD_BLEND * c_free)))
+
+
 def farfield_state(rho, u, v, p, nx, ny, free, wn=0.0, gamma=1.4):
     """Characteristic (Riemann-invariant) far-field state.
 
@@ -136,11 +167,12 @@ def farfield_state(rho, u, v, p, nx, ny, free, wn=0.0, gamma=1.4):
     rm = qnf - 2.0 * cf / (g - 1.0)
     qn = 0.5 * (rp + rm)
     c = 0.25 * (g - 1.0) * (rp - rm)
-    out = (qn - wn).real > 0.0
-    # Tangential velocity and entropy from upstream of the face.
-    ut = np.where(out, u - qni * nx, uf - qnf * nx)
-    vt = np.where(out, v - qni * ny, vf - qnf * ny)
-    s = np.where(out, p / rho**g, pf / rf**g)
+    # Tangential velocity and entropy from upstream of the face: weight 1 on the interior where the relative
+    # normal velocity points out, 0 where it points in, blended smoothly across |qn - wn| < FARFIELD_BLEND c_inf.
+    w = outflow_weight(qn - wn, cf)
+    ut = w * (u - qni * nx) + (1.0 - w) * (uf - qnf * nx)
+    vt = w * (v - qni * ny) + (1.0 - w) * (vf - qnf * ny)
+    s = w * (p / rho**g) + (1.0 - w) * (pf / rf**g)
     rb = (c * c / (g * s)) ** (1.0 / (g - 1.0))
     pb = rb * c * c / g
     return _conserved_first(rb, ut + qn * nx, vt + qn * ny, pb, g)
