@@ -120,11 +120,13 @@ def test_chord_strategy_converges_to_the_classic_solution(grid0012):
     assert i["n_jacobian"] <= i["n_factor"]
 
 
-@pytest.mark.parametrize("mach, alpha", [(0.85, 0.1), (0.84, 0.0)])
+# alpha 0.003: the far-field lines y = +-R are within 5e-5 of tangent to the free stream; with a hard
+# inflow/outflow switch there Newton cycled at |R| ~ 7e-5 and never converged (cfd.boundary.outflow_weight)
+@pytest.mark.parametrize("mach, alpha", [(0.85, 0.1), (0.84, 0.0), (0.85, 0.003)])
 def test_warm_start_from_a_neighbouring_transonic_flow_takes_few_factorisations(transonic0010, mach, alpha):
     g, base = transonic0010
     warm = cfd.solve_steady(g, mach, alpha, q0=base.q, strategy="chord")
-    assert warm.converged and warm.info["n_factor"] <= 4     # 2 and 3 measured; cold: 8, classic warm: 16-17
+    assert warm.converged and warm.info["n_factor"] <= 4     # 1-3 measured; cold: 8, classic warm: 16-17
     assert warm.info["n_residual"] < 60                      # no RK steps from a converged neighbour
     cold = cfd.solve_steady(g, mach, alpha, strategy="chord")
     assert warm.cl == pytest.approx(cold.cl, rel=1e-8, abs=1e-12)
