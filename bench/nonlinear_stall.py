@@ -6,7 +6,12 @@ Run: ``.venv/bin/python bench/nonlinear_stall.py [--case T4] [--gust G2] [--angl
 chord-Newton iterations from the predictor and prints, per iteration, ``|F|``, the cell that holds most of it and the
 share of ``|F|^2`` in the ten largest cells (indices ``(i, j)`` of the ``(ni - 1, nj - 1)`` cell array: ``i = 0`` and
 ``i = ni - 2`` are the downstream boundary cells of the C-grid's lower and upper wake, ``j = nj - 2`` the far-field
-row). docs/linearity.md quotes its output for T4, G2/G3 at 0.5 deg.
+row); it prints "no step failed" when the march runs to ``--t-end``.
+
+It found why T4's marches stopped in the linearity study: with a hard inflow/outflow switch in the Riemann far
+field, the failed step (T4, G2/G3, 0.5 deg, step 324) stalled at |F| = 2.075e-6 with all of it in the corner cells
+where the downstream boundary meets the far-field line y = -R, where the normal velocity crosses zero. The switch
+is now a smooth blend (``cfd.boundary.outflow_weight``, docs/equations.md) and the same march runs to its end.
 """
 
 from __future__ import annotations

@@ -174,8 +174,8 @@ def test_a_tiny_gust_follows_the_ltd_and_a_large_one_departs_from_it(marched):
     scale = math.tan(math.radians(0.01)) / math.tan(math.radians(cfg.gusts[0].angle_deg))
     assert np.array_equal(small.t, ltd.t[:151]) and np.allclose(e["u"], scale * ltd.u[:151], rtol=1e-12, atol=0)
     # the LTD is the nonlinear scheme's derivative: at 0.01 deg (1.7e-4 rad) the difference is the second-order
-    # term, ~1e-5 of the peak on subsonic cases (docs/nonlinear.md: 5e-6 on S1, 3e-5 on S0 with the far-field
-    # switch at alpha = 0); 1e-3 leaves a decade and a half
+    # term, ~1e-5 of the peak on subsonic cases (docs/nonlinear.md: 5e-6 on S1, 2e-6 on S0; 3e-5 on S0 before
+    # the far field's switch became a blend); 1e-3 leaves a decade and a half
     assert small.ltd["error_Cl"] < 1e-3 and abs(small.ltd["ratio_Cl"] - 1.0) < 1e-3
     assert small.ltd["error_Cm"] < 1e-2
     # at 3 deg the difference is 300x the 0.01-deg one at least to first order in the amplitude: it must grow
