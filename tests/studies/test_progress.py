@@ -157,8 +157,13 @@ def test_runner_with_two_workers_shows_the_workers_progress(computed, tmp_path, 
     out = capsys.readouterr().out
     assert "]   frf T2 T=11.1408: shift 1 at omega = 0, basis" in out and "frequencies to go" in out
     assert _steps(out, "ltd T2") and _steps(out, "ltd T2") == sorted(_steps(out, "ltd T2"))
-    np.testing.assert_allclose(res.frf[("T2", config.cases[0].T[0])].frf.H,
-                               first.frf[("T2", config.cases[0].T[0])].frf.H, rtol=1e-10, atol=1e-14)
+    # the same sweep in a worker process (one BLAS thread) rounds differently and can take another greedy path:
+    # both results are within the sweep's tolerance (cfd.lfd_response tol = 1e-8, relative) of the exact
+    # response, so they agree to twice that per output's peak, not to round-off (1.6e-10 relative was seen on a
+    # Cm sample)
+    H, H0 = (r.frf[("T2", config.cases[0].T[0])].frf.H for r in (res, first))
+    peak = np.abs(H0).max(axis=(1, 2), keepdims=True)
+    assert np.all(np.abs(H - H0) <= 2e-8 * peak)
     quiet = run_study(copy_study(config, tmp_path / "q", drop=("ltd", "rom", "sim")), progress="pieces")
     out = capsys.readouterr().out
     assert "] ltd T2 G4" in out and "]   ltd T2:" not in out and quiet.complete
