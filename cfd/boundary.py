@@ -20,14 +20,16 @@ Far field (``j = nj-1`` and the two outflow ends ``i = 0``, ``i = ni-1``)
     cell, ``R- = u_inf.n - 2c_inf/(gamma-1)`` from the free stream; tangential velocity and entropy
     ``p / rho^gamma`` from the free stream where the relative normal velocity ``(u - w).n`` points in,
     from the interior where it points out, blended smoothly across ``|(u - w).n| < 0.05 c_inf``
-    (``outflow_weight``: a hard switch stalls Newton's method where the normal velocity crosses zero). Both ghost layers get this boundary state. With
+    (``outflow_weight``: a hard switch stalls Newton's method where the normal velocity crosses zero). Both
+    ghost layers get this boundary state. With
     ``vortex=True`` the free stream seen by the far field includes the compressible point vortex of
     Thomas & Salas (AIAA J. 24(7), 1986) at the quarter chord with circulation ``Gamma = U c Cl / 2``.
 """
 
 import numpy as np
 
-__all__ = ["cabs", "cmax", "wall_pressure", "farfield_state", "outflow_weight", "FARFIELD_BLEND", "wall_mirror", "vortex_free_stream"]
+__all__ = ["cabs", "cmax", "wall_pressure", "farfield_state", "outflow_weight", "FARFIELD_BLEND", "wall_mirror",
+           "vortex_free_stream"]
 
 
 def cabs(x):
@@ -167,12 +169,16 @@ def farfield_state(rho, u, v, p, nx, ny, free, wn=0.0, gamma=1.4):
     rm = qnf - 2.0 * cf / (g - 1.0)
     qn = 0.5 * (rp + rm)
     c = 0.25 * (g - 1.0) * (rp - rm)
-    # Tangential velocity and entropy from upstream of the face: weight 1 on the interior where the relative
+    # Tangential velocity and entropy from upstream of the face: weight b = 1 on the interior where the relative
     # normal velocity points out, 0 where it points in, blended smoothly across |qn - wn| < FARFIELD_BLEND c_inf.
-    w = outflow_weight(qn - wn, cf)
-    ut = w * (u - qni * nx) + (1.0 - w) * (uf - qnf * nx)
-    vt = w * (v - qni * ny) + (1.0 - w) * (vf - qnf * ny)
-    s = w * (p / rho**g) + (1.0 - w) * (pf / rf**g)
+    b = outflow_weight(qn - wn, cf)
+
+    def upwind(interior, free_stream):
+        return free_stream + b * (interior - free_stream)
+
+    ut = upwind(u - qni * nx, uf - qnf * nx)
+    vt = upwind(v - qni * ny, vf - qnf * ny)
+    s = upwind(p / rho**g, pf / rf**g)
     rb = (c * c / (g * s)) ** (1.0 / (g - 1.0))
     pb = rb * c * c / g
     return _conserved_first(rb, ut + qn * nx, vt + qn * ny, pb, g)
