@@ -4,7 +4,8 @@ BDF2 at the validation time step dt = 0.02 (estimated phase-rate error (2 pi dt 
 s = 20: prints the wall time of the march, the time of its one factorisation and of one step, and the total
 as factorisations plus back-substitutions. Then gusts marched together (``cfd.ltd_responses``: one
 factorisation, one block solve per step) against separate marches, side by side: G3 + G6 (the demo's
-pair) and G1-G6 (a paper case's six), with the largest difference of their Cl histories.
+pair) and G1-G6 (a paper case's six: five columns, G2 and G3 differ only in angle and share one), with the
+largest difference of their Cl histories.
 
 Run: ``.venv/bin/python bench/ltd_bench.py [--lin FILE.pkl]`` (``--lin`` stores / reuses the T2 linear
 system).

@@ -26,6 +26,7 @@ an impulsive start, as for the sharp-edged gust. No phase-error warning is given
 scale is known); the BDF2 phase-rate error at a frequency ``omega`` is ``(omega dt)^2 / 3``.
 """
 
+import dataclasses
 import logging
 import math
 import time
@@ -215,12 +216,49 @@ def _march(lin, gusts, dt, t_end, method, x_ref, initial, motion=None, progress=
     return out
 
 
+def _shape_groups(gusts):
+    """Gusts that differ only in angle share a shape: ``(representatives, [(index, factor)] per gust)``.
+
+    The representative of a shape is its gust of largest ``|amplitude|``; a gust's history is its
+    representative's times ``factor = amplitude / representative's amplitude`` (0 for a zero-amplitude shape).
+    """
+    def shape(g):
+        return (type(g),) + tuple(getattr(g, f.name) for f in dataclasses.fields(g) if f.name != "angle_deg")
+
+    order = {}
+    for g in gusts:
+        key = shape(g)
+        rep = order.get(key)
+        if rep is None or abs(g.amplitude) > abs(rep.amplitude):
+            order[key] = g
+    reps = list(order.values())
+    index = {key: i for i, key in enumerate(order)}
+    maps = []
+    for g in gusts:
+        rep = reps[index[shape(g)]]
+        maps.append((index[shape(g)], g.amplitude / rep.amplitude if rep.amplitude != 0.0 else 0.0))
+    return reps, maps
+
+
+def _scaled(hist, gust, factor, t, x_ref):
+    """``hist`` (of a gust of the same shape) times ``factor``, with ``gust``'s input signal."""
+    def frozen(a):
+        a = np.ascontiguousarray(a)
+        a.setflags(write=False)
+        return a
+
+    return dataclasses.replace(hist, u=frozen(gust.input(t, x_ref)), cl=frozen(factor * hist.cl),
+                               cm=frozen(factor * hist.cm), cd=frozen(factor * hist.cd), q=frozen(factor * hist.q))
+
+
 def ltd_responses(lin, gusts, dt, t_end, method="svm", x_ref=0.0, max_phase_error=0.01, *, progress=None,
                   log_interval=60.0):
     """Linear responses to several gusts, marched together (one factorisation, one block solve per step).
 
     The same as ``[ltd_response(lin, g, dt, t_end, ...) for g in gusts]`` (to round-off), from the rest state,
-    for about the cost of one march and a half for two gusts (see ``bench/ltd_bench.py``).
+    for about the cost of one march and a half for two gusts (see ``bench/ltd_bench.py``). Gusts that differ
+    only in angle (the paper's G2 and G3) share one column of the march, their histories scaled by the ratio of
+    their amplitudes (the system is linear and starts from rest, so this is exact to round-off).
 
     Parameters
     ----------
@@ -249,7 +287,10 @@ def ltd_responses(lin, gusts, dt, t_end, method="svm", x_ref=0.0, max_phase_erro
     dt, t_end = _check_times(dt, t_end)
     for gust in gusts:
         _warn_phase(gust, dt, max_phase_error)
-    return _march(lin, gusts, dt, t_end, method, x_ref, None, progress=progress, log_interval=log_interval)
+    reps, maps = _shape_groups(gusts)
+    marched = _march(lin, reps, dt, t_end, method, x_ref, None, progress=progress, log_interval=log_interval)
+    return [marched[i] if gust is reps[i] else _scaled(marched[i], gust, factor, marched[i].t, x_ref)
+            for gust, (i, factor) in zip(gusts, maps)]
 
 
 def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, max_phase_error=0.01, *,

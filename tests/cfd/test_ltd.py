@@ -108,6 +108,34 @@ def test_gusts_marched_together_equal_separate_marches(lin, method):
         assert h.method == method and h.dt == 0.05
 
 
+def test_gusts_of_one_shape_share_a_column(lin, monkeypatch):
+    """Gusts that differ only in angle (the paper's G2 and G3, and a negative or zero angle) are marched as one
+    column and scaled: equal to their own marches to round-off (linear system from rest: the scaling is exact;
+    1e-12 of the peak allows for the solver's round-off on a 1e3-conditioned march)."""
+    import cfd.ltd as ltd_module
+
+    columns = []
+    march = ltd_module._march
+
+    def counting(lin_, gusts_, *args, **kw):
+        columns.append(len(gusts_))
+        return march(lin_, gusts_, *args, **kw)
+
+    monkeypatch.setattr(ltd_module, "_march", counting)
+    gusts = [OneMinusCosine(length=1.0, angle_deg=2.0, x0=-2.0), OneMinusCosine(length=1.0, angle_deg=5.0, x0=-2.0),
+             OneMinusCosine(length=1.0, angle_deg=-1.0, x0=-2.0), OneMinusCosine(length=1.0, angle_deg=0.0, x0=-2.0),
+             OneMinusCosine(length=2.0, angle_deg=2.0, x0=-2.0)]
+    together = ltd_responses(lin, gusts, 0.05, 4.0, max_phase_error=1.0)
+    assert columns == [2]                                # two shapes (length 1 and 2)
+    for g, h in zip(gusts, together):
+        alone = march(lin, [g], 0.05, 4.0, "svm", 0.0, None)[0]
+        np.testing.assert_array_equal(h.u, alone.u)
+        for name in ("cl", "cm", "cd", "q"):
+            a, b = getattr(h, name), getattr(alone, name)
+            np.testing.assert_allclose(a, b, rtol=0, atol=1e-12 * max(np.abs(b).max(), 1e-300))
+        assert not h.cl.flags.writeable
+
+
 def test_gusts_marched_together_bad_input(lin):
     with pytest.raises(LinearError, match="gusts is empty"):
         ltd_responses(lin, [], 0.05, 1.0)
