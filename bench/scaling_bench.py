@@ -65,20 +65,26 @@ def reset_peak():
         return False
 
 
+def _proc_bytes(path, key, missing):
+    """A ``key: <n> kB`` line of a /proc file, in bytes (``missing`` where the file or the line is absent)."""
+    try:
+        with open(path) as f:
+            for line in f:
+                if line.startswith(key + ":"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return missing
+
+
 def peak_bytes():
-    with open("/proc/self/status") as f:
-        for line in f:
-            if line.startswith("VmHWM:"):
-                return int(line.split()[1]) * 1024
-    return float("nan")
+    """This process's resident-memory high-water mark."""
+    return _proc_bytes("/proc/self/status", "VmHWM", float("nan"))
 
 
 def available_bytes():
-    with open("/proc/meminfo") as f:
-        for line in f:
-            if line.startswith("MemAvailable:"):
-                return int(line.split()[1]) * 1024
-    return float("inf")
+    """Memory the system can give without swapping."""
+    return _proc_bytes("/proc/meminfo", "MemAvailable", float("inf"))
 
 
 def timed(f, repeat=1):
