@@ -225,18 +225,15 @@ def _shape_groups(gusts):
     def shape(g):
         return (type(g),) + tuple(getattr(g, f.name) for f in dataclasses.fields(g) if f.name != "angle_deg")
 
-    order = {}
-    for g in gusts:
-        key = shape(g)
-        rep = order.get(key)
-        if rep is None or abs(g.amplitude) > abs(rep.amplitude):
-            order[key] = g
-    reps = list(order.values())
-    index = {key: i for i, key in enumerate(order)}
-    maps = []
-    for g in gusts:
-        rep = reps[index[shape(g)]]
-        maps.append((index[shape(g)], g.amplitude / rep.amplitude if rep.amplitude != 0.0 else 0.0))
+    keys = [shape(g) for g in gusts]
+    best = {}                                           # shape -> its gust of largest |amplitude|, first-seen order
+    for key, g in zip(keys, gusts):
+        if key not in best or abs(g.amplitude) > abs(best[key].amplitude):
+            best[key] = g
+    index = {key: i for i, key in enumerate(best)}
+    reps = list(best.values())
+    maps = [(index[key], g.amplitude / best[key].amplitude if best[key].amplitude != 0.0 else 0.0)
+            for key, g in zip(keys, gusts)]
     return reps, maps
 
 
