@@ -240,7 +240,7 @@ class LinearSystem:
         """Convective angular frequency (U / c) to solver units (a_inf / c): ``mach * omega``."""
         return np.asarray(omega) * self.mach
 
-    def solver(self, diagonal, perm=None):
+    def solver(self, diagonal, perm=None, native_complex=False):
         """Factorise ``diag(diagonal) + J`` (plus the vortex rank-one term) for repeated solves.
 
         Parameters
@@ -249,6 +249,9 @@ class LinearSystem:
             E.g. ``1j * omega_solver * V`` (LFD) or ``1.5 V / dt_solver`` (BDF2).
         perm : ndarray of int, optional
             Ordering of the unknowns (default: nested dissection of the grid).
+        native_complex : bool
+            For a complex ``diagonal``: SciPy's complex SuperLU instead of the real 2n form (see
+            :func:`factorise`).
 
         Returns
         -------
@@ -256,7 +259,7 @@ class LinearSystem:
             ``solve(b)`` for ``b`` of shape (4N,) or (4N, k).
         """
         A = self.J + sp.diags(diagonal)
-        solve0, _ = factorise(A, grid_permutation(self.grid) if perm is None else perm)
+        solve0, _ = factorise(A, grid_permutation(self.grid) if perm is None else perm, native_complex=native_complex)
         if self.vortex is None:
             return solve0
         u, v = self.vortex
@@ -303,7 +306,7 @@ def _lu_nopivot(A, perm):
     return lambda r: lu.solve(r[perm])[inv], lu.L.nnz + lu.U.nnz
 
 
-def factorise(A, perm=None, rtol=1e-9):
+def factorise(A, perm=None, rtol=1e-9, native_complex=False):
     """Sparse LU of a real or complex matrix for repeated solves, with a checked accuracy.
 
     The unknowns are ordered by ``perm`` (geometric nested dissection of the grid, ``cfd.ordering``) and
@@ -314,7 +317,8 @@ def factorise(A, perm=None, rtol=1e-9):
     42 480-unknown paper grid, fill 20 against 39, measured side by side), but its time is erratic: the
     first complex factorisation in a process took 20 s on a 2 880-unknown grid where the real form takes
     0.3 s, and 76 - 156 s on the paper grid, even with :func:`cfd.superlu.reserve_heap` (not understood).
-    The reference path uses the predictable real form.
+    The reference path uses the predictable real form; ``native_complex=True`` takes SciPy's complex SuperLU
+    (with the heap prepared, as the fast sweep does: its solves read about half the bytes of the real form's).
     The factors are checked on a random right-hand side (``|A x - b| <= rtol |b|``); if the check
     fails, COLAMD with partial pivoting is used instead (with a RuntimeWarning).
 
@@ -324,6 +328,8 @@ def factorise(A, perm=None, rtol=1e-9):
     perm : ndarray of int, shape (n,), optional
         Symmetric fill-reducing permutation; None: COLAMD with pivoting directly.
     rtol : float
+    native_complex : bool
+        Complex ``A``: factorise it as it is (complex SuperLU) instead of its real 2n form.
 
     Returns
     -------
@@ -334,7 +340,7 @@ def factorise(A, perm=None, rtol=1e-9):
     """
     A = sp.csr_matrix(A)
     n = A.shape[0]
-    cplx = np.iscomplexobj(A.data)
+    cplx = np.iscomplexobj(A.data) and not native_complex
     if cplx:
         K = sp.bmat([[A.real, -A.imag], [A.imag, A.real]], format="csr")
         K.eliminate_zeros()
@@ -356,7 +362,7 @@ def factorise(A, perm=None, rtol=1e-9):
             solve_real, nnz = _lu_nopivot(K, p)
             solve = wrap(solve_real)
             rng = np.random.default_rng(0)
-            b = rng.normal(size=n) + (1j * rng.normal(size=n) if cplx else 0.0)
+            b = rng.normal(size=n) + (1j * rng.normal(size=n) if np.iscomplexobj(A.data) else 0.0)
             x = solve(b)
             if np.all(np.isfinite(x)) and np.linalg.norm(A @ x - b) <= rtol * np.linalg.norm(b):
                 return solve, nnz / K.nnz

@@ -203,3 +203,97 @@ def test_progress_counts_the_steps_and_changes_nothing(lin, caplog):
     h = ltd_response(lin, gusts[0], 0.05, 1.0, progress=lambda *a: one.append(a), max_phase_error=1.0)
     assert [c[0] for c in one] == list(range(1, 21))
     np.testing.assert_array_equal(h.cl, ltd_response(lin, gusts[0], 0.05, 1.0, max_phase_error=1.0).cl)
+
+
+@pytest.mark.parametrize("dense", [False, True])
+def test_radau_periodic_start_stays_on_the_lfd_solution_at_high_order(lin, dense):
+    """Radau IIA started on the LFD periodic solution (the exact answer of the same semi-discrete equations):
+    the error at the step points falls at its order 5 (measured 5.2, 5.0 on this grid at omega = 4); the
+    dense output between them at order 4 (measured 5.0, 4.5). Asserted: order > 3.5 at both, and the finest
+    error below 1e-6 (3e-6 and 1.4e-7 of the amplitude measured: the error of ``step = P / 64``)."""
+    w = 4.0
+    gust = SineGust(angle_deg=1.0, omega=w)
+    qh = (1j * gust.amplitude) * lfd_state(lin, w)
+    period = 2 * np.pi / w
+    errs = []
+    for n in (16, 32, 64):
+        step = period / n
+        h = ltd_response(lin, gust, step / 4 if dense else step, period, initial=(None, qh.real),
+                         max_phase_error=1.0, scheme="radau5", step=step)
+        exact = (lin.C[0] @ qh * np.exp(1j * w * h.t)).real
+        errs.append(np.abs(h.cl - exact).max() / np.abs(lin.C[0] @ qh))
+    errs = np.array(errs)
+    order = np.log2(errs[:-1] / errs[1:])
+    assert np.all(order > 3.5), (errs, order)
+    assert errs[-1] < 1e-6
+
+
+def test_radau_and_bdf2_agree_on_a_one_minus_cosine_gust(lin):
+    """The two schemes converge to the same history: BDF2 at dt 0.0125 against Radau IIA at its default step
+    (0.125 on this dt). BDF2's error dominates: (omega dt)^2 / 3 = 2e-4 of phase rate at the gust's scale
+    omega = pi, a few 1e-4 of the peak over the history (3.0e-4 measured); tolerance 2e-3."""
+    g = OneMinusCosine(length=2.0, angle_deg=1.0, x0=-1.0)
+    hb = ltd_response(lin, g, 0.0125, 6.0)
+    hr = ltd_response(lin, g, 0.0125, 6.0, scheme="radau5")
+    np.testing.assert_array_equal(hb.t, hr.t)
+    np.testing.assert_array_equal(hb.u, hr.u)
+    for a, b in ((hr.cl, hb.cl), (hr.cm, hb.cm)):
+        assert np.abs(a - b).max() < 2e-3 * np.abs(b).max()
+    assert np.abs(hr.q - hb.q).max() < 2e-3 * np.abs(hb.q).max()
+
+
+def test_radau_final_state_inside_a_step_is_the_dense_output(lin):
+    """When t_end falls inside the last Radau step, the final state comes from the collocation polynomial:
+    the same (to the dense output's error) as a march whose steps end at t_end."""
+    g = OneMinusCosine(length=2.0, angle_deg=1.0, x0=-1.0)
+    inside = ltd_response(lin, g, 0.05, 3.05, scheme="radau5", step=0.1, max_phase_error=1.0)   # ends mid-step
+    ends = ltd_response(lin, g, 0.05, 3.05, scheme="radau5", step=0.05, max_phase_error=1.0)
+    assert inside.t[-1] == pytest.approx(3.05)
+    assert np.abs(inside.q - ends.q).max() < 1e-3 * np.abs(ends.q).max()
+    assert np.abs(inside.cl - ends.cl).max() < 1e-3 * np.abs(ends.cl).max()
+
+
+@pytest.mark.parametrize("callable_history", [False, True])
+def test_radau_prescribed_pitch_agrees_with_bdf2(lin, callable_history):
+    """A smooth pitch history from rest: Radau IIA (marching ``q + V^-1 b1 alpha / mach``, no rate needed) at
+    step 0.05 against BDF2 at dt 0.003125; samples (cubic spline at the stage times) and a callable alike. The
+    start excites fast acoustic waves that BDF2 resolves slowly (its first sample is 2.8e-4 of the peak off the
+    converged value); measured differences 5.6e-4 (Cl) and 8.4e-4 (Cm) of the peak; tolerance 2e-3."""
+    def alpha(s):
+        s = np.asarray(s, dtype=float)
+        return np.where(s > 0, 0.01 * np.sin(2.0 * s) ** 2 * np.exp(-0.2 * s), 0.0)
+
+    dt = 0.003125
+    t = dt * np.arange(round(4.0 / dt) + 1)
+    hb = ltd_response(lin, None, dt, 4.0, pitch=alpha(t))
+    hr = ltd_response(lin, None, 8 * dt, 4.0, pitch=alpha if callable_history else alpha(t[::8]), scheme="radau5",
+                      step=0.05)
+    np.testing.assert_allclose(hr.alpha, hb.alpha[::8], rtol=0, atol=1e-15)
+    for a, b in ((hr.cl, hb.cl[::8]), (hr.cm, hb.cm[::8])):
+        assert np.abs(a - b).max() < 2e-3 * np.abs(b).max()
+
+
+def test_radau_gusts_of_one_shape_and_together_equal_separate(lin):
+    gusts = [OneMinusCosine(length=1.0, angle_deg=2.0, x0=-1.0), SharpEdged(angle_deg=1.0, x0=-1.0),
+             OneMinusCosine(length=1.0, angle_deg=-1.0, x0=-1.0)]
+    together = ltd_responses(lin, gusts, 0.05, 2.0, scheme="radau5", max_phase_error=1.0)
+    for g, h in zip(gusts, together):
+        alone = ltd_response(lin, g, 0.05, 2.0, scheme="radau5", max_phase_error=1.0)
+        np.testing.assert_allclose(h.cl, alone.cl, rtol=0, atol=1e-12 * np.abs(alone.cl).max())
+
+
+def test_radau_bad_input_progress_and_phase_warning(lin):
+    g = OneMinusCosine(length=1.0, angle_deg=1.0, x0=-2.0)
+    with pytest.raises(LinearError, match="scheme must be one of"):
+        ltd_response(lin, g, 0.05, 1.0, scheme="rk4")
+    with pytest.raises(LinearError, match="whole multiple of dt"):
+        ltd_response(lin, g, 0.05, 1.0, scheme="radau5", step=0.12)
+    with pytest.raises(LinearError, match="positive and finite"):
+        ltd_responses(lin, [g], 0.05, 1.0, scheme="radau5", step=-0.1)
+    # Radau IIA's growth-rate error at L = 1 (omega = 2 pi): damping (omega h)^5 / 7200 dominates for small steps
+    assert phase_error_estimate(g, 0.05, "radau5", 0.1) == pytest.approx((0.2 * np.pi) ** 5 / 7200, rel=0.02)
+    with pytest.warns(RuntimeWarning, match="Radau IIA step 0.5"):
+        ltd_response(lin, g, 0.05, 1.0, scheme="radau5", step=0.5)
+    calls = []
+    ltd_response(lin, g, 0.05, 1.0, scheme="radau5", step=0.15, progress=lambda *a: calls.append(a))
+    assert [c[0] for c in calls] == [3, 6, 9, 12, 15, 18, 20] and {c[1] for c in calls} == {20}
