@@ -98,6 +98,7 @@ from .pieces import frf_piece, ltd_piece, rom_piece, sim_piece, steady_piece
 from .schema import (
     ALGORITHMS,
     DISCRETISATIONS,
+    LTD_SCHEMES,
     GUST_METHODS,
     MAX_M,
     MAX_STEPS,
@@ -323,6 +324,7 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
     dt = P.number(sim_t.get("dt", d.dt), "simulation.dt", positive=True)
     t_end = P.number(sim_t.get("t_end", d.t_end), "simulation.t_end", positive=True)
     x0 = P.number(sim_t.get("x0", d.x0), "simulation.x0")
+    scheme = P.choice(sim_t.get("scheme", d.scheme), "simulation.scheme", LTD_SCHEMES)
     from cfd.gust import X0_MAX
 
     if x0 > X0_MAX:
@@ -340,7 +342,7 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
             f"t_end / dt = {t_end:g} / {dt:g} = {steps:.3g} time steps (at most {MAX_STEPS:,}): the LTD march would "
             f"need {_size_text(gib)} for its histories alone and about {steps * 0.03 / 3600:.3g} h per case on the "
             f"paper grid; use dt ~ 0.02 (BDF2 phase error ~ 1 % at k = 5) and t_end ~ 20 - 60"))
-    sim = SimulationOptions(discretisation=disc, dt=dt, t_end=t_end, x0=x0)
+    sim = SimulationOptions(discretisation=disc, dt=dt, t_end=t_end, x0=x0, scheme=scheme)
 
     # methods
     if "method" in data and "methods" in data:

@@ -38,7 +38,7 @@ SWEEP_KEYS = ("orders", "T", "M_base", "M")
 CASE_KEYS = ("name", "naca", "mach", "alpha_deg", "grid", "orders", "T", "M")
 GUST_KEYS = ("name", "kind", "length", "angle_deg")
 METHOD_KEYS = ("dc_gain", "stable", "margin", "weights", "algorithm")
-SIMULATION_KEYS = ("discretisation", "dt", "t_end", "x0")
+SIMULATION_KEYS = ("discretisation", "dt", "t_end", "x0", "scheme")
 CFD_KEYS = ("gust_method", "outputs")
 REPORT_KEYS = ("page", "prose", "figures", "title", "paper")
 

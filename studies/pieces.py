@@ -95,7 +95,8 @@ def rom_piece(point: SweepPoint, M_base: int, cfd: CFDOptions) -> dict:
 def ltd_piece(case: FlowCase, gust: GustCase, sim: SimulationOptions, cfd: CFDOptions) -> dict:
     """LTD reference history of a case and gust."""
     return dict(steady=steady_piece(case), gust=dict(kind=gust.kind, length=gust.length, angle_deg=gust.angle_deg),
-                dt=sim.dt, t_end=sim.t_end, x0=sim.x0, gust_method=cfd.gust_method, outputs=list(cfd.outputs))
+                dt=sim.dt, t_end=sim.t_end, x0=sim.x0, gust_method=cfd.gust_method, outputs=list(cfd.outputs),
+                **({} if sim.scheme == "bdf2" else {"scheme": sim.scheme}))
 
 
 def sim_piece(point: SweepPoint, gust: GustCase, M_base: int, sim: SimulationOptions, cfd: CFDOptions) -> dict:

@@ -396,9 +396,12 @@ def _study_section(config) -> list:
     return ["## Study\n", _study_table(config),
             "\nGusts (angle = peak effective gust angle; responses are at this amplitude):\n", _gust_table(config),
             "\nIdentification variants:\n", _method_table(config),
-            f"\nGust responses: LTD and ROM ({simulation.discretisation} re-discretisation) at dt = "
-            f"{simulation.dt:g} c/U up to s = {simulation.t_end:g}, gust front at x0 = {simulation.x0:g} c at "
-            f"s = 0; gust method {config.cfd.gust_method}.\n"]
+            f"\nGust responses: LTD ({_LTD_SCHEME_TEXT[simulation.scheme]}) and ROM ({simulation.discretisation} "
+            f"re-discretisation) at dt = {simulation.dt:g} c/U up to s = {simulation.t_end:g}, gust front at x0 = "
+            f"{simulation.x0:g} c at s = 0; gust method {config.cfd.gust_method}.\n"]
+
+
+_LTD_SCHEME_TEXT = {"bdf2": "BDF2", "radau5": "Radau IIA, loads on the dt grid"}
 
 
 def _headline_section(config, tables: dict) -> list:

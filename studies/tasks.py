@@ -157,7 +157,7 @@ def _ltds(lin, gust_cases, sim, cfd_options, progress=None):
 
     kw = {} if progress is None else {"progress": progress}
     return cfd.ltd_responses(lin, [_gust(g, sim.x0) for g in gust_cases], sim.dt, sim.t_end,
-                             method=cfd_options.gust_method, **kw)
+                             method=cfd_options.gust_method, scheme=sim.scheme, **kw)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -65,7 +65,7 @@ def test_paper_toml():
     assert c.case("t2").M == (32, 256) and c.case("T5").M == (256,)
     assert any(p.case.name == "T2" and p.order == 9 and p.n_omega == 33 for p in c.points())
     assert [g.name for g in c.gusts] == [f"G{i}" for i in range(1, 7)]
-    assert c.M_base == 256 and c.simulation.discretisation == "tustin"
+    assert c.M_base == 256 and c.simulation.discretisation == "tustin" and c.simulation.scheme == "radau5"
     assert c.report.page == (STUDIES.parent / "docs" / "paper-reproduction.md").resolve() and c.report.figures
     assert c.report.prose == STUDIES / "paper-prose.toml"
 
@@ -116,6 +116,7 @@ def test_good_study_with_user_case():
     (BASE + "M_bse = 256\n", "sweep.M_bse", "did you mean 'M_base'"),
     ('cases = ["T2"]\n[sweep]\nN_r = [9]\n', "sweep.N_r", "did you mean 'orders'"),
     (BASE + "[simulation]\ndiscretization = 'zoh'\n", "simulation.discretization", "did you mean 'discretisation'"),
+    (BASE + "[simulation]\nscheme = 'radau'\n", "simulation.scheme", "radau5"),
     (BASE + "[methods.a]\nstabel = true\n", "methods.a.stabel", "did you mean 'stable'"),
     (BASE + "[grid]\nnii = 181\n", "grid.nii", "did you mean 'ni'"),
     ('cases = [{name = "T2", ordrs = [3]}]\n[sweep]\norders = [9]\n', r"cases\[0\].ordrs", "did you mean 'orders'"),
