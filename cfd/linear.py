@@ -336,7 +336,8 @@ def factorise(A, perm=None, rtol=1e-9, native_complex=False):
     solve : callable
         ``solve(b)``, ``b`` of shape (n,), returns ``x`` (complex if ``A`` is).
     fill : float
-        ``nnz(L + U) / nnz(A)`` of the factorisation used (of the real form for complex ``A``).
+        ``nnz(L + U) / nnz(A)`` of the factorisation used (of the real 2n form for complex ``A``, unless
+        ``native_complex``).
     """
     A = sp.csr_matrix(A)
     n = A.shape[0]

@@ -3,9 +3,9 @@
 Two schemes (``scheme=``): BDF2 (below; the default, and the nonlinear solver's scheme) and the three-stage
 Radau IIA of order 5 (``"radau5"``, :mod:`cfd.radau`): steps of 0.14 (the largest multiple of ``dt`` not above
 :data:`RADAU_STEP`), one real and one complex back-substitution each, the loads written on the ``dt`` grid by
-the collocation polynomial. On the paper's T2 against the LFD at sine gusts (``bench/ltd_radau_bench.py``) it is
-17x (omega = 4 pi) to 140x (2 pi) more accurate than BDF2 at ``dt = 0.02``, for half the work
-(docs/performance.md).
+the collocation polynomial. On the paper's T2 against the LFD at sine gusts (``bench/ltd_radau_bench.py``) its
+amplitude errors are 7 - 17x (omega = 4 pi) and 140 - 180x (2 pi) smaller than BDF2's at ``dt = 0.02``, for
+less than half the work (docs/performance.md).
 
 The linearised equations (``cfd.linear``) ``V dq/dt + J q + b(t) = 0`` in solver time
 ``t = s / mach`` are marched with the second-order backward difference formula
@@ -115,6 +115,7 @@ def phase_error_estimate(gust, dt, scheme="bdf2", step=None):
     error of the growth rate, phase and amplitude together, with its stability function ``R``: about
     ``(omega h)^5 / 7200`` of damping and ``(omega h)^6 / 42 000`` of phase rate (damping dominates).
     """
+    check_scheme(scheme)
     w = gust_frequency(gust)
     if scheme == "bdf2":
         return (w * dt) ** 2 / 3.0
@@ -123,10 +124,17 @@ def phase_error_estimate(gust, dt, scheme="bdf2", step=None):
     return abs(complex(np.log(abs(R)), float(np.angle(R))) / (1j * wh) - 1.0)
 
 
-def check_scheme(scheme):
-    """Raise :class:`LinearError` unless ``scheme`` is one of :data:`SCHEMES`."""
+def check_scheme(scheme, dt=None, step=None):
+    """Raise :class:`LinearError` unless ``scheme`` is one of :data:`SCHEMES` and, with ``dt``, ``step`` suits it
+    (None for BDF2; for Radau IIA a positive whole multiple of ``dt``, :func:`radau_substeps`)."""
     if scheme not in SCHEMES:
         raise LinearError(f"scheme must be one of {SCHEMES}; got {scheme!r}")
+    if dt is None:
+        return
+    if scheme == "bdf2" and step is not None:
+        raise LinearError(f"step = {step!r} applies to scheme='radau5' only (BDF2 steps at dt = {dt})")
+    if scheme == "radau5":
+        radau_substeps(dt, step)
 
 
 def _check_gust(gust):
@@ -155,9 +163,10 @@ def _warn_phase(gust, dt, max_phase_error, scheme="bdf2", step=None):
         else:
             what, power = (f"the Radau IIA step {radau_substeps(dt, step) * dt:g} gives an estimated growth-rate "
                            "(phase and amplitude)"), 5.0
+        knob = "dt" if scheme == "bdf2" or radau_substeps(dt, step) == 1 else "the step"
         warnings.warn(
             f"{what} error of {100 * err:.2g} % at the gust's frequency scale (limit "
-            f"{100 * max_phase_error:.2g} %); reduce {'dt' if scheme == 'bdf2' else 'the step'} by "
+            f"{100 * max_phase_error:.2g} %); reduce {knob} by "
             f"{(err / max_phase_error) ** (1.0 / power):.2g}x",
             RuntimeWarning,
             stacklevel=3,
@@ -268,9 +277,10 @@ def radau_substeps(dt, step=None):
     return m
 
 
-def _radau_motions(lin, t, plunge, pitch, pivot):
-    """``[(MotionForcing, x, x_of_s)]`` for the Radau march: the samples and a callable for the stage times
-    (the history's own callable, or a cubic spline through the samples)."""
+def _radau_motions(lin, t, plunge, pitch, pivot, stage_times):
+    """``[(MotionForcing, x, x_stages)]`` for the Radau march: the samples at ``t`` and the values at the stage
+    times (array, shape of ``stage_times``), from the history's own callable (one call with the array) or a cubic
+    spline through the samples (extrapolated over the last step's part past ``t_end``)."""
     from scipy.interpolate import CubicSpline
 
     out = []
@@ -278,8 +288,10 @@ def _radau_motions(lin, t, plunge, pitch, pivot):
         if history is None:
             continue
         x = _motion_samples(name, history, t)
-        x_of_s = history if callable(history) else CubicSpline(t, x)
-        out.append((motion_forcing(lin, name, pivot), x, x_of_s))
+        flat = stage_times.ravel()
+        xs = (_motion_samples(name, history, flat) if callable(history) else CubicSpline(t, x)(flat))
+        xs = xs.reshape(stage_times.shape)
+        out.append((motion_forcing(lin, name, pivot), x, xs))
     return out
 
 
@@ -332,8 +344,8 @@ def _radau(lin, gusts, t, method, initial, moves, m, clock):
             s_i = t_n + c * H
             if gusts:
                 b[i] = _gust_forcing(lin, gusts, s_i, method)
-            for fb, (_, _, x_of_s) in zip(forces, moves):
-                b[i] += (fb * float(x_of_s(s_i)))[:, None]
+            for fb, (_, _, xs) in zip(forces, moves):
+                b[i] += (fb * xs[k, i])[:, None]
         Vq = V * q
         r = np.tensordot(Pinv[:2], b, axes=(1, 0))     # (2, 4N, g): (P^-1 b)_k for the real and complex rows
         w_r = solve_r((lam[0].real / h) * e[0].real * Vq - r[0].real)
@@ -383,8 +395,10 @@ def _march(lin, gusts, dt, t_end, method, x_ref, initial, motion=None, progress=
                 Y += np.multiply.outer(x, f.d)[:, :, None]       # the explicit load term d x
             moves = [(f, x) for f, x, _ in moves]
         else:
-            moves = [] if motion is None else _radau_motions(lin, t, *motion)
-            Y, q = _radau(lin, gusts, t, method, initial, moves, radau_substeps(dt, step), clock)
+            m = radau_substeps(dt, step)
+            stage_times = t[0] + m * dt * (np.arange(-(-(t.size - 1) // m))[:, None] + RADAU_C[None, :])
+            moves = [] if motion is None else _radau_motions(lin, t, *motion, stage_times)
+            Y, q = _radau(lin, gusts, t, method, initial, moves, m, clock)
             moves = [(f, x) for f, x, _ in moves]
     x_of = {f.name: x for f, x in moves}
     pivot = next((f.pivot for f, _ in moves if f.name == "pitch"), None)
@@ -468,8 +482,7 @@ def ltd_responses(lin, gusts, dt, t_end, method="svm", x_ref=0.0, max_phase_erro
     for gust in gusts:
         _check_gust(gust)
     dt, t_end = _check_times(dt, t_end)
-    if scheme == "radau5":
-        radau_substeps(dt, step)
+    check_scheme(scheme, dt, step)
     for gust in gusts:
         _warn_phase(gust, dt, max_phase_error, scheme, step)
     reps, maps = _shape_groups(gusts)
@@ -509,8 +522,9 @@ def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, ma
     pivot : float
         Pitch axis, chords from the leading edge.
     progress : callable, optional
-        ``progress(step, n_steps, t)`` after every time step (``step = 1 ... n_steps``, ``t`` its convective
-        time); its return value is ignored. It does not change the result.
+        ``progress(step, n_steps, t)`` after every time step (``step = 1 ... n_steps`` of the ``dt`` grid, ``t``
+        its convective time; Radau IIA calls it after each of its steps, with the last output step it reached);
+        its return value is ignored. It does not change the result.
     log_interval : float
         Seconds between progress lines on the ``cfd.ltd`` logger (level INFO).
     scheme : {"bdf2", "radau5"}
@@ -518,11 +532,13 @@ def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, ma
         ``"radau5"``: three-stage Radau IIA (order 5, L-stable, :mod:`cfd.radau`) with steps of ``step``, one
         real and one complex solve per step (two factorisations), the loads on the ``dt`` grid from its
         collocation polynomial (dense output, ``O(step^4)``). Measured on the paper's gusts
-        (``bench/ltd_bench.py``): more accurate than BDF2 at ``dt = 0.02`` for less work (docs/performance.md).
+        (``bench/ltd_radau_bench.py``): more accurate than BDF2 at ``dt = 0.02`` for less work
+        (docs/performance.md).
     step : float, optional
         Radau IIA only: its step (convective time), a whole multiple of ``dt``; default the largest multiple
         of ``dt`` not above :data:`RADAU_STEP` (:func:`radau_substeps`). A motion given as samples is
-        interpolated by a cubic spline at the stage times (give a callable for its exact values).
+        interpolated by a cubic spline at the stage times (give a callable for its exact values; it is called
+        once with the flat array of all stage times, those of the last step past ``t_end`` included).
 
     Returns
     -------
@@ -546,8 +562,7 @@ def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, ma
         _check_gust(gust)
     dt, t_end = _check_times(dt, t_end)
     pivot = check_pivot(pivot)
-    if scheme == "radau5":
-        radau_substeps(dt, step)
+    check_scheme(scheme, dt, step)
     if gust is not None:
         _warn_phase(gust, dt, max_phase_error, scheme, step)
     motion = None if plunge is None and pitch is None else (plunge, pitch, pivot)

@@ -341,7 +341,8 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
         raise P.err("simulation.dt" if dt < d.dt / 10 else "simulation.t_end", (
             f"t_end / dt = {t_end:g} / {dt:g} = {steps:.3g} time steps (at most {MAX_STEPS:,}): the LTD march would "
             f"need {_size_text(gib)} for its histories alone and about {steps * 0.03 / 3600:.3g} h per case on the "
-            f"paper grid; use dt ~ 0.02 (BDF2 phase error ~ 1 % at k = 5) and t_end ~ 20 - 60"))
+            f"paper grid with BDF2; use dt ~ 0.02 (BDF2 phase error ~ 1 % at k = 5; the output grid of "
+            f"scheme = 'radau5') and t_end ~ 20 - 60"))
     sim = SimulationOptions(discretisation=disc, dt=dt, t_end=t_end, x0=x0, scheme=scheme)
 
     # methods

@@ -103,7 +103,8 @@ def sim_piece(point: SweepPoint, gust: GustCase, M_base: int, sim: SimulationOpt
     """ROM gust history of one sweep point and gust."""
     return dict(rom=rom_piece(point, M_base, cfd),
                 gust=dict(kind=gust.kind, length=gust.length, angle_deg=gust.angle_deg),
-                discretisation=sim.discretisation, dt=sim.dt, t_end=sim.t_end, x0=sim.x0)
+                discretisation=sim.discretisation, dt=sim.dt, t_end=sim.t_end, x0=sim.x0,
+                **({} if sim.scheme == "bdf2" else {"scheme": sim.scheme}))    # its errors are against that LTD
 
 
 def store_dependencies() -> dict:

@@ -142,8 +142,8 @@ class SimulationOptions:
 
     ``scheme``: the LTD's time scheme (:data:`LTD_SCHEMES`). ``"bdf2"`` (the default) marches at ``dt``, the
     scheme of the nonlinear solver (so a linear-against-nonlinear comparison differs by the nonlinearity alone);
-    ``"radau5"`` (Radau IIA, ``cfd.ltd``) is 2 - 3x cheaper and 10 - 100x more accurate at the paper's gust
-    frequencies (docs/performance.md) and writes the loads on the same ``dt`` grid.
+    ``"radau5"`` (Radau IIA, ``cfd.ltd``; measured on T2: 2.3x cheaper, 2.7 - 24x closer to a fine reference on
+    the 1-cosine gusts, docs/performance.md) writes the loads on the same ``dt`` grid.
     """
 
     discretisation: str = "tustin"

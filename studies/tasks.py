@@ -335,7 +335,15 @@ def ltd_task(config: StudyConfig, case_name: str, gust_names: list, root: str, c
     except Exception as e:  # noqa: BLE001 - stored as the failure of every piece of the march
         histories, error = [None] * len(gusts), e
     share = (time.perf_counter() - t0) / len(gusts)
-    n = int(round(config.simulation.t_end / config.simulation.dt))
+    sim = config.simulation
+    n = int(round(sim.t_end / sim.dt))
+    if sim.scheme == "radau5":
+        from cfd.ltd import radau_substeps
+
+        m = radau_substeps(sim.dt)
+        steps = f"{-(-n // m)} Radau IIA steps, loads at {n} times"
+    else:
+        steps = f"{n} steps"
     reports = []
     for gust, hist in zip(gusts, histories):
         def compute(hist=hist):
@@ -347,7 +355,7 @@ def ltd_task(config: StudyConfig, case_name: str, gust_names: list, root: str, c
             return arrays, dict(metadata, marched_with=len(gusts))
 
         entry, _ = compute_piece(store, "ltd", ltd_piece(case, gust, config.simulation, config.cfd), compute)
-        reports.append(piece_report("ltd", f"ltd {case.name} {gust.name} ({n} steps, {len(gusts)} gusts marched "
+        reports.append(piece_report("ltd", f"ltd {case.name} {gust.name} ({steps}, {len(gusts)} gusts marched "
                                       "together)", entry, share))
     return reports
 

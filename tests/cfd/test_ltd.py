@@ -297,3 +297,13 @@ def test_radau_bad_input_progress_and_phase_warning(lin):
     calls = []
     ltd_response(lin, g, 0.05, 1.0, scheme="radau5", step=0.15, progress=lambda *a: calls.append(a))
     assert [c[0] for c in calls] == [3, 6, 9, 12, 15, 18, 20] and {c[1] for c in calls} == {20}
+
+
+def test_scheme_options_are_checked(lin):
+    g = OneMinusCosine(length=1.0, angle_deg=1.0, x0=-2.0)
+    with pytest.raises(LinearError, match="applies to scheme='radau5' only"):
+        ltd_response(lin, g, 0.05, 1.0, step=0.1)
+    with pytest.raises(LinearError, match="scheme must be one of"):
+        phase_error_estimate(g, 0.05, "radau")
+    with pytest.warns(RuntimeWarning, match="reduce dt by"):     # the step is dt itself: only dt can shrink
+        ltd_response(lin, g, 0.5, 1.0, scheme="radau5")
