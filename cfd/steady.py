@@ -345,6 +345,7 @@ def solve_steady(grid, mach, alpha_deg, *, gamma=1.4, tol=1e-10, scheme=None, q0
     n_escape = 0
     n_rk_escape = 100
     J = None
+    solve = None
     while history[-1] > target:
         if n_newton >= max_newton:
             fail(f"no convergence in {max_newton} Newton steps")
@@ -357,6 +358,7 @@ def solve_steady(grid, mach, alpha_deg, *, gamma=1.4, tol=1e-10, scheme=None, q0
         t1 = time.perf_counter()
         d = (area / (cfl / spectral_radius_sum(grid, q, flow))[..., None]) if np.isfinite(cfl) else 0 * area
         d = np.broadcast_to(d, q.shape).ravel()
+        solve = None  # the previous factors go before the next ones are built (one factor less at the peak)
         solve, fill = factorise(J + sp.diags(d), perm)
         t2 = time.perf_counter()
         dq = -solve(R.ravel()).reshape(q.shape)
