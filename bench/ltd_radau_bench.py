@@ -29,7 +29,7 @@ from threadpoolctl import threadpool_limits  # noqa: E402
 
 import cfd  # noqa: E402
 from cfd.lfd import lfd_state  # noqa: E402
-from cfd.ltd import ltd_response, ltd_responses, radau_substeps  # noqa: E402
+from cfd.ltd import ltd_response, ltd_responses, radau_steps, radau_substeps  # noqa: E402
 
 SCHEMES = [("BDF2", "bdf2", None), ("Radau IIA, step 0.14", "radau5", 0.14), ("Radau IIA, step 0.1", "radau5", 0.1)]
 DT = 0.02
@@ -108,7 +108,8 @@ def main():
             t0 = time.perf_counter()
             runs[name] = ltd_responses(lin, gusts, DT, t_end, max_phase_error=1.0, scheme=scheme, step=step)
             seconds = time.perf_counter() - t0
-            steps = round(t_end / DT) if scheme == "bdf2" else -(-round(t_end / DT) // radau_substeps(DT, step))
+            n = round(t_end / DT)
+            steps = n if scheme == "bdf2" else radau_steps(n, radau_substeps(DT, step))
             print(f"  {name:22s} {seconds:7.1f} s  ({steps} steps, {seconds / len(gusts):.1f} s per gust)",
                   flush=True)
         if args.skip_reference:

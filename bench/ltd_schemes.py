@@ -13,22 +13,24 @@ printout gives the part of the imaginary axis they amplify), Alexander's three-s
 factorisation, three solves per step) and the three-stage Radau IIA (order 5, L-stable; its stage system
 splits into one real and one complex solve per step).
 
-Run: ``python bench/ltd_schemes.py [--complex-cost 2.0]`` (NumPy only, a second).
+Run: ``.venv/bin/python bench/ltd_schemes.py [--complex-cost 2.0]`` (a second; the Radau IIA tableau and
+stability function are ``cfd.radau``'s).
 """
 
 import argparse
+import sys
+from pathlib import Path
 
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout
+from cfd.radau import RADAU_A, stability_function  # noqa: E402
 
 BDF = {2: [1.5, -2.0, 0.5], 3: [11 / 6, -3.0, 1.5, -1 / 3], 4: [25 / 12, -4.0, 3.0, -4 / 3, 0.25]}
 GAMMA = 0.435866521508459  # Alexander's SDIRK3 (L-stable, stiffly accurate)
 SDIRK3 = np.array([[GAMMA, 0.0, 0.0],
                    [(1 - GAMMA) / 2, GAMMA, 0.0],
                    [-1.5 * GAMMA**2 + 4 * GAMMA - 0.25, 1.5 * GAMMA**2 - 5 * GAMMA + 1.25, GAMMA]])
-S6 = np.sqrt(6.0)
-RADAU5 = np.array([[(88 - 7 * S6) / 360, (296 - 169 * S6) / 1800, (-2 + 3 * S6) / 225],
-                   [(296 + 169 * S6) / 1800, (88 + 7 * S6) / 360, (-2 - 3 * S6) / 225],
-                   [(16 - S6) / 36, (16 + S6) / 36, 1 / 9]])
 GUSTS = {"G1 (L 0.5)": 4 * np.pi, "G2/G3 (L 1)": 2 * np.pi, "G4 (L 10)": 0.2 * np.pi}
 
 
@@ -40,8 +42,7 @@ def bdf_factor(k, wh):
 
 
 def rk_factor(A, wh):
-    s = A.shape[0]
-    return 1 + 1j * wh * A[-1] @ np.linalg.solve(np.eye(s) - 1j * wh * A, np.ones(s))  # stiffly accurate: b = A[-1]
+    return stability_function(1j * wh, A)  # both Runge-Kutta schemes here are stiffly accurate: b = A[-1]
 
 
 def errors(z, wh):
@@ -63,7 +64,7 @@ def main():
     schemes = [("BDF2", 0.02, lambda wh: bdf_factor(2, wh), 1.0)]
     schemes += [(f"BDF{k}", h, (lambda wh, k=k: bdf_factor(k, wh)), 1.0) for k in (3, 4) for h in (0.02, 0.04)]
     schemes += [("SDIRK3", h, lambda wh: rk_factor(SDIRK3, wh), 3.0) for h in (0.04, 0.06, 0.08)]
-    schemes += [("Radau IIA 5", h, lambda wh: rk_factor(RADAU5, wh), 1.0 + c) for h in (0.1, 0.15, 0.2)]
+    schemes += [("Radau IIA 5", h, lambda wh: rk_factor(RADAU_A, wh), 1.0 + c) for h in (0.1, 0.15, 0.2)]
     head = " | ".join(f"{g}: phase / amplitude" for g in GUSTS)
     print(f"| scheme | dt | solves per unit time | {head} |")
     print("|---|---|---|" + "---|" * len(GUSTS))

@@ -1,7 +1,7 @@
 """Peak memory of a steady solve: ``cfd.solve_steady`` on T2 (NACA0010, M0.735), max RSS of the process.
 
-Run: ``.venv/bin/python bench/steady_memory.py [--checkout DIR] [--ni 181 --nj 60 --n-surface 100]`` (about 30 s on the paper
-grid). ``--checkout`` measures another checkout's code (e.g. a ``git worktree`` of an older commit) side by side.
+Run: ``.venv/bin/python bench/steady_memory.py [--checkout DIR] [--ni 181 --nj 60 --n-surface 100]`` (about
+30 s on the paper grid). ``--checkout`` measures another checkout's code (e.g. a ``git worktree`` of an older commit) side by side.
 """
 
 import argparse

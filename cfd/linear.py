@@ -240,6 +240,26 @@ class LinearSystem:
         """Convective angular frequency (U / c) to solver units (a_inf / c): ``mach * omega``."""
         return np.asarray(omega) * self.mach
 
+    def apply_jacobian(self, X, transpose=False):
+        """The full Jacobian ``J + u v^T`` (with the vortex rank-one term, when the system has one) times ``X``.
+
+        Parameters
+        ----------
+        X : ndarray, shape (4N,) or (4N, k), real or complex
+        transpose : bool
+            ``(J + u v^T)^T X`` instead.
+
+        Returns
+        -------
+        ndarray, the shape of ``X``
+        """
+        out = np.asarray((self.J.T if transpose else self.J) @ X)
+        if self.vortex is not None:
+            u, v = self.vortex
+            left, right = (v, u) if transpose else (u, v)
+            out = out + np.multiply.outer(left, right @ X)
+        return out
+
     def solver(self, diagonal, perm=None, native_complex=False):
         """Factorise ``diag(diagonal) + J`` (plus the vortex rank-one term) for repeated solves.
 

@@ -47,10 +47,10 @@ from .gust import OneMinusCosine, SharpEdged, SineGust, face_gust
 from .frequencies import check_pivot
 from .linear import LinearError, check_gust_method
 from .motion import motion_forcing
-from .radau import RADAU_A, RADAU_C, dense_weights, radau_transform
+from .radau import RADAU_C, dense_weights, radau_transform, stability_function
 
 __all__ = ["LTDHistory", "ltd_response", "ltd_responses", "phase_error_estimate", "check_march", "SCHEMES",
-           "RADAU_STEP", "radau_substeps", "gust_frequency", "check_scheme"]
+           "RADAU_STEP", "radau_substeps", "radau_steps", "gust_frequency", "check_scheme"]
 
 log = logging.getLogger(__name__)
 
@@ -120,7 +120,7 @@ def phase_error_estimate(gust, dt, scheme="bdf2", step=None):
     if scheme == "bdf2":
         return (w * dt) ** 2 / 3.0
     wh = w * radau_substeps(dt, step) * dt
-    R = 1.0 + 1j * wh * RADAU_A[-1] @ np.linalg.solve(np.eye(3) - 1j * wh * RADAU_A, np.ones(3))
+    R = stability_function(1j * wh)
     return abs(complex(np.log(abs(R)), float(np.angle(R))) / (1j * wh) - 1.0)
 
 
@@ -277,6 +277,17 @@ def radau_substeps(dt, step=None):
     return m
 
 
+def radau_steps(n, m):
+    """Radau IIA steps that cover ``n`` output intervals, ``m`` to a step (the last may end past ``t_end``)."""
+    return -(-n // m)
+
+
+def _stage_times(t, m):
+    """Convective times of the stages of every Radau IIA step over the output grid ``t``: (n_steps, 3)."""
+    H = m * (t[1] - t[0])
+    return t[0] + H * (np.arange(radau_steps(t.size - 1, m))[:, None] + RADAU_C[None, :])
+
+
 def _radau_motions(lin, t, plunge, pitch, pivot, stage_times):
     """``[(MotionForcing, x, x_stages)]`` for the Radau march: the samples at ``t`` and the values at the stage
     times (array, shape of ``stage_times``), from the history's own callable (one call with the array) or a cubic
@@ -295,17 +306,9 @@ def _radau_motions(lin, t, plunge, pitch, pivot, stage_times):
     return out
 
 
-def _apply_jacobian(lin, y):
-    """``(J + u v^T) y``: the full Jacobian (with the vortex term) times ``y`` (4N,)."""
-    out = lin.J @ y
-    if lin.vortex is not None:
-        u, v = lin.vortex
-        out = out + u * (v @ y)
-    return out
-
-
-def _radau(lin, gusts, t, method, initial, moves, m, clock):
-    """Radau IIA (:mod:`cfd.radau`) with steps of ``m`` output intervals, dense output on the grid ``t``.
+def _radau(lin, gusts, t, method, initial, moves, m, stage_times, clock):
+    """Radau IIA (:mod:`cfd.radau`) with steps of ``m`` output intervals, dense output on the grid ``t``;
+    ``stage_times`` (n_steps, 3): the convective times of every step's stages (:func:`_stage_times`).
 
     A motion ``x`` (input of ``b0 x + b1 x'``) is marched in the variable ``p = q + V^-1 b1 x / mach``, which
     removes the rate: ``V p' + J p + (b0 - J V^-1 b1 / mach) x = 0``, ``y = C p + (d - C V^-1 b1 / mach) x``.
@@ -329,19 +332,16 @@ def _radau(lin, gusts, t, method, initial, moves, m, clock):
     g = max(len(gusts), 1)
     # motions in p: forcing (b0 - J V^-1 b1 / mach) x, output (d - C V^-1 b1 / mach) x, p = q + V^-1 b1 x / mach
     shifts = [f.b1 / (lin.V * lin.mach) for f, _, _ in moves]
-    forces = [f.b0 - _apply_jacobian(lin, s) for (f, _, _), s in zip(moves, shifts)]
+    forces = [f.b0 - lin.apply_jacobian(s) for (f, _, _), s in zip(moves, shifts)]
     # at rest before s = 0 (x = 0 there): p starts at q, and a jump of x at s = 0 is an impulsive start
     q = np.zeros((lin.n, g)) if initial is None else np.asarray(initial[-1], dtype=float).reshape(lin.n, 1).copy()
-    n_steps = -(-n // m)
     W = dense_weights(np.arange(1, m + 1) / m)          # (m, 4): output points inside a step
     Y = np.zeros((n + 1, 3, g))
     Y[0] = lin.C @ q
     y_n = Y[0]
-    for k in range(n_steps):
-        t_n = t[0] + k * H
+    for k, times in enumerate(stage_times):
         b = np.zeros((3, lin.n, g))
-        for i, c in enumerate(RADAU_C):
-            s_i = t_n + c * H
+        for i, s_i in enumerate(times):
             if gusts:
                 b[i] = _gust_forcing(lin, gusts, s_i, method)
             for fb, (_, _, xs) in zip(forces, moves):
@@ -396,9 +396,9 @@ def _march(lin, gusts, dt, t_end, method, x_ref, initial, motion=None, progress=
             moves = [(f, x) for f, x, _ in moves]
         else:
             m = radau_substeps(dt, step)
-            stage_times = t[0] + m * dt * (np.arange(-(-(t.size - 1) // m))[:, None] + RADAU_C[None, :])
+            stage_times = _stage_times(t, m)
             moves = [] if motion is None else _radau_motions(lin, t, *motion, stage_times)
-            Y, q = _radau(lin, gusts, t, method, initial, moves, m, clock)
+            Y, q = _radau(lin, gusts, t, method, initial, moves, m, stage_times, clock)
             moves = [(f, x) for f, x, _ in moves]
     x_of = {f.name: x for f, x in moves}
     pivot = next((f.pivot for f, _ in moves if f.name == "pitch"), None)
@@ -475,7 +475,6 @@ def ltd_responses(lin, gusts, dt, t_end, method="svm", x_ref=0.0, max_phase_erro
         As :func:`ltd_response`, or an empty list of gusts.
     """
     check_gust_method(method)
-    check_scheme(scheme)
     gusts = list(gusts)
     if not gusts:
         raise LinearError("gusts is empty: give at least one cfd.SineGust, OneMinusCosine or SharpEdged")
@@ -554,7 +553,6 @@ def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, ma
         Radau step that is not a positive whole multiple of ``dt``.
     """
     check_gust_method(method)
-    check_scheme(scheme)
     if gust is None and plunge is None and pitch is None:
         raise LinearError("nothing to march: give a gust, or a plunge or pitch history (ltd_response(lin, None, dt, "
                           "t_end, pitch=...))")

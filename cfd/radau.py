@@ -22,7 +22,7 @@ errs by about ``(omega h)^6 / 42 000``, against BDF2's ``(omega h)^3 / 4`` and `
 
 import numpy as np
 
-__all__ = ["RADAU_C", "RADAU_A", "radau_transform", "dense_weights"]
+__all__ = ["RADAU_C", "RADAU_A", "radau_transform", "dense_weights", "stability_function"]
 
 _S6 = np.sqrt(6.0)
 RADAU_C = np.array([(4.0 - _S6) / 10.0, (4.0 + _S6) / 10.0, 1.0])
@@ -31,6 +31,25 @@ RADAU_A = np.array([[(88.0 - 7.0 * _S6) / 360.0, (296.0 - 169.0 * _S6) / 1800.0,
                     [(296.0 + 169.0 * _S6) / 1800.0, (88.0 + 7.0 * _S6) / 360.0, (-2.0 - 3.0 * _S6) / 225.0],
                     [(16.0 - _S6) / 36.0, (16.0 + _S6) / 36.0, 1.0 / 9.0]])
 """Butcher matrix of the three-stage Radau IIA method."""
+
+
+def stability_function(z, A=RADAU_A):
+    """``R(z) = 1 + z b^T (I - z A)^-1 1`` of a stiffly accurate Runge-Kutta method (``b`` the last row of
+    ``A``): one step multiplies ``y' = lambda y`` by ``R(lambda h)``.
+
+    Parameters
+    ----------
+    z : complex
+        ``lambda h``.
+    A : ndarray, shape (s, s)
+        Butcher matrix (default: the three-stage Radau IIA's).
+
+    Returns
+    -------
+    complex
+    """
+    s = A.shape[0]
+    return complex(1.0 + z * A[-1] @ np.linalg.solve(np.eye(s) - z * A, np.ones(s)))
 
 
 def radau_transform():

@@ -246,12 +246,7 @@ class SweepBasis:
 
     def _Jt(self, X, transpose=True):
         """``J^T X`` (or ``J X``), with the vortex rank-one term ``u v^T`` of ``J`` when the system has one."""
-        lin = self.lin
-        out = np.asarray((lin.J.T if transpose else lin.J) @ X)
-        if lin.vortex is not None:
-            u, v = lin.vortex
-            out = out + (np.outer(v, u @ X) if transpose else np.outer(u, v @ X))
-        return out
+        return self.lin.apply_jacobian(X, transpose=transpose)
 
     def _append(self, m0):
         """Account for the basis columns from ``m0`` on (one shift's): the residual basis ``U`` and the

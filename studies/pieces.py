@@ -92,11 +92,16 @@ def rom_piece(point: SweepPoint, M_base: int, cfd: CFDOptions) -> dict:
                 method=point.method.canonical())
 
 
+def _scheme_key(sim: SimulationOptions) -> dict:
+    """The LTD scheme's entry of a key: none for the default BDF2 (keys of BDF2 pieces keep their form)."""
+    return {} if sim.scheme == "bdf2" else {"scheme": sim.scheme}
+
+
 def ltd_piece(case: FlowCase, gust: GustCase, sim: SimulationOptions, cfd: CFDOptions) -> dict:
     """LTD reference history of a case and gust."""
     return dict(steady=steady_piece(case), gust=dict(kind=gust.kind, length=gust.length, angle_deg=gust.angle_deg),
                 dt=sim.dt, t_end=sim.t_end, x0=sim.x0, gust_method=cfd.gust_method, outputs=list(cfd.outputs),
-                **({} if sim.scheme == "bdf2" else {"scheme": sim.scheme}))
+                **_scheme_key(sim))
 
 
 def sim_piece(point: SweepPoint, gust: GustCase, M_base: int, sim: SimulationOptions, cfd: CFDOptions) -> dict:
@@ -104,7 +109,7 @@ def sim_piece(point: SweepPoint, gust: GustCase, M_base: int, sim: SimulationOpt
     return dict(rom=rom_piece(point, M_base, cfd),
                 gust=dict(kind=gust.kind, length=gust.length, angle_deg=gust.angle_deg),
                 discretisation=sim.discretisation, dt=sim.dt, t_end=sim.t_end, x0=sim.x0,
-                **({} if sim.scheme == "bdf2" else {"scheme": sim.scheme}))    # its errors are against that LTD
+                **_scheme_key(sim))    # its errors are against that LTD
 
 
 def store_dependencies() -> dict:

@@ -338,10 +338,9 @@ def ltd_task(config: StudyConfig, case_name: str, gust_names: list, root: str, c
     sim = config.simulation
     n = int(round(sim.t_end / sim.dt))
     if sim.scheme == "radau5":
-        from cfd.ltd import radau_substeps
+        from cfd.ltd import radau_steps, radau_substeps
 
-        m = radau_substeps(sim.dt)
-        steps = f"{-(-n // m)} Radau IIA steps, loads at {n} times"
+        steps = f"{radau_steps(n, radau_substeps(sim.dt))} Radau IIA steps, loads at {n} times"
     else:
         steps = f"{n} steps"
     reports = []

@@ -168,3 +168,11 @@ def test_vortex_far_field_rank_one_term(thick):
     slope = (cl[1] - cl[0]) / np.radians(0.5)
     assert H0 == pytest.approx(slope, rel=2e-3)
     assert abs(frozen / slope - 1) > 5e-3  # the term matters
+    # the full Jacobian's product (LinearSystem.apply_jacobian) is the operator the solver inverts (Sherman-
+    # Morrison there, an explicit rank-one product here); its transpose is the adjoint: z.(A x) = (A^T z).x.
+    # Round-off of a solve with cond(3 V + J) below 1e8 on this grid: tolerance 1e-8.
+    rng = np.random.default_rng(1)
+    x, z = rng.normal(size=(lin.n, 2)), rng.normal(size=lin.n)
+    d = 3.0 * lin.V
+    np.testing.assert_allclose(lin.solver(d)(d[:, None] * x + lin.apply_jacobian(x)), x, rtol=0, atol=1e-8)
+    assert z @ lin.apply_jacobian(x[:, 0]) == pytest.approx(lin.apply_jacobian(z, transpose=True) @ x[:, 0], rel=1e-12)
