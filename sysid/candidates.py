@@ -7,12 +7,13 @@ from __future__ import annotations
 import numpy as np
 
 from .errors import SolverError
+from .poles import balanced_coordinates
 from .residues import minimax_cd
 from .state_space import eigen_parts, evaluate_ss
 
 __all__ = ["EQ_TOL", "channel_errors", "candidate_score", "bound_candidate_gaps", "pick_candidates", "gap_excess",
            "equality_residual", "equality_gaps", "polish_equalities", "POLISH_FROM", "candidate_eig", "ROUNDOFF_TOL",
-           "equality_roundoff", "check_equalities", "constrained_responses"]
+           "equality_roundoff", "check_equalities", "constrained_responses", "settle_equalities"]
 
 #: Accepted violation of the DC / feedthrough equalities by the model (:func:`equality_residual`), relative to
 #: each output's peak.
@@ -70,9 +71,7 @@ def bound_candidate_gaps(c, z, G, dc, ft, weights, zb, ub, peak, rounds: int = 4
         if r.max() <= 1.0 + 1e-6:
             c.update(C=C, D=D, err=channel_errors(c["A"], c["B"], C, D, z, G, eig), residues="bounded minimax",
                      gap=float(r.max()))
-            check_equalities(c, dc, ft, peak)
-            if c["eq"] > POLISH_FROM:
-                polish_equalities(c, z, G, dc, ft, peak, zb, ub)
+            settle_equalities(c, z, G, dc, ft, peak, zb, ub)
             return
         active |= r > 0.95
 
@@ -198,6 +197,38 @@ def check_equalities(c, dc, ft, peak):
     """Set ``c["eq"]`` (:func:`equality_residual`) and ``c["eq_roundoff"]`` (:func:`equality_roundoff`)."""
     R, bound = equality_gaps(c["A"], c["B"], c["C"], c["D"], dc, ft)
     c["eq"], c["eq_roundoff"] = _relative_gap(R, peak), _relative_gap(bound, peak)
+
+
+def settle_equalities(c, z, G, dc, ft, peak, zb, ub):
+    """Check a candidate's equalities and make them hold in double precision where the model allows it.
+
+    Sets ``c["eq"]`` and ``c["eq_roundoff"]`` (:func:`check_equalities`); a residual above ``POLISH_FROM`` gets
+    :func:`polish_equalities`; a possible round-off above ``ROUNDOFF_TOL`` (cancelling terms of nearly
+    coincident poles) moves the candidate to :func:`sysid.poles.balanced_coordinates`, polished again there,
+    and the balanced form is kept when its round-off bound is lower (``A``, ``B``, ``C``, ``err`` and ``gap``
+    updated: the same model up to the transformation's round-off). Measured on T5 at ``N_r = 55``: the two
+    bounded minimax candidates had bounds of 1.1e-10 and 1.4e-10 in input-normal coordinates (so whether
+    they were admissible depended on the machine's round-off), 6e-16 balanced.
+    """
+    check_equalities(c, dc, ft, peak)
+    if c["eq"] > POLISH_FROM:
+        polish_equalities(c, z, G, dc, ft, peak, zb, ub)
+    if c["eq_roundoff"] <= ROUNDOFF_TOL or not np.all(np.isfinite(c["C"])):
+        return
+    bal = balanced_coordinates(c["A"], c["B"], c["C"])
+    if bal is None:
+        return
+    A_b, B_b, C_b, T, T_inv = bal
+    eig = candidate_eig(c)  # the modal form carried over (C V is invariant): as accurate as it was
+    trial = dict(c, A=A_b, B=B_b, C=C_b, eig=(eig[0], T_inv @ eig[1], eig[2] @ T) if eig else False)
+    check_equalities(trial, dc, ft, peak)
+    if trial["eq"] > POLISH_FROM:
+        polish_equalities(trial, z, G, dc, ft, peak)
+    if trial["eq_roundoff"] < c["eq_roundoff"] and trial["eq"] <= max(c["eq"], EQ_TOL):
+        trial["err"] = channel_errors(trial["A"], trial["B"], trial["C"], trial["D"], z, G, candidate_eig(trial))
+        trial["gap"] = gap_excess(trial, zb, ub)
+        c.clear()
+        c.update(trial)
 
 
 def _relative_gap(R, peak):

@@ -1,0 +1,85 @@
+"""The relocation's candidates (:mod:`sysid.candidates`): equalities that hold when the model is evaluated."""
+
+import numpy as np
+import pytest
+import scipy.linalg
+
+from sysid import mckelvey_grid
+from sysid.candidates import (EQ_TOL, ROUNDOFF_TOL, channel_errors, check_equalities, gap_excess,
+                              settle_equalities)
+from sysid.poles import balanced_coordinates, discrete_basis
+from sysid.residues import gap_bounds, minimax_cd
+
+LIGHT = [-0.004 + 0.8j, -0.004 - 0.8j, -0.01 + 2.1j, -0.01 - 2.1j, -0.3, -1.5]  # zeta 0.5 %
+
+
+def light_model(T=1.0, M=64, seed=0):
+    """Data of a lightly damped 2-output system on the McKelvey grid and its DC-exact minimax realisation on
+    the true poles: ``(z, G, dc, ft, peak, A, B, C, D)``."""
+    rng = np.random.default_rng(seed)
+    A, B = discrete_basis(np.array(LIGHT, dtype=complex), T)
+    C = rng.standard_normal((2, A.shape[0]))
+    wd, _ = mckelvey_grid(M, T)
+    z = np.exp(1j * wd)
+    G = np.einsum("pn,knm->pmk", C, np.linalg.solve(z[:, None, None] * np.eye(A.shape[0]) - A, B[None]))
+    dc, ft = G[:, :, 0].real, G[:, :, -1].real
+    C0, D0, _ = minimax_cd(A, B, z, G, dc_gain=dc, feedthrough=ft)
+    peak = np.abs(G[:, 0]).max(axis=1)
+    return z, G, dc, ft, peak, A, B, C0, D0
+
+
+def test_balanced_coordinates_equalise_the_gramians_and_keep_the_model():
+    z, G, dc, ft, peak, A, B, C, D = light_model()
+    A_b, B_b, C_b, T, T_inv = balanced_coordinates(A, B, C)
+    np.testing.assert_allclose(T @ T_inv, np.eye(A.shape[0]), atol=1e-10)
+    P = scipy.linalg.solve_discrete_lyapunov(A_b, B_b @ B_b.T)
+    Q = scipy.linalg.solve_discrete_lyapunov(A_b.T, C_b.T @ C_b)
+    hsv = np.diag(P)
+    # both Gramians diag(hsv), hsv the Hankel singular values (square roots of eig(P Q) in any coordinates);
+    # the solves are accurate to about cond(A) eps relative to the largest
+    np.testing.assert_allclose(P, np.diag(hsv), atol=1e-9 * hsv.max())
+    np.testing.assert_allclose(Q, np.diag(hsv), atol=1e-9 * hsv.max())
+    P0 = scipy.linalg.solve_discrete_lyapunov(A, B @ B.T)
+    Q0 = scipy.linalg.solve_discrete_lyapunov(A.T, C.T @ C)
+    np.testing.assert_allclose(np.sort(hsv), np.sort(np.sqrt(np.linalg.eigvals(P0 @ Q0).real)), rtol=1e-7)
+    np.testing.assert_allclose(channel_errors(A_b, B_b, C_b, D, z, G), 0.0, atol=1e-10)
+
+
+def test_settle_moves_a_cancelling_realisation_to_balanced_coordinates():
+    # the lightly damped system plus a pair of real poles 1e-11 apart with residues +-r, r = 1e8 (what the
+    # relocation's T5 N_r = 55 fits hold): the pair adds -r 1e-9 / ((z - a)(z - a - 1e-9)), 0.1 at DC, but
+    # its terms r / (1 - a) = 1e9 cancel in the DC gain, so a double-precision evaluation may be off by
+    # eps sum |C_ij x_j| ~ 5e-9 of the peak (check_equalities' bound, above ROUNDOFF_TOL). The data are
+    # computed from the closed form, so the realisation is exact. settle_equalities returns it balanced, where
+    # the bound is at round-off, the equalities hold and the fit is as exact as before (to the balancing
+    # transformation's round-off: its condition number is ~1e7 here)
+    z, G, dc, ft, peak, A, B, C, D = light_model()
+    a, r = 0.9, 1e8
+    a2 = a + 1e-11
+    gap = a2 - a  # exact (Sterbenz): the data below are the model's response to round-off
+    pair = -r * gap / ((z - a) * (z - a2))  # (K,): the pair's response to the single input
+    G = G + np.array([1.0, -0.5])[:, None, None] * pair[None, None, :]
+    dc, ft = G[:, :, 0].real, G[:, :, -1].real
+    peak = np.abs(G[:, 0]).max(axis=1)
+    A2 = scipy.linalg.block_diag(A, a, a2)
+    B2 = np.vstack([B, [[1.0], [1.0]]])
+    C2 = np.hstack([C, np.array([[r, -r], [-0.5 * r, 0.5 * r]])])
+    zb, ub = gap_bounds(z, G)
+    c = dict(A=A2, B=B2, C=C2, D=D, residues="minimax", label="pair")
+    c["err"] = channel_errors(A2, B2, C2, D, z, G)
+    c["gap"] = gap0 = gap_excess(c, zb, ub)  # the light resonances peak between the samples: above 1
+    check_equalities(c, dc, ft, peak)
+    assert c["eq_roundoff"] > 10 * ROUNDOFF_TOL and c["eq"] <= EQ_TOL
+    assert np.all(c["err"] < 1e-6)
+    settle_equalities(c, z, G, dc, ft, peak, zb, ub)
+    assert c["eq_roundoff"] < 1e-13 and c["eq"] <= EQ_TOL
+    assert np.all(c["err"] < 1e-6) and np.abs(c["C"]).max() < 1e-3 * r
+    assert c["label"] == "pair" and c["residues"] == "minimax" and c["gap"] == pytest.approx(gap0, rel=1e-6)
+
+
+def test_settle_leaves_a_well_conditioned_realisation_alone():
+    z, G, dc, ft, peak, A, B, C, D = light_model()
+    zb, ub = gap_bounds(z, G)
+    c = dict(A=A, B=B, C=C, D=D, err=channel_errors(A, B, C, D, z, G), gap=0.5)
+    settle_equalities(c, z, G, dc, ft, peak, zb, ub)
+    assert c["A"] is A and c["B"] is B and c["eq_roundoff"] <= ROUNDOFF_TOL and c["eq"] <= EQ_TOL
