@@ -140,11 +140,12 @@ def run_vf(frf, n):
             for i in range(p):
                 Hd[i, 0, :-1] = vf.get_model_response(i, 0, fd) * peak[i]
                 Hd[i, 0, -1] = vf.constant_coeff[i * p] * peak[i]
-            best = (e, Hm, G0, float(np.abs(zp).max()), spacing, gain_between(Hd, frf))
+            best = (e, Hm, G0, float(np.abs(zp).max()), spacing, Hd)
     t = time.perf_counter() - t0
     if best is None:
         raise RuntimeError("no stable VF fit from either start")
-    return dict(H=best[1], rho=best[3], dc=dc_rel(best[2], frf.H), time=t, note=f"{best[4]} start", gain=best[5])
+    return dict(H=best[1], rho=best[3], dc=dc_rel(best[2], frf.H), time=t, note=f"{best[4]} start",
+                gain=gain_between(best[5], frf), H_dense=best[5])
 
 
 def run_aaa(frf, n):

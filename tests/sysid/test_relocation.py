@@ -407,7 +407,10 @@ def test_paper_data_default_stays_within_the_gap_bounds(case, order):
     # 29 x and 12 x the output's data peak), and stable vector fitting's N_r = 55 models of T4 and T5 do
     # (888 x and 3e4 x, bench/sysid_peers_bench.py); the default now stays within the gap bounds, below VF's
     # sample errors on T4 (N_r 25: 5.5 % / 3.9 %; N_r 55: 0.87 % / 1.6 %, ibid.; ours 0.4-1.8 %) and within
-    # 1 % on T5 N_r 55 (VF's 0.22 % / 0.24 % there come with its 3e4 x resonance between the samples)
+    # 0.5 % on T5 N_r 55 (measured 0.22 % / 0.18 %; VF's 0.22 % / 0.25 % come with its 3e4 x resonance between
+    # the samples). Before the balanced coordinates of sysid.candidates.settle_equalities, T5 N_r 55 returned
+    # 1.84 % / 0.99 % on one machine and 0.27 % / 0.20 % on another: its best candidates sat at the round-off
+    # bound of the DC equality; the 2x margin here is for the round-off-level choices that remain
     from sysid.identify import UNOBSERVED_GAIN_LIMIT, unobserved_gain
 
     frf = FrequencyResponse.load(DATA / f"frf-{case}.npz")
@@ -416,7 +419,7 @@ def test_paper_data_default_stays_within_the_gap_bounds(case, order):
     zb, ub = gap_bounds(frf.z, np.asarray(frf.H))
     assert np.all(np.abs(res.evaluate(np.angle(zb))) <= ub * (1 + 1e-6))
     assert unobserved_gain(res.model, frf).max() < UNOBSERVED_GAIN_LIMIT
-    limit = {("T4", 25): (0.055, 0.039), ("T4", 55): (0.0087, 0.016), ("T5", 55): (0.01, 0.01)}[(case, order)]
+    limit = {("T4", 25): (0.055, 0.039), ("T4", 55): (0.0087, 0.016), ("T5", 55): (0.005, 0.005)}[(case, order)]
     assert np.all(res.errors.max_rel_per_output <= limit)
 
 
