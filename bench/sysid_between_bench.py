@@ -40,11 +40,12 @@ def compute(case_name, study=ROOT / "studies" / "paper.toml", M=2048):
     """The LFD of a paper case on McKelvey's grid with ``M`` intervals, as the study computes it."""
     import cfd
     from studies.config import load_study
-    from studies.tasks import _steady, lfd_on_mckelvey_grid
+    from studies.tasks import lfd_on_mckelvey_grid
 
     cfg = load_study(study)
     case = next(cs.case for cs in cfg.cases if cs.case.name == case_name)
-    frf, _ = lfd_on_mckelvey_grid(cfd.linearise(_steady(case)), T_PAPER, M, cfg.cfd)
+    steady = cfd.solve_steady(cfd.c_grid(cfd.naca(case.naca), **case.grid.kwargs()), case.mach, case.alpha_deg)
+    frf, _ = lfd_on_mckelvey_grid(cfd.linearise(steady), T_PAPER, M, cfg.cfd)
     DENSE.mkdir(parents=True, exist_ok=True)
     frf.save(DENSE / f"frf-{case_name}-M{M}.npz")
     return frf

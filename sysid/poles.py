@@ -16,8 +16,8 @@ import numpy as np
 from .errors import FrequencyDataError
 
 __all__ = ["stability_region", "resolution_floor", "floor_at", "pair_poles", "initial_poles", "pole_groups", "partial_fraction_basis",
-           "modal_realisation", "pole_distance", "discrete_basis", "input_normal", "balanced_coordinates", "RESOLUTION", "MIN_DAMPING",
-           "MIN_SEPARATION"]
+           "modal_realisation", "pole_distance", "discrete_basis", "input_normal", "balanced_coordinates", "RESOLUTION",
+           "MIN_DAMPING", "MIN_SEPARATION"]
 
 #: Smallest |Re s| of a relocated pole, relative to the largest finite data frequency (poles on the imaginary
 #: axis would make the model marginally stable; the reflection keeps them strictly inside).
