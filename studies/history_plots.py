@@ -109,6 +109,14 @@ def history_plot(t, reference: Mapping[str, Any] | None, models=(), *, outputs: 
             off = span is not None and not (np.max(np.abs(data[o] - ref[o]), initial=0.0) <= OFF_SCALE * span)
             clipped |= off
             shown = np.where(np.isfinite(data[o]), data[o], np.nan)
+            if off:  # drawn until it first leaves the reference's scale: an oscillating divergence drawn to the
+                # end painted the whole panel (unstable ROMs of docs/sweep-T.md)
+                lo, hi = float(np.min(ref[o])) - 0.5 * span, float(np.max(ref[o])) + 0.5 * span
+                with np.errstate(invalid="ignore"):
+                    outside = np.flatnonzero(~((shown >= lo) & (shown <= hi)))
+                if outside.size:
+                    shown = shown.copy()
+                    shown[outside[0] + 1:] = np.nan
             ay.plot(t, shown, label=lab + (" (diverges, off scale)" if off and j == 0 else ""), zorder=3, **style)
             if "e" in col:
                 col["e"].plot(t, shown - ref[o], zorder=3, **style)

@@ -214,3 +214,20 @@ def test_save_figure_palette_png_and_closes(tmp_path):
     fig, _ = plots.hankel_plot(np.array([1.0, 0.1]))
     with Image.open(plots.save_figure(fig, tmp_path / "rgba.png", dpi=60, palette=False)) as im:
         assert im.mode == "RGBA"
+
+
+def test_history_plot_stops_a_diverging_model_where_it_leaves_the_scale():
+    # an unstable ROM oscillating with growing amplitude: drawn to the end it painted the clipped panel solid;
+    # it is drawn up to its first sample outside the reference's range +- half its span, NaN after
+    t = np.linspace(0.0, 40.0, 2001)
+    ref = np.exp(-((t - 3.0) ** 2))
+    bad = ref + 1e-3 * np.exp(0.5 * t) * np.sin(20 * t)
+    fig, axes = plots.history_plot(t, {"Cl": ref}, [("unstable", {"Cl": bad})], outputs=("Cl",))
+    line = next(ln for ln in axes[0, 0].get_lines() if ln.get_label().startswith("unstable"))
+    y = np.asarray(line.get_ydata(), dtype=float)
+    first_out = int(np.flatnonzero((bad < -0.5) | (bad > 1.5))[0])
+    assert np.all(np.isfinite(y[:first_out + 1])) and np.all(np.isnan(y[first_out + 1:]))
+    assert "diverges, off scale" in line.get_label()
+    err = axes[1, 0].get_lines()[-1]
+    assert np.isnan(np.asarray(err.get_ydata(), dtype=float)[first_out + 1:]).all()
+    plots.pyplot().close(fig)
