@@ -113,11 +113,14 @@ def main(argv=None):
         for n in map(int, args.orders.split(",")):
             rows = []
             for r in [None] + [float(x) for x in filter(None, args.resolution.split(","))]:
+                # identify takes no resolution option: the floor is swapped in for this fit only
                 relocation.fit_relocated = default_fit if r is None else functools.partial(default_fit, resolution=r)
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore")
-                    res = sysid.identify(frf, n, dc_gain="match", stable=True)
-                relocation.fit_relocated = default_fit
+                try:
+                    with warnings.catch_warnings():
+                        warnings.simplefilter("ignore")
+                        res = sysid.identify(frf, n, dc_gain="match", stable=True)
+                finally:
+                    relocation.fit_relocated = default_fit
                 Hm = res.evaluate(wd)
                 rows.append(("default" if r is None else f"resolution {r:g}", 100 * res.errors.max_rel_per_output, Hm))
                 if r is None and args.figure == f"{case}:{n}":

@@ -103,6 +103,7 @@ def history_plot(t, reference: Mapping[str, Any] | None, models=(), *, outputs: 
         span = None
         if ref is not None and np.all(np.isfinite(ref[o])):
             span = max(float(np.ptp(ref[o])), 1e-12)
+            lo, hi = float(np.min(ref[o])) - 0.5 * span, float(np.max(ref[o])) + 0.5 * span  # the shown scale
         clipped = False
         for i, (lab, data, st) in enumerate(mods):
             style = line_style(i, st, colours)
@@ -111,7 +112,6 @@ def history_plot(t, reference: Mapping[str, Any] | None, models=(), *, outputs: 
             shown = np.where(np.isfinite(data[o]), data[o], np.nan)
             if off:  # drawn until it first leaves the reference's scale: an oscillating divergence drawn to the
                 # end painted the whole panel (unstable ROMs of docs/sweep-T.md)
-                lo, hi = float(np.min(ref[o])) - 0.5 * span, float(np.max(ref[o])) + 0.5 * span
                 with np.errstate(invalid="ignore"):
                     outside = np.flatnonzero(~((shown >= lo) & (shown <= hi)))
                 if outside.size:
@@ -121,8 +121,7 @@ def history_plot(t, reference: Mapping[str, Any] | None, models=(), *, outputs: 
             if "e" in col:
                 col["e"].plot(t, shown - ref[o], zorder=3, **style)
         if clipped:  # a diverging (unstable) model would flatten everything else: keep the reference's scale
-            lo, hi = float(np.min(ref[o])), float(np.max(ref[o]))
-            ay.set_ylim(lo - 0.5 * span, hi + 0.5 * span)
+            ay.set_ylim(lo, hi)
             if "e" in col:
                 col["e"].set_ylim(-0.5 * span, 0.5 * span)
         ay.set_ylabel(rf"$\Delta${output_label(o)}")

@@ -102,10 +102,9 @@ _GAP_REFITS = 3
 #: A fit that breaks the gap bounds is still taken when its worst error is this many times smaller than that
 #: of every fit within them (:func:`pick_candidates`): the data then determine the resonance.
 _TRUST_FACTOR = 100.0
-#: Evaluations of each Gauss-Newton refinement (:func:`refine_poles`): free poles, and poles with the resolution
-#: floor (the second pass).
+#: Evaluations of each Gauss-Newton refinement (:func:`refine_poles`). 50 in the floored pass was measured
+#: closer on the samples but worse against the LTD's short gusts (docs/sysid.md).
 _REFINE_NFEV = 25
-_REFINE_NFEV_FLOORED = 25
 
 
 # --------------------------------------------------------------------------------------------- results
@@ -159,7 +158,7 @@ class RelocationResult:
 
 # --------------------------------------------------------------------------------------------- pipeline
 def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson, refine, minimax, budget, region,
-              minimax_rounds=0, bound_gaps=False, minimax_within=None, refine_nfev=_REFINE_NFEV):
+              minimax_rounds=0, bound_gaps=False, minimax_within=None):
     """One-input fit: poles relocated on all outputs, residues by convex fits. Returns the candidates (dicts
     with ``err``, ``eq`` and ``gap``, see :func:`pick_candidates`); with ``bound_gaps`` the leading ones that
     break the :func:`gap_bounds` get bounded minimax residues (:func:`sysid.candidates.bound_candidate_gaps`)."""
@@ -194,7 +193,7 @@ def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson,
 
     def refine_from(c):
         pr = refine_poles(s, Hn, c["poles"], weights=Wf, dc=None if dc is None else dc[:, 0] / peak,
-                          ft=None if ft is None else ft[:, 0] / peak, max_nfev=refine_nfev, region=region)
+                          ft=None if ft is None else ft[:, 0] / peak, max_nfev=_REFINE_NFEV, region=region)
         if pr is not c["poles"]:
             finish(c["label"] + "+gn", pr, c["its"], refined=True)
 
@@ -245,7 +244,7 @@ def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson,
                 Wl[i] = Wl[i] * e / max(float(e.mean()), np.finfo(float).tiny)
             Wl = Wl / Wl.mean()
             pr = refine_poles(s, Hn, pl, weights=Wl, dc=None if dc is None else dc[:, 0] / peak,
-                              ft=None if ft is None else ft[:, 0] / peak, max_nfev=refine_nfev, region=region)
+                              ft=None if ft is None else ft[:, 0] / peak, max_nfev=_REFINE_NFEV, region=region)
             if pr is pl:
                 break
             pl = pr
@@ -432,7 +431,7 @@ def _fit_relocated(omega, z, G, T, order, *, dc_gain, feedthrough, weights, star
         if min(cands, key=lambda c: candidate_score(c["err"]))["gap"] > 1.0 + 1e-6 and resolution > 0:
             # (fewer refinements, and minimax residues only from the bounded fits: the second pass costs about
             # half the first)
-            kw.update(refine=min(kw["refine"], 2), minimax=0, refine_nfev=_REFINE_NFEV_FLOORED)
+            kw.update(refine=min(kw["refine"], 2), minimax=0)
             floored = _fit_simo(*args, region=region + (resolution_floor(omega, resolution),), bound_gaps=True, **kw)
             cands = pick_candidates(cands + floored, trust=_TRUST_FACTOR)
         blocks.append(cands)

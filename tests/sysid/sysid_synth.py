@@ -10,6 +10,10 @@ import numpy as np
 from scipy.optimize import linear_sum_assignment
 
 
+#: A lightly damped continuous system (zeta 0.5 %): two resonant pairs and two real poles.
+LIGHT = [-0.004 + 0.8j, -0.004 - 0.8j, -0.01 + 2.1j, -0.01 - 2.1j, -0.3, -1.5]
+
+
 def random_poles(n: int, rng: np.random.Generator, rho: float = 0.95, rmin: float = 0.2) -> np.ndarray:
     """``n`` poles of a real system: conjugate pairs and real poles, moduli in ``[rmin, rho]``, distinct."""
     poles: list[complex] = []

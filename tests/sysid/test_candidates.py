@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 import scipy.linalg
+from sysid_synth import LIGHT, freqresp
 
 from sysid import mckelvey_grid
 from sysid.candidates import (EQ_TOL, ROUNDOFF_TOL, channel_errors, check_equalities, gap_excess,
@@ -10,7 +11,6 @@ from sysid.candidates import (EQ_TOL, ROUNDOFF_TOL, channel_errors, check_equali
 from sysid.poles import balanced_coordinates, discrete_basis
 from sysid.residues import gap_bounds, minimax_cd
 
-LIGHT = [-0.004 + 0.8j, -0.004 - 0.8j, -0.01 + 2.1j, -0.01 - 2.1j, -0.3, -1.5]  # zeta 0.5 %
 
 
 def light_model(T=1.0, M=64, seed=0):
@@ -21,7 +21,7 @@ def light_model(T=1.0, M=64, seed=0):
     C = rng.standard_normal((2, A.shape[0]))
     wd, _ = mckelvey_grid(M, T)
     z = np.exp(1j * wd)
-    G = np.einsum("pn,knm->pmk", C, np.linalg.solve(z[:, None, None] * np.eye(A.shape[0]) - A, B[None]))
+    G = freqresp(A, B, C, np.zeros((2, 1)), z)
     dc, ft = G[:, :, 0].real, G[:, :, -1].real
     C0, D0, _ = minimax_cd(A, B, z, G, dc_gain=dc, feedthrough=ft)
     peak = np.abs(G[:, 0]).max(axis=1)

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from sysid_synth import pole_mismatch
+from sysid_synth import LIGHT, pole_mismatch
 
 import sysid
 from sysid import FrequencyDataError, FrequencyResponse, OrderError, identify, mckelvey_grid
@@ -62,7 +62,6 @@ def to_continuous(A, T):
 
 
 # ---------------------------------------------------------------------------- exact recovery
-LIGHT = [-0.004 + 0.8j, -0.004 - 0.8j, -0.01 + 2.1j, -0.01 - 2.1j, -0.3, -1.5]  # zeta 0.5 %
 NEAR_REAL = [-0.05, -0.0525, -0.4 + 0.02j, -0.4 - 0.02j, -2.0]  # two real poles 5 % apart, a pair nearly real
 
 
