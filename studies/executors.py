@@ -7,7 +7,8 @@ Each pool has ``name`` (for the progress line), ``submit(fn, *args)`` -> future,
 - local processes (``workers=N > 1``, :class:`concurrent.futures.ProcessPoolExecutor`), each with
   ``cores // workers`` BLAS threads, each ending when the process that started it ends; with ``progress`` (a
   callable of the main process) the workers' progress events (:mod:`studies.progress`) come back on a
-  ``multiprocessing`` queue, drained by ``wait`` every :data:`PROGRESS_POLL_S` seconds (no thread);
+  ``multiprocessing`` queue, drained by ``wait`` every :data:`PROGRESS_POLL_S` seconds (no thread) and by
+  ``close`` while the workers finish;
 - a Dask cluster (``scheduler="tcp://host:port"``, or ``"local"`` for a :class:`distributed.LocalCluster`
   of ``workers`` processes); the store folder must then be on a file system the workers share.
 """
@@ -16,6 +17,7 @@ from __future__ import annotations
 
 import os
 import sys
+import threading
 import time
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor
 from concurrent.futures import wait as cf_wait
@@ -70,7 +72,6 @@ def _exit_with_parent(parent_pid: int) -> None:
     store atomically before its task returns).
     """
     import signal
-    import threading
 
     if sys.platform.startswith("linux"):
         try:
@@ -105,8 +106,9 @@ def _init_worker(threads: int, parent_pid: int, queue=None) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     _exit_with_parent(parent_pid)
     _limit_blas_threads(threads)
-    if queue is not None:
-        queue.cancel_join_thread()  # never wait at exit for events nobody reads (an aborted run)
+    if queue is not None:  # a SimpleQueue: put writes to the pipe at once (no feeder thread whose buffered
+        # events a worker's exit could drop: a test once lost every event of a short task), blocking only while
+        # the pipe is full, which the parent drains
         set_sink(queue.put)
     else:
         set_sink(None)
@@ -127,7 +129,7 @@ class ProcessPool:
         ctx = multiprocessing.get_context("fork") if "fork" in multiprocessing.get_all_start_methods() else None
         threads = max(1, (os.cpu_count() or 1) // workers)
         self.progress = progress
-        self.queue = None if progress is None else (ctx or multiprocessing).Queue()
+        self.queue = None if progress is None else (ctx or multiprocessing).SimpleQueue()
         self.ex = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
                                       initargs=(threads, os.getpid(), self.queue))
         self.name = f"{workers} local processes ({threads} BLAS thread{'s' if threads > 1 else ''} each)"
@@ -146,14 +148,14 @@ class ProcessPool:
 
     def _drain(self):
         """Hand every queued progress event to ``progress`` (a failing display never stops the run)."""
-        import queue as queue_module
-
         if self.queue is None:
             return
         while True:
             try:
-                event = self.queue.get_nowait()
-            except (queue_module.Empty, OSError, ValueError, EOFError):
+                if self.queue.empty():
+                    return
+                event = self.queue.get()
+            except (OSError, ValueError, EOFError):
                 return
             try:
                 self.progress(event)
@@ -168,14 +170,29 @@ class ProcessPool:
             self.ex.shutdown(wait=False, cancel_futures=True)
             self._close_queue()
             return
-        self.ex.shutdown(wait=True, cancel_futures=True)
+        if self.queue is None:
+            self.ex.shutdown(wait=True, cancel_futures=True)
+            return
+        # drained meanwhile: a worker still running blocks on a full pipe (the main thread waits in shutdown)
+        done = threading.Event()
+
+        def drain_until_done():
+            while not done.wait(PROGRESS_POLL_S):
+                self._drain()
+
+        drainer = threading.Thread(target=drain_until_done, name="lfdrom-progress-drain", daemon=True)
+        drainer.start()
+        try:
+            self.ex.shutdown(wait=True, cancel_futures=True)
+        finally:
+            done.set()
+            drainer.join()
         self._drain()  # events a worker queued just before its last result (the result's pipe can overtake them)
         self._close_queue()
 
     def _close_queue(self):
         if self.queue is not None:
             self.queue.close()
-            self.queue.cancel_join_thread()
             self.queue = None
 
 
