@@ -113,7 +113,8 @@ def lfd_response(lin, omega, gust="svm", outputs=("Cl", "Cm"), x_ref=0.0, T=None
     pivot : float
         Pitch axis, chords from the leading edge on the chord line (used by ``"pitch"`` only).
     **fast_options
-        Passed to :func:`cfd.sweep.fast_sweep` (``max_shifts``, ``n_moments``, ``basis``, ``progress``).
+        Passed to :func:`cfd.sweep.fast_sweep` (``max_shifts``, ``n_moments``, ``basis``, ``progress``,
+        ``workers``).
 
     Returns
     -------

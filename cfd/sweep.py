@@ -22,7 +22,8 @@ form of the Cholesky-scaled projected operator (a triangular solve of ``p`` colu
 ``O(m^2 p)``), and its residual ``C^T - (J + i w V)^T W Y`` is evaluated in the coordinates of an
 orthonormal basis of ``[C^T, J^T W, V W]``, so the residual norms are exact (no normal equations, no
 cancellation), and ``y = -Y^T (W^T B) g(omega)`` costs one product with an ``m x n_faces`` matrix. Shifts
-are added greedily at the frequency with the largest estimated error until every frequency meets ``tol``.
+are added greedily at the frequency with the largest estimated error until every frequency meets ``tol``
+(with ``workers`` > 1, that many per step, spread apart, factorised side by side in forked processes).
 
 Error estimate
 --------------
@@ -52,6 +53,7 @@ from .frequencies import check_motion_frequencies, check_pivot, check_x_ref, fre
 from .linear import LinearError, check_gust_method, check_outputs
 from .motion import check_inputs
 from .sweep_basis import SAFETY, SweepBasis, face_gust_vector, gust_operator  # noqa: F401
+from .sweep_workers import shift_workers
 
 __all__ = ["SweepBasis", "fast_sweep", "gust_operator", "face_gust_vector", "SAFETY"]  # (all but fast_sweep
 # from cfd.sweep_basis)
@@ -79,8 +81,101 @@ def _evaluate_inputs(basis, wf, gust, x_ref, inputs, pivot, caches, sel):
     return y, est, out[0][2][sel], (est / scale).max(axis=(0, 1))
 
 
+ADAPT_MOMENTS = 2
+MIN_MOMENTS = 8
+
+
+def _plan_shifts(wf, ratio, tol, shifts, count, n_moments):
+    """The next shifts of the greedy search and their Krylov block counts.
+
+    The first is the frequency with the largest estimate over its allowance (as ever); each further one the
+    worst failing frequency outside the gaps between neighbouring shifts that the chosen ones already
+    serve, so that shifts factorised side by side do not serve the same frequencies. A shift's block count
+    is ``ADAPT_MOMENTS`` per failing frequency in its gap, between ``MIN_MOMENTS`` and ``n_moments``.
+
+    Parameters
+    ----------
+    wf : ndarray, shape (K,)
+        Finite frequencies (U/c).
+    ratio : ndarray, shape (K,)
+        Worst estimate over allowance per frequency.
+    tol : float
+    shifts : sequence of float
+        Existing shifts.
+    count : int
+        Shifts wanted.
+    n_moments : int
+        Most blocks per shift.
+
+    Returns
+    -------
+    list of (float, int)
+        ``(omega, blocks)`` per shift; empty when every failing frequency is a shift already.
+    """
+    bad = ratio > tol
+    cand = np.where(bad, ratio, -np.inf)
+    for s in shifts:  # never refactorise at an existing shift
+        cand[np.isclose(wf, s, rtol=1e-12, atol=1e-14)] = -np.inf
+    edges = np.asarray(sorted(shifts), float)
+    plan = []
+    while len(plan) < count and np.any(np.isfinite(cand)):
+        j = int(np.argmax(cand))
+        below, above = edges[edges < wf[j]], edges[edges > wf[j]]
+        lo = below.max() if below.size else -np.inf
+        hi = above.min() if above.size else np.inf
+        gap = (wf > lo) & (wf < hi)
+        blocks = min(n_moments, max(MIN_MOMENTS, ADAPT_MOMENTS * int(np.count_nonzero(bad & gap))))
+        plan.append((float(wf[j]), blocks))
+        near = gap if wf[j] == 0.0 else gap & (wf > 0.5 * wf[j]) & (wf < 2.0 * wf[j])
+        cand[near] = -np.inf
+        edges = np.sort(np.append(edges, wf[j]))
+    return plan
+
+
+def _greedy(basis, wf, gust, x_ref, inputs, pivot, caches, sel, tol, max_shifts, workers, pool, progress,
+            log_interval, t_start):
+    """The greedy loop of :func:`fast_sweep`: evaluate, add shifts where the estimate fails, until ``tol``.
+
+    Returns the last evaluation ``(y, est, res, ratio)`` and the frequencies that missed ``tol`` with the reason.
+    """
+    added, t_log = 0, t_start
+    missed, why = np.zeros(0), ""
+    while True:
+        y, est, res, ratio = _evaluate_inputs(basis, wf, gust, x_ref, inputs, pivot, caches, sel)
+        bad = ratio > tol
+        if progress is not None:
+            progress(basis, float(ratio.max()), wf[bad])
+        now = time.perf_counter()
+        if now - t_log >= log_interval:
+            t_log = now
+            log.info("fast sweep: %d shift(s) (last at omega = %.4g), basis %d, worst estimate %.2e of the "
+                     "allowance (tol %.0e), %d / %d frequencies above tol, %.0f s", len(basis.shifts),
+                     basis.shifts[-1], basis.size, ratio.max(), tol, int(bad.sum()), wf.size,
+                     now - t_start)
+        if not np.any(bad):
+            break
+        if added >= max_shifts:
+            missed, why = wf[bad], f"max_shifts = {max_shifts} used"
+            break
+        plan = _plan_shifts(wf, ratio, tol, basis.shifts, min(workers, max_shifts - added), basis.n_moments)
+        if not plan:
+            missed, why = wf[bad], "every failing frequency is a shift already"
+            break
+        new = basis.add_shifts([w_ for w_, _ in plan], [k for _, k in plan], pool)
+        added += len(plan)
+        n_new = max(new)
+        if n_new < 2 * len(basis.rows):  # the new shift's space is (nearly) in the basis already: the
+            # remaining estimates are at the round-off floor
+            y, est, res, ratio = _evaluate_inputs(basis, wf, gust, x_ref, inputs, pivot, caches, sel)
+            missed = wf[ratio > tol]
+            why = f"the basis stopped growing (round-off floor of the estimate, about {tol:g} here)"
+            break
+    return y, est, res, ratio, missed, why
+
+
 def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shifts=24, x_ref=0.0, T=None,
-               basis=None, n_moments=16, progress=None, inputs=("gust",), pivot=0.25, log_interval=60.0):
+               basis=None, n_moments=16, progress=None, inputs=("gust",), pivot=0.25, log_interval=60.0,
+               workers=1):
     """Frequency response to a gust and rigid motions over many frequencies from a few factorisations (see the
     module docstring).
 
@@ -105,7 +200,9 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
         A basis from an earlier sweep of the same ``lin`` (and outputs); it is reused and extended in
         place. Without it a new one is built (pass one to reuse it for another ``T``).
     n_moments : int
-        Krylov blocks per shift for a new basis.
+        Most Krylov blocks per shift for a new basis: a shift gets ``ADAPT_MOMENTS`` (2) blocks per failing
+        frequency between its neighbouring shifts, at least ``MIN_MOMENTS`` (8; fewer made the estimate fall
+        below the true error on the coarse test case) and at most ``n_moments``.
     progress : callable, optional
         Called after every evaluation of the reduced model as ``progress(basis, worst, failing)``: ``worst``
         the largest ratio of the error estimate to its allowance (``<= tol`` when done), ``failing`` the
@@ -119,8 +216,13 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
         input: a motion's forcing ``b0 + i omega b1`` is two more projected vectors.
     pivot : float
         Pitch axis, chords from the leading edge.
+    workers : int
+        Shifts added per greedy step, factorised side by side in that many forked processes
+        (:mod:`cfd.sweep_workers`; one after the other where a process cannot fork, e.g. inside a study
+        worker). The basis differs from the one-process sweep (its shifts are chosen several at a time), the
+        accuracy does not. Each worker holds one factorisation (about 0.5 GB on the 181 x 60 grid). Measured on
+        the paper grid (T2) on the 2-core machine: 1 worker 105 s, 2 workers 67 s (docs/lfd-sweep.md).
 
-    Returns
     -------
     sysid.FrequencyResponse
         As ``lfd_response``; ``metadata`` adds ``"method": "fast"``, ``"error_estimate"`` absolute, shape (p, K)
@@ -167,39 +269,14 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
     if wf.size:
         if basis.size == 0:
             basis.add_shift(0.0 if wf.min() == 0.0 else float(wf.min()))
-        added = 0
         caches = {name: {} for name in inputs}
-        while True:
-            y, est, res, ratio = _evaluate_inputs(basis, wf, gust, x_ref, inputs, pivot, caches, sel)
-            bad = ratio > tol
-            if progress is not None:
-                progress(basis, float(ratio.max()), wf[bad])
-            now = time.perf_counter()
-            if now - t_log >= log_interval:
-                t_log = now
-                log.info("fast sweep: %d shift(s) (last at omega = %.4g), basis %d, worst estimate %.2e of the "
-                         "allowance (tol %.0e), %d / %d frequencies above tol, %.0f s", len(basis.shifts),
-                         basis.shifts[-1], basis.size, ratio.max(), tol, int(bad.sum()), wf.size,
-                         now - t_start)
-            if not np.any(bad):
-                break
-            if added >= max_shifts:
-                missed, why = wf[bad], f"max_shifts = {max_shifts} used"
-                break
-            cand = np.where(bad, ratio, -np.inf)
-            for s in basis.shifts:  # never refactorise at an existing shift
-                cand[np.isclose(wf, s, rtol=1e-12, atol=1e-14)] = -np.inf
-            if not np.any(np.isfinite(cand)):
-                missed, why = wf[bad], "every failing frequency is a shift already"
-                break
-            n_new = basis.add_shift(float(wf[np.argmax(cand)]))
-            added += 1
-            if n_new < 2 * len(basis.rows):  # the new shift's space is (nearly) in the basis already: the
-                # remaining estimates are at the round-off floor
-                y, est, res, ratio = _evaluate_inputs(basis, wf, gust, x_ref, inputs, pivot, caches, sel)
-                missed = wf[ratio > tol]
-                why = f"the basis stopped growing (round-off floor of the estimate, about {tol:g} here)"
-                break
+        pool = shift_workers(basis, workers)
+        try:
+            y, est, res, ratio, missed, why = _greedy(basis, wf, gust, x_ref, inputs, pivot, caches, sel, tol,
+                                                      max_shifts, workers, pool, progress, log_interval, t_start)
+        finally:
+            if pool is not None:
+                pool.close()
         H[:, :, finite] = y
         est_all[:, :, finite] = est
         res_all[:, finite] = res

@@ -229,3 +229,55 @@ def test_progress_reports_every_shift_and_changes_nothing(plate, caplog):
         warnings.simplefilter("ignore", RuntimeWarning)
         plain = fast_sweep(plate, grid_w, tol=1e-8, n_moments=3, max_shifts=4)
     np.testing.assert_array_equal(plain.H, frf.H)
+
+
+def test_plan_shifts_spreads_side_by_side_shifts_and_sizes_their_blocks():
+    from cfd.sweep import MIN_MOMENTS, ADAPT_MOMENTS, _plan_shifts
+
+    wf = np.array([0.0, 0.1, 0.2, 0.3, 0.4, 1.0, 1.5, 3.0, 8.0])
+    ratio = np.array([0.0, 5.0, 6.0, 7.0, 1.0, 9.0, 8.0, 2.0, 3.0]) * 1e-6
+    # the worst (1.0), then the worst more than a factor 2 from the chosen ones (0.3, 0.1), then beyond the
+    # shift at 2.0: 8.0, then 3.0 (more than a factor 2 from 8.0); 0.2, 0.4 and 1.5 are too near a chosen one
+    plan = _plan_shifts(wf, ratio, 1e-8, [0.0, 2.0], 6, 16)
+    assert [w for w, _ in plan] == [1.0, 0.3, 0.1, 8.0, 3.0]
+    # blocks: ADAPT_MOMENTS per failing frequency between the neighbouring shifts, within [MIN_MOMENTS, 16]
+    assert plan[0][1] == min(16, max(MIN_MOMENTS, ADAPT_MOMENTS * 6))   # 0.1 ... 1.5 lie between 0 and 2
+    assert plan[3][1] == MIN_MOMENTS                                    # 3.0 and 8.0 above 2
+    assert _plan_shifts(wf, ratio, 1e-8, [0.0, 2.0], 1, 3)[0] == (1.0, 3)  # never more than n_moments
+    # frequencies that are shifts already are never chosen again; none failing -> nothing
+    assert [w for w, _ in _plan_shifts(wf, ratio, 1e-8, [0.0, 1.0, 2.0], 1, 16)] == [1.5]
+    assert _plan_shifts(wf, np.zeros(wf.size), 1e-8, [0.0], 2, 16) == []
+
+
+def test_worker_processes_give_a_sweep_as_accurate_as_one_process(systems, references):
+    """Two shifts per greedy step, factorised in two forked processes: the same accuracy and a bounding
+    estimate as the one-process sweep (the basis differs: the shifts are chosen two at a time)."""
+    from cfd.sweep_workers import can_fork_workers
+
+    if not can_fork_workers():
+        pytest.skip("no 'fork' start method here")
+    lin, ref = systems["M0.5"], references[("M0.5", "svm")]
+    grid_w = sysid.mckelvey_grid(M, T)
+    steps = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        frf = fast_sweep(lin, grid_w, tol=1e-8, n_moments=8, workers=2,
+                         progress=lambda basis, worst, failing: steps.append(len(basis.shifts)))
+    assert frf.metadata["tol_met"]
+    assert len(steps) < len(frf.metadata["shifts"])  # some steps added two shifts
+    fin = np.isfinite(frf.omega)
+    err = np.abs(frf.H[:, 0] - ref.H[:, 0])[:, fin]
+    est = np.asarray(frf.metadata["error_estimate"])[:, fin]
+    assert np.max(err / np.abs(ref.H[:, 0, fin])) < 1e-6
+    assert np.all(est + 1e-11 * np.abs(ref.H[:, 0, fin]) >= err)
+
+
+def test_shift_workers_bad_input(plate):
+    from cfd.sweep_workers import ShiftWorkers, shift_workers
+
+    basis = SweepBasis(plate)
+    assert shift_workers(basis, 1) is None
+    with pytest.raises(LinearError, match="workers >= 2"):
+        ShiftWorkers(basis, 1)
+    with pytest.raises(LinearError, match="one integer >= 1 per shift"):
+        basis.add_shifts([0.5, 1.0], [4])
