@@ -10,7 +10,9 @@ For each case and order it fits ``sysid.identify(frf, n, dc_gain="match", stable
 stable vector fitting (``bench/sysid_peers_bench.py``'s ``run_vf``) on the M = 256 subsample, and prints the
 max error per output on the samples and between them (the dense points that are not samples) in three bands of
 reduced frequency, ``k < 2``, ``2 <= k < 7`` and ``k >= 7``, all in % of the output's peak; ``--resolution``
-adds the default with other ``sysid.relocation.fit_relocated(resolution=...)`` values. ``--figure CASE:N``
+adds the default with other ``sysid.relocation.fit_relocated(resolution=...)`` values. Two interpolants of the
+samples (no model: real and imaginary parts linear in ``omega_d``; magnitude monotone-cubic and unwrapped phase
+cubic) show what the samples alone say between them. ``--figure CASE:N``
 draws the dense LFD, the samples and the default ROM (real and imaginary parts of Cl and Cm).
 
 Run: .venv/bin/python bench/sysid_between_bench.py --compute T4,T5       (once; the truth)
@@ -64,6 +66,19 @@ def band_errors(H_model, dense, refine=8):
     return np.array(out)
 
 
+def interpolants(frf, dense):
+    """What the samples alone say between them: interpolants of the M = 256 samples on the dense grid, in
+    ``omega_d`` (the uniform variable of McKelvey's grid). Returns ``[(name, H (p, 1, K_dense))]``."""
+    from scipy.interpolate import CubicSpline, PchipInterpolator
+
+    ws, wd = np.asarray(frf.omega_d), np.asarray(dense.omega_d)
+    S = np.asarray(frf.H)[:, 0]
+    linear = np.array([np.interp(wd, ws, h.real) + 1j * np.interp(wd, ws, h.imag) for h in S])
+    polar = np.array([PchipInterpolator(ws, np.abs(h))(wd) * np.exp(1j * CubicSpline(ws, np.unwrap(np.angle(h)))(wd))
+                      for h in S])
+    return [("interpolant: Re, Im linear", linear[:, None]), ("interpolant: |H| pchip, phase spline", polar[:, None])]
+
+
 def figure(case, n, dense, frf, H_model, path):
     import matplotlib
 
@@ -110,6 +125,10 @@ def main(argv=None):
         dense = sysid.FrequencyResponse.load(DENSE / f"frf-{case}-M2048.npz")
         frf = dense.subsample(256)
         wd = np.asarray(dense.omega_d)
+        for name, Hi in interpolants(frf, dense):
+            b = band_errors(Hi, dense)
+            print(f"| {case} | - | {name} | 0 / 0 | " + " | ".join(f"{x[0]:.3g} / {x[1]:.3g}" for x in b) + " |",
+                  flush=True)
         for n in map(int, args.orders.split(",")):
             rows = []
             for r in [None] + [float(x) for x in filter(None, args.resolution.split(","))]:
