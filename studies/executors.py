@@ -114,6 +114,10 @@ def _init_worker(threads: int, parent_pid: int, queue=None) -> None:
         set_sink(None)
 
 
+ABORT_JOIN_S = 5.0
+"""Seconds an aborted worker gets to end after SIGTERM before it is killed."""
+
+
 class ProcessPool:
     """Local worker processes, each limited to ``cores // workers`` BLAS threads.
 
@@ -165,9 +169,18 @@ class ProcessPool:
     def close(self, abort: bool = False):
         """Wait for the running tasks, or (``abort``) stop the workers at once (what they stored is kept)."""
         if abort:
-            for proc in list((getattr(self.ex, "_processes", None) or {}).values()):
+            procs = list((getattr(self.ex, "_processes", None) or {}).values())
+            for proc in procs:
                 proc.terminate()
-            self.ex.shutdown(wait=False, cancel_futures=True)
+            for proc in procs:
+                proc.join(ABORT_JOIN_S)
+                if proc.is_alive():
+                    proc.kill()
+            # wait=True joins the executor's manager thread (quick: its workers are gone), which closes its wake-up
+            # pipe; left running (wait=False), on Python 3.11 it could close that pipe while the interpreter's exit
+            # hook was writing to it: "OSError: [Errno 9] Bad file descriptor" printed after Ctrl-C (seen once in
+            # tests/studies/test_reliability.py::test_ctrl_c_on_lfdrom_run on 2026-12-03)
+            self.ex.shutdown(wait=True, cancel_futures=True)
             self._close_queue()
             return
         if self.queue is None:
