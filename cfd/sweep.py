@@ -221,7 +221,7 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
         (:mod:`cfd.sweep_workers`; one after the other where a process cannot fork, e.g. inside a study
         worker). The basis differs from the one-process sweep (its shifts are chosen several at a time), the
         accuracy does not. Each worker holds one factorisation (about 0.5 GB on the 181 x 60 grid). Measured on
-        the paper grid (T2) on the 2-core machine: 1 worker 105 s, 2 workers 67 s (docs/lfd-sweep.md).
+        the paper grid (T2) on the 2-core machine: 1 worker 101 - 106 s, 2 workers 65 - 70 s (docs/lfd-sweep.md).
 
     -------
     sysid.FrequencyResponse
