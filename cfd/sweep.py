@@ -89,9 +89,10 @@ def _plan_shifts(wf, ratio, tol, shifts, count, n_moments):
     """The next shifts of the greedy search and their Krylov block counts.
 
     The first is the frequency with the largest estimate over its allowance (as ever); each further one the
-    worst failing frequency outside the gaps between neighbouring shifts that the chosen ones already
-    serve, so that shifts factorised side by side do not serve the same frequencies. A shift's block count
-    is ``ADAPT_MOMENTS`` per failing frequency in its gap, between ``MIN_MOMENTS`` and ``n_moments``.
+    worst failing frequency more than a factor 2 away from the chosen ones or beyond a shift between them, so
+    that shifts factorised side by side do not serve the same frequencies. A shift's block count is
+    ``ADAPT_MOMENTS`` per failing frequency between its neighbouring shifts, between ``MIN_MOMENTS`` and
+    ``n_moments``.
 
     Parameters
     ----------
@@ -132,13 +133,15 @@ def _plan_shifts(wf, ratio, tol, shifts, count, n_moments):
     return plan
 
 
-def _greedy(basis, wf, gust, x_ref, inputs, pivot, caches, sel, tol, max_shifts, workers, pool, progress,
-            log_interval, t_start):
-    """The greedy loop of :func:`fast_sweep`: evaluate, add shifts where the estimate fails, until ``tol``.
+def _greedy(basis, wf, gust, x_ref, inputs, pivot, caches, sel, tol, max_shifts, pool, progress, log_interval,
+            t_start):
+    """The greedy loop of :func:`fast_sweep`: evaluate, add shifts where the estimate fails, until ``tol``
+    (as many per step as ``pool`` has worker processes, one without it).
 
     Returns the last evaluation ``(y, est, res, ratio)`` and the frequencies that missed ``tol`` with the reason.
     """
     added, t_log = 0, t_start
+    per_step = 1 if pool is None else pool.workers
     missed, why = np.zeros(0), ""
     while True:
         y, est, res, ratio = _evaluate_inputs(basis, wf, gust, x_ref, inputs, pivot, caches, sel)
@@ -157,7 +160,7 @@ def _greedy(basis, wf, gust, x_ref, inputs, pivot, caches, sel, tol, max_shifts,
         if added >= max_shifts:
             missed, why = wf[bad], f"max_shifts = {max_shifts} used"
             break
-        plan = _plan_shifts(wf, ratio, tol, basis.shifts, min(workers, max_shifts - added), basis.n_moments)
+        plan = _plan_shifts(wf, ratio, tol, basis.shifts, min(per_step, max_shifts - added), basis.n_moments)
         if not plan:
             missed, why = wf[bad], "every failing frequency is a shift already"
             break
@@ -218,10 +221,11 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
         Pitch axis, chords from the leading edge.
     workers : int
         Shifts added per greedy step, factorised side by side in that many forked processes
-        (:mod:`cfd.sweep_workers`; one after the other where a process cannot fork, e.g. inside a study
-        worker). The basis differs from the one-process sweep (its shifts are chosen several at a time), the
-        accuracy does not. Each worker holds one factorisation (about 0.5 GB on the 181 x 60 grid). Measured on
-        the paper grid (T2) on the 2-core machine: 1 worker 101 - 106 s, 2 workers 65 - 70 s (docs/lfd-sweep.md).
+        (:mod:`cfd.sweep_workers`); where a process cannot fork (e.g. inside a study worker), one shift per
+        step in this process, as with 1. The basis differs from the one-process sweep (its shifts are chosen
+        several at a time), the accuracy does not. Each worker holds one factorisation (about 0.5 GB on the
+        181 x 60 grid). Measured on the paper grid (T2) on the 2-core machine: 1 worker 101 - 106 s, 2 workers
+        65 - 70 s (docs/lfd-sweep.md).
 
     -------
     sysid.FrequencyResponse
@@ -232,8 +236,8 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
     Raises
     ------
     LinearError
-        Bad tolerance, frequencies (``inf`` with a motion input), gust, input or output names, or a basis of
-        another system.
+        Bad tolerance, ``workers``, frequencies (``inf`` with a motion input), gust, input or output names, or a
+        basis of another system.
 
     Warns
     -----
@@ -247,6 +251,9 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
     pivot = check_pivot(pivot)
     if int(max_shifts) != max_shifts or max_shifts < 1:
         raise LinearError(f"max_shifts must be a positive integer (factorisations allowed); got {max_shifts!r}")
+    if not isinstance(workers, (int, np.integer)) or workers < 1:
+        raise LinearError(f"workers must be a positive integer (processes for the shifts, 1: this one); got "
+                          f"{workers!r}")
     w, T = frequency_grid(omega, T)
     x_ref = check_x_ref(x_ref)
     check_motion_frequencies(inputs, w)
@@ -273,7 +280,7 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
         pool = shift_workers(basis, workers)
         try:
             y, est, res, ratio, missed, why = _greedy(basis, wf, gust, x_ref, inputs, pivot, caches, sel, tol,
-                                                      max_shifts, workers, pool, progress, log_interval, t_start)
+                                                      max_shifts, pool, progress, log_interval, t_start)
         finally:
             if pool is not None:
                 pool.close()

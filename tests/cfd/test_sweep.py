@@ -281,3 +281,6 @@ def test_shift_workers_bad_input(plate):
         ShiftWorkers(basis, 1)
     with pytest.raises(LinearError, match="one integer >= 1 per shift"):
         basis.add_shifts([0.5, 1.0], [4])
+    for workers in (0, 1.5, "2"):
+        with pytest.raises(LinearError, match="workers must be a positive integer"):
+            fast_sweep(plate, [0.0, 1.0], workers=workers)
