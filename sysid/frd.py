@@ -27,6 +27,7 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from .errors import FrequencyDataError, FrequencyGridError
+from .state_space import shifted_solve
 from .grids import GRID_RTOL, check_period, continuous_to_discrete, discrete_to_continuous, mckelvey_grid
 
 __all__ = ["FrequencyResponse", "mckelvey_grid", "discrete_to_continuous", "continuous_to_discrete"]  # (the last three
@@ -310,9 +311,7 @@ class FrequencyResponse:
             w = discrete_to_continuous(np.clip(wd, 0.0, np.pi), T)
             finite = np.isfinite(w)
             pts = 1j * np.where(finite, w, 0.0)
-        n = A.shape[0]
-        Z = pts[:, None, None] * np.eye(n)[None] - A[None]
-        H = (C[None] @ np.linalg.solve(Z, np.broadcast_to(B, (wd.size,) + B.shape)) + D[None]).transpose(1, 2, 0)
+        H = (C[None] @ shifted_solve(A, B, pts) + D[None]).transpose(1, 2, 0)
         H[:, :, ~finite] = D[:, :, None]
         return cls(H, wd, T, inputs=list(model.input_labels), outputs=list(model.output_labels), metadata=metadata)
 

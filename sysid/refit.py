@@ -225,14 +225,9 @@ frequency_response = evaluate_ss
 
 
 def _output_rows(A, C, z, eig=None) -> np.ndarray:
-    """``F_k = C (z_k I - A)^-1`` for all k, shape (K, p, n), by one batched solve; with ``eig``
+    """``F_k = C (z_k I - A)^-1`` for all k, shape (K, p, n), by the Schur form; with ``eig``
     (:func:`sysid.state_space.eigen_parts` of ``A``, or False) in the modal form (``O(K p n^2)``)."""
-    if eig:
-        return resolvent_C(A, C, z, modal_form(A, C, eig))
-    n = A.shape[0]
-    M = z[:, None, None] * np.eye(n) - A.T  # (z I - A)^T
-    X = np.linalg.solve(M, np.broadcast_to(C.T, (z.size,) + C.T.shape))  # (K, n, p)
-    return np.swapaxes(X, 1, 2)
+    return resolvent_C(A, C, z, modal_form(A, C, eig) if eig else False)
 
 
 def _constraint_rows(A, C, cons, lam=None):

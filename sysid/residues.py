@@ -5,6 +5,7 @@ feedthrough equalities, optionally with gain bounds between the samples (steps 4
 import numpy as np
 
 from .errors import SolverError
+from .state_space import shifted_solve
 
 __all__ = ["socp_minimax", "gap_bounds", "minimax_cd", "GAP_REFINE", "GAP_SLACK", "GAP_FLOOR"]
 
@@ -143,14 +144,14 @@ def gap_bounds(z: np.ndarray, G: np.ndarray, refine: int = GAP_REFINE, slack: fl
 
 
 def basis_response(A, B, z, eig=None):
-    """``(z_k I - A)^-1 B`` for all k, shape (K, n, m), complex: one batched solve, or with ``eig``
+    """``(z_k I - A)^-1 B`` for all k, shape (K, n, m), complex: the Schur form
+    (:func:`sysid.state_space.shifted_solve`), or with ``eig``
     (:func:`sysid.state_space.eigen_parts` of ``A``: ``(lam, V, V^-1)``) ``V diag(1 / (z_k - lam)) (V^-1 B)``."""
     z = np.asarray(z, dtype=complex).reshape(-1)
-    n, m = B.shape
     if eig:
         lam, V, Vinv = eig
         return V[None] @ ((Vinv @ B)[None] / (z[:, None, None] - lam[None, :, None]))
-    return np.linalg.solve(z[:, None, None] * np.eye(n) - A, np.broadcast_to(B, (z.size, n, m)))
+    return shifted_solve(A, B, z)
 
 
 def minimax_cd(A, B, z, G, *, dc_gain=None, feedthrough=None, weights=None, start=None, bound=None,
