@@ -295,6 +295,11 @@ class FrequencyResponse:
             Discrete frequencies in ``[0, pi]``.
         T : float, optional
             Sampling period; defaults to ``model.dt`` for a discrete model, required for a continuous one.
+
+        Raises
+        ------
+        FrequencyDataError
+            When a sampled point is a pole of the model (an infinite response).
         """
         A, B, C, D = (np.asarray(x, dtype=float) for x in (model.A, model.B, model.C, model.D))
         wd = _as_freq(omega_d, "omega_d", np.size(omega_d))
@@ -311,8 +316,15 @@ class FrequencyResponse:
             w = discrete_to_continuous(np.clip(wd, 0.0, np.pi), T)
             finite = np.isfinite(w)
             pts = 1j * np.where(finite, w, 0.0)
-        H = (C[None] @ shifted_solve(A, B, pts) + D[None]).transpose(1, 2, 0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            H = (C[None] @ shifted_solve(A, B, pts) + D[None]).transpose(1, 2, 0)
         H[:, :, ~finite] = D[:, :, None]
+        if not np.all(np.isfinite(H)):
+            k = int(np.argwhere(~np.isfinite(H))[0][2])
+            raise FrequencyDataError(
+                f"the model has a pole on the sampled axis at omega_d = {wd[k]:.6g} (sample {k}): its response is "
+                "infinite there; sample other frequencies or move the pole"
+            )
         return cls(H, wd, T, inputs=list(model.input_labels), outputs=list(model.output_labels), metadata=metadata)
 
     def with_T(self, T: float) -> "FrequencyResponse":

@@ -277,3 +277,12 @@ def test_from_model_discrete_and_continuous():
     np.testing.assert_allclose(frt.H, frc.H, rtol=1e-12, atol=1e-14)
     with pytest.raises(FrequencyGridError, match="needs T"):
         FrequencyResponse.from_model(sysc, wd)
+
+
+def test_from_model_with_a_pole_on_the_sampled_axis_names_the_frequency():
+    import control
+
+    # G(z) = 1 / (z - 1): a pole at z = 1, i.e. omega_d = 0, the first sample of the grid
+    wd, _ = mckelvey_grid(8, 0.5)
+    with pytest.raises(FrequencyDataError, match="pole on the sampled axis at omega_d = 0 "):
+        FrequencyResponse.from_model(control.ss([[1.0]], [[1.0]], [[1.0]], [[0.0]], 0.5), wd)
