@@ -316,7 +316,7 @@ class FrequencyResponse:
             w = discrete_to_continuous(np.clip(wd, 0.0, np.pi), T)
             finite = np.isfinite(w)
             pts = 1j * np.where(finite, w, 0.0)
-        with np.errstate(divide="ignore", invalid="ignore"):
+        with np.errstate(invalid="ignore"):  # inf at a pole: reported below
             H = (C[None] @ shifted_solve(A, B, pts) + D[None]).transpose(1, 2, 0)
         H[:, :, ~finite] = D[:, :, None]
         if not np.all(np.isfinite(H)):

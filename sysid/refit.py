@@ -352,17 +352,11 @@ def fit_bd(A, C, z, G, *, weights=None, dc_gain=None, feedthrough=None, solver: 
             f"{c} equality constraints but only {N} unknowns per input (n + p = {n} + {p}); "
             "impose only one of dc_gain/feedthrough or raise the order."
         )
-    try:
-        F = _output_rows(A, C, z, eig)
-    except np.linalg.LinAlgError as exc:
-        raise FrequencyDataError(
-            "A has an eigenvalue exactly at one of the sample points z_k on the unit circle, so the model "
-            "response is infinite there; identify with stable=True or at another order."
-        ) from exc
+    F = _output_rows(A, C, z, eig)
     if not np.all(np.isfinite(F)):
         raise FrequencyDataError(
-            "the model response C (z_k I - A)^-1 overflows at some sample point (an eigenvalue of A on the unit "
-            "circle); identify with stable=True or at another order."
+            "A has an eigenvalue at (or numerically at) one of the sample points z_k on the unit circle, so the "
+            "model response C (z_k I - A)^-1 is infinite there; identify with stable=True or at another order."
         )
     Phis, gs = _regressions(F, G, weights, m)
     scale = 1.0  # tol is absolute, in the units of G

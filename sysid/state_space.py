@@ -77,11 +77,13 @@ def shifted_solve(A: np.ndarray, B: np.ndarray, z: np.ndarray) -> np.ndarray:
     A : ndarray, shape (n, n)
     B : ndarray, shape (n, m)
     z : ndarray, complex, shape (K,)
-        Points that are not eigenvalues of ``A``.
+        Points of the complex plane.
 
     Returns
     -------
     ndarray, complex, shape (K, n, m)
+        Entries are inf or NaN (without a warning) at a point that is an eigenvalue of ``A``: callers check
+        ``np.isfinite`` and say what it means for them.
     """
     import scipy.linalg
 
@@ -94,10 +96,11 @@ def shifted_solve(A: np.ndarray, B: np.ndarray, z: np.ndarray) -> np.ndarray:
     Y = U.conj().T @ B  # (n, m)
     X = np.empty((n, K, m), dtype=complex)  # state index first: each step is one matrix-vector product
     Xf = X.reshape(n, K * m)
-    for i in range(n - 1, -1, -1):
-        r = Y[i][None, :] + (T[i, i + 1:] @ Xf[i + 1:]).reshape(K, m)  # (z I - T) is -T off the diagonal
-        X[i] = r / (z - T[i, i])[:, None]
-    return (U @ Xf).reshape(n, K, m).transpose(1, 0, 2)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for i in range(n - 1, -1, -1):
+            r = Y[i][None, :] + (T[i, i + 1:] @ Xf[i + 1:]).reshape(K, m)  # (z I - T) is -T off the diagonal
+            X[i] = r / (z - T[i, i])[:, None]
+        return (U @ Xf).reshape(n, K, m).transpose(1, 0, 2)
 
 
 def resolvent_C(A: np.ndarray, C: np.ndarray, z: np.ndarray, modal=None) -> np.ndarray:

@@ -62,3 +62,13 @@ def test_evaluate_ss_and_resolvent_c_of_a_defective_matrix():
     assert np.abs(G - G_exact).max() <= 1e-12 * np.abs(G_exact).max()
     F = resolvent_C(A, C, Z_CIRCLE)
     assert np.abs(F - C[None] @ R).max() <= 1e-12 * np.abs(C[None] @ R).max()
+
+
+def test_shifted_solve_at_an_eigenvalue_is_not_finite_and_silent():
+    import warnings
+
+    A = jordan(3, 1.0, 0.2)  # eigenvalue z = 1, the first point of Z_CIRCLE
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        X = shifted_solve(A, np.ones((3, 1)), Z_CIRCLE)
+    assert not np.all(np.isfinite(X[0])) and np.all(np.isfinite(X[1:]))
