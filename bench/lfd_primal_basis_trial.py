@@ -30,8 +30,6 @@ primal residuals ``|b + A W y| / |b|`` (what a residual-norm estimate would have
 
 import argparse
 import math
-import os
-import pickle
 import sys
 import time
 from pathlib import Path
@@ -43,7 +41,7 @@ import scipy.sparse as sp  # noqa: E402
 import scipy.sparse.linalg as spla  # noqa: E402
 
 import sysid  # noqa: E402
-from bench.lfd_snapshot_widths import linear_system  # noqa: E402
+from bench.lfd_sweep_bench import linear_system  # noqa: E402
 from cfd.gust import face_gust_harmonic  # noqa: E402
 from cfd.linear import check_outputs  # noqa: E402
 from cfd.ordering import nested_dissection, unknown_permutation  # noqa: E402

@@ -17,8 +17,6 @@ Run: ``.venv/bin/python bench/lfd_snapshot_widths.py --case T2 [--every 4] [--li
 """
 
 import argparse
-import os
-import pickle
 import sys
 import time
 from pathlib import Path
@@ -29,25 +27,13 @@ import numpy as np  # noqa: E402
 import scipy.sparse as sp  # noqa: E402
 import scipy.sparse.linalg as spla  # noqa: E402
 
-import cfd  # noqa: E402
 import sysid  # noqa: E402
+from bench.lfd_sweep_bench import CASES, linear_system  # noqa: E402
 from cfd.gust import face_gust_harmonic  # noqa: E402
 from cfd.linear import check_outputs  # noqa: E402
 from cfd.ordering import nested_dissection, unknown_permutation  # noqa: E402
 
-CASES = {"T2": ("0010", 0.735), "T5": ("2410", 0.25)}
 LEVELS = (1e-2, 1e-4, 1e-6, 1e-8, 1e-10)
-
-
-def linear_system(name, lin_dir):
-    """The case's ``LinearSystem`` on the paper grid (from ``lin_dir/<name>.pkl`` when there)."""
-    cached = os.path.join(lin_dir, f"{name}.pkl") if lin_dir else None
-    if cached and os.path.exists(cached):
-        with open(cached, "rb") as f:
-            return pickle.load(f)
-    foil, mach = CASES[name]
-    grid = cfd.c_grid(cfd.naca(foil), ni=181, nj=60, n_surface=100)
-    return cfd.linearise(cfd.solve_steady(grid, mach, 0.0, tol=1e-10))
 
 
 def snapshots(lin, omegas):

@@ -103,21 +103,28 @@ def direct(lin, w, every, ref_path, deadline=None):
     return H, t_total, n
 
 
-def run_case(name, args):
+def linear_system(name, lin_dir=None, ni=181, nj=60, n_surface=100):
+    """The ``LinearSystem`` of case ``name`` (alpha 0): loaded from ``lin_dir/<name>.pkl`` when there, else from a
+    steady solve to 1e-10 on the ``ni`` x ``nj`` C-grid (stored there when ``lin_dir`` is given)."""
     foil, mach = CASES[name]
-    cached = os.path.join(args.lin, f"{name}.pkl") if args.lin else None
+    cached = os.path.join(lin_dir, f"{name}.pkl") if lin_dir else None
     if cached and os.path.exists(cached):
         with open(cached, "rb") as f:
             lin = pickle.load(f)
         log(f"{name}: NACA{foil} M{mach}, linear system loaded from {cached} (grid {lin.grid.shape})")
-    else:
-        log(f"{name}: NACA{foil} M{mach}, grid {args.ni} x {args.nj}, steady solve ...")
-        grid = cfd.c_grid(cfd.naca(foil), ni=args.ni, nj=args.nj, n_surface=args.n_surface)
-        sol = cfd.solve_steady(grid, mach, 0.0, tol=1e-10)
-        lin = cfd.linearise(sol)
-        if cached:
-            with open(cached, "wb") as f:
-                pickle.dump(lin, f)
+        return lin
+    log(f"{name}: NACA{foil} M{mach}, grid {ni} x {nj}, steady solve ...")
+    grid = cfd.c_grid(cfd.naca(foil), ni=ni, nj=nj, n_surface=n_surface)
+    lin = cfd.linearise(cfd.solve_steady(grid, mach, 0.0, tol=1e-10))
+    if cached:
+        with open(cached, "wb") as f:
+            pickle.dump(lin, f)
+    return lin
+
+
+def run_case(name, args):
+    foil, mach = CASES[name]
+    lin = linear_system(name, args.lin, args.ni, args.nj, args.n_surface)
     omega_d, w = sysid.mckelvey_grid(args.M, T0)
     t_lu = one_factorisation(lin)
     log(f"  one complex factorisation: {t_lu:.2f} s ({lin.n} unknowns)")

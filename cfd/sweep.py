@@ -227,6 +227,7 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
         181 x 60 grid). Measured on the paper grid (T2) on the 2-core machine: 1 worker 101 - 106 s, 2 workers
         65 - 70 s (docs/lfd-sweep.md).
 
+    Returns
     -------
     sysid.FrequencyResponse
         As ``lfd_response``; ``metadata`` adds ``"method": "fast"``, ``"error_estimate"`` absolute, shape (p, K)

@@ -27,8 +27,8 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from .errors import FrequencyDataError, FrequencyGridError
-from .state_space import shifted_solve
 from .grids import GRID_RTOL, check_period, continuous_to_discrete, discrete_to_continuous, mckelvey_grid
+from .state_space import shifted_solve
 
 __all__ = ["FrequencyResponse", "mckelvey_grid", "discrete_to_continuous", "continuous_to_discrete"]  # (the last three
 # from sysid.grids)

@@ -224,12 +224,6 @@ def _validate(A, C, z, G, weights, dc_gain, feedthrough):
 frequency_response = evaluate_ss
 
 
-def _output_rows(A, C, z, eig=None) -> np.ndarray:
-    """``F_k = C (z_k I - A)^-1`` for all k, shape (K, p, n), by the Schur form; with ``eig``
-    (:func:`sysid.state_space.eigen_parts` of ``A``, or False) in the modal form (``O(K p n^2)``)."""
-    return resolvent_C(A, C, z, modal_form(A, C, eig) if eig else False)
-
-
 def _constraint_rows(A, C, cons, lam=None):
     """Constraint matrix E (c, n+p) and right-hand sides F (c, m) for the imposed equalities (``lam``: the
     eigenvalues of ``A`` when known)."""
@@ -352,7 +346,7 @@ def fit_bd(A, C, z, G, *, weights=None, dc_gain=None, feedthrough=None, solver: 
             f"{c} equality constraints but only {N} unknowns per input (n + p = {n} + {p}); "
             "impose only one of dc_gain/feedthrough or raise the order."
         )
-    F = _output_rows(A, C, z, eig)
+    F = resolvent_C(A, C, z, modal_form(A, C, eig) if eig else False)  # (K, p, n): C (z_k I - A)^-1
     if not np.all(np.isfinite(F)):
         raise FrequencyDataError(
             "A has an eigenvalue at (or numerically at) one of the sample points z_k on the unit circle, so the "

@@ -64,6 +64,7 @@ def modal_form(A: np.ndarray, C: np.ndarray, eig=None):
     lam, V, Vinv = eig
     return lam, C @ V, Vinv
 
+
 def shifted_solve(A: np.ndarray, B: np.ndarray, z: np.ndarray) -> np.ndarray:
     """``(z_k I - A)^-1 B`` for all k through the complex Schur form ``A = U T U^H``.
 
