@@ -66,7 +66,10 @@ def write_vtk(grid, path, cell_data=None):
     MeshError
         If a field does not have the cell shape of the grid.
     """
-    import meshio
+    try:
+        import meshio
+    except ImportError:
+        raise ImportError("cfd.export.write_vtk needs meshio: pip install 'lfdrom[vtk]' (or meshio>=5.3)") from None
 
     ni, nj = grid.shape
     pts = np.column_stack([grid.x.ravel(), grid.y.ravel(), np.zeros(ni * nj)])
