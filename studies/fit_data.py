@@ -210,6 +210,10 @@ def _load_csv(path: Path, T_opt, freq_unit: str | None, input_name: str | None):
             raise FitInputError(path, f"line {ln}", f"'# frequency: {unit}' is not one of {FREQ_UNITS} (omega in U/c, "
                                                     "k = omega/2, omega_d in rad/sample)")
     fname = header[0]
+    if freq_unit is None and "frequency" in meta and fname in FREQ_UNITS and fname != unit:
+        raise FitInputError(path, f"line {hline}", f"the frequency column is named {fname!r} but line "
+                                                   f"{meta['frequency'][1]} says '# frequency: {unit}'; make them "
+                                                   "agree (or give --freq-unit)")
     if len(header) == 1 and any(sep in fname for sep in (";", "\t", " ")):
         raise FitInputError(path, f"line {hline}", f"one column only ({fname!r}): separate the columns with commas "
                                                    "(k,Cl_re,Cl_im,...)")

@@ -188,6 +188,7 @@ def bad_csv(tmp_path, text, name="bad.csv"):
     ("k,Cl_re,Cl_im\n", "line 1", "a header but no data"),
     ("# T: 2\nk;Cl_re;Cl_im\n0;1;0\n", "line 2", "separate the columns with commas"),
     ("# T: fast\nk,Cl_re,Cl_im\n0,1,0\n", "line 1", "'# T: fast' is not a number"),
+    ("# frequency: omega\nk,Cl_re,Cl_im\n0,1,0\n", "line 2", "named 'k' but line 1 says '# frequency: omega'"),
 ])
 def test_bad_csv_names_the_line(tmp_path, text, where, what):
     p = bad_csv(tmp_path, text)
