@@ -108,9 +108,10 @@ def identify(
         Data with a sampling period ``T`` (so that ``omega_d`` is known).
     order : int
         Model order ``n`` (number of states).
-    dc_gain : None, "match" or array_like (p, m)
+    dc_gain : None, "match", bool or array_like (p, m)
         ``None``: no DC constraint. ``"match"``: impose the data's ``omega = 0`` value exactly (the data
-        must contain that sample). Array: impose that real DC gain.
+        must contain that sample). ``True`` means ``"match"`` and ``False`` means no constraint (as
+        ``dc_gain = true | false`` in a study file). Array: impose that real DC gain.
     stable : bool
         Enforce spectral radius ``< 1 - margin`` (only acts when the subspace ``A`` violates it).
     weights : array_like, shape (K,) or (p, m, K), optional
@@ -173,6 +174,8 @@ def identify(
     if minimax_within is not None and not (isinstance(minimax_within, (int, float)) and np.isfinite(minimax_within)
                                            and minimax_within > 0):
         raise ValueError(f"minimax_within must be a positive fraction (e.g. 0.1) or None; got {minimax_within!r}")
+    if isinstance(dc_gain, (bool, np.bool_)) and dc_gain:
+        dc_gain = "match"  # not the array [[1.0]]: True is the study file's "match"
     auto_algorithm = algorithm == "auto"
     if algorithm == "auto" and isinstance(frf, FrequencyResponse):
         algorithm = resolve_algorithm(algorithm, frf.shape[0], frf.shape[1], stable=stable, dc_gain=dc_gain is not None)

@@ -115,6 +115,21 @@ def test_dc_match_needs_zero_frequency():
         identify(inner, 6, dc_gain="match")
 
 
+@pytest.mark.parametrize("flag, enforced", [(True, True), (False, False), (np.True_, True)])
+def test_dc_gain_bool_means_match_or_none(flag, enforced):
+    # True is the study file's dc_gain = true ("match"), not a DC gain of 1
+    wd, w = mckelvey_grid(32, 1.0)
+    s = 1j * np.where(np.isfinite(w), w, 0.0)
+    G = np.where(np.isfinite(w), 3.0 / (s ** 2 + 0.4 * s + 1.0), 0.0).reshape(1, 1, -1)
+    frf = FrequencyResponse(G, wd, 1.0)
+    res = identify(frf, 2, dc_gain=flag)
+    assert res.enforced["dc_gain"] is enforced
+    if enforced:
+        np.testing.assert_allclose(res.evaluate(np.array([0.0]))[0, 0, 0].real, 3.0, rtol=1e-9)
+        with pytest.raises(ConstraintError, match="dc_gain='match' needs a sample at omega = 0"):
+            identify(frf.take(np.arange(1, 33)), 2, dc_gain=flag)
+
+
 def test_dc_gain_wrong_shape():
     frf, _ = data(seed=0, M=32)
     with pytest.raises(ConstraintError, match=r"\(p, m\)"):
