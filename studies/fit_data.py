@@ -7,6 +7,8 @@ from __future__ import annotations
 import csv
 import io
 import math
+import zipfile
+import zlib
 from pathlib import Path
 from typing import Any
 
@@ -40,7 +42,11 @@ class FitInputError(ValueError):
 
 def _frequencies(file, where, values, unit: str, T: float | None):
     """``(omega, omega_d)``: one of them from ``values`` in ``unit``; the other None."""
-    v = np.asarray(values, dtype=float).reshape(-1)
+    try:
+        v = np.asarray(values, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise FitInputError(file, where, f"is not numeric (dtype {np.asarray(values).dtype}); store the frequencies "
+                                         "as real numbers") from None
     if np.isnan(v).any():
         raise FitInputError(file, where, f"frequency {int(np.flatnonzero(np.isnan(v))[0]) + 1} is NaN; remove it")
     if (v < 0).any():
@@ -120,6 +126,10 @@ def _read_arrays(path: Path, d: dict, T_opt: float | None):
         if not np.issubdtype(np.asarray(H).dtype, np.number):
             raise FitInputError(path, where_H, f"is not numeric (dtype {np.asarray(H).dtype}); store a complex array")
     elif "H_re" in d and "H_im" in d:
+        for key in ("H_re", "H_im"):
+            if not np.issubdtype(np.asarray(d[key]).dtype, np.number):
+                raise FitInputError(path, f"key '{key}'", f"is not numeric (dtype {np.asarray(d[key]).dtype}); store "
+                                                          "a real array")
         re, im = np.asarray(d["H_re"], dtype=float), np.asarray(d["H_im"], dtype=float)
         if re.shape != im.shape:
             raise FitInputError(path, "key 'H_im'", f"has shape {im.shape} but H_re has {re.shape}; they must match")
@@ -150,12 +160,19 @@ def _load_npz(path: Path, T_opt):
     import sysid
 
     try:
-        z = np.load(path, allow_pickle=False)
-    except (ValueError, OSError) as e:
-        raise FitInputError(path, None, f"not a readable .npz file ({e}); write it with numpy.savez or "
+        with np.load(path, allow_pickle=False) as z:
+            d = {k: z[k] for k in z.files}
+    except ValueError as e:
+        if "allow_pickle" in str(e):  # an object array (e.g. names saved as dtype=object)
+            raise FitInputError(path, None, "not readable as a .npz of plain arrays: it holds Python objects (e.g. "
+                                            "names saved with dtype=object); save names as strings "
+                                            "(np.array(names, dtype=str))") from None
+        raise FitInputError(path, None, f"not readable as a .npz file ({e}); write it with numpy.savez or "
                                         "FrequencyResponse.save") from None
-    with z:
-        d = {k: z[k] for k in z.files}
+    except (OSError, EOFError, zipfile.BadZipFile, zlib.error) as e:
+        raise FitInputError(path, None, f"not readable as a .npz file ({type(e).__name__}: {e}; empty "
+                                        "or truncated?); write it again with numpy.savez or "
+                                        "FrequencyResponse.save") from None
     if "header" in d:
         try:
             frf = sysid.FrequencyResponse.load(path)
@@ -169,20 +186,28 @@ def _load_npz(path: Path, T_opt):
 
 def _load_mat(path: Path, T_opt):
     import scipy.io
+    from scipy.io.matlab import MatReadError
 
     try:
         d = scipy.io.loadmat(path, squeeze_me=False)
     except NotImplementedError:
         raise FitInputError(path, None, "MATLAB v7.3 (HDF5) files are not supported; save with "
                                         "save('file.mat', ..., '-v7')") from None
-    except (ValueError, OSError, TypeError) as e:
-        raise FitInputError(path, None, f"not a readable MATLAB .mat file ({e})") from None
+    except (ValueError, OSError, TypeError, EOFError, MatReadError, zlib.error) as e:
+        raise FitInputError(path, None, f"not readable as a MATLAB .mat file ({type(e).__name__}: {e}; empty or "
+                                        "truncated?); save it again with save('file.mat', ..., '-v7')") from None
     d = {k: (np.squeeze(v) if k in ("omega", "k", "omega_d", "T") else v) for k, v in d.items()}
     return _read_arrays(path, d, T_opt)
 
 
 def _load_csv(path: Path, T_opt, freq_unit: str | None, input_name: str | None):
-    text = path.read_text(encoding="utf-8-sig")
+    raw = path.read_bytes()
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as e:
+        line = raw[: e.start].count(b"\n") + 1
+        raise FitInputError(path, f"line {line}", f"not readable as UTF-8 text (byte 0x{raw[e.start]:02x}); save the "
+                                                  "file as UTF-8 (e.g. iconv -f latin1 -t utf-8)") from None
     meta: dict[str, tuple[str, int]] = {}
     rows: list[tuple[int, list[str]]] = []
     for n, row in enumerate(csv.reader(io.StringIO(text)), start=1):

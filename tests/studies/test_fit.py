@@ -239,6 +239,38 @@ def test_bad_input_exit_code_2(tmp_path, capsys):
     assert "unknown suffix '.xlsx'" in capsys.readouterr().err
 
 
+def _unreadable(tmp_path, kind):
+    k = np.r_[0.0, np.geomspace(0.01, 5.0, 12)]
+    good = tmp_path / "good.npz"
+    np.savez(good, H=known(2 * k)[0:1], k=k)
+    files = {
+        "latin1.csv": ("# input: angle in \u00b0\nk,y_re,y_im\n0,1,0\n".encode("latin-1"),
+                       "line 1: not readable as UTF-8"),
+        "empty.npz": (b"", "not readable as a .npz file"),
+        "truncated.npz": (good.read_bytes()[:100], "not readable as a .npz file"),
+        "empty.mat": (b"", "not readable as a MATLAB .mat file"),
+    }
+    if kind in files:
+        (tmp_path / kind).write_bytes(files[kind][0])
+        return tmp_path / kind, files[kind][1]
+    if kind == "objects.npz":
+        np.savez(tmp_path / kind, H=known(2 * k)[0:1], k=k, outputs=np.array(["Cl"], dtype=object))
+        return tmp_path / kind, "not readable as a .npz of plain arrays"
+    np.savez(tmp_path / kind, H_re=np.array(["a"] * k.size), H_im=np.zeros(k.size), k=k)
+    return tmp_path / kind, "key 'H_re': is not numeric"
+
+
+@pytest.mark.parametrize("kind", ["latin1.csv", "empty.npz", "truncated.npz", "empty.mat", "objects.npz",
+                                  "string_re.npz"])
+def test_unreadable_file_is_bad_input(tmp_path, capsys, kind):
+    p, what = _unreadable(tmp_path, kind)
+    with pytest.raises(FitInputError, match=rf"{p.name}: {what}"):
+        load_data(p)
+    assert cli.main(["fit", str(p), "--order", "2", "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert what in err and "Traceback" not in err
+
+
 def test_dc_match_without_dc_sample_is_bad_input(tmp_path):
     k = np.logspace(-2, 0, 30)
     p = write_csv(tmp_path / "nodc.csv", k, known(2 * k))
