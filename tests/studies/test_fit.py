@@ -271,6 +271,23 @@ def test_unreadable_file_is_bad_input(tmp_path, capsys, kind):
     assert what in err and "Traceback" not in err
 
 
+@pytest.mark.parametrize("text, value", [("11.14", 11.14), ("70/(2*pi)", 70 / (2 * np.pi)), (" 2 ", 2.0),
+                                         ("1e1", 10.0), ("-(-3)", 3.0), ("pi/2 + 1 - 0.5", np.pi / 2 + 0.5)])
+def test_T_option_arithmetic(text, value):
+    assert fit._parse_T(text, "d.csv") == pytest.approx(value, rel=1e-15)
+
+
+@pytest.mark.parametrize("text, what", [("9**9**9", "is not a number"), ("True", "is not a number"),
+                                        ("__import__('os')", "is not a number"), ("1/0", "is not a number"),
+                                        ("abs(-2)", "is not a number"), ("1j", "is not a number"),
+                                        ("-2", "must be positive"), ("1e308*10", "must be positive and finite")])
+def test_T_option_rejects_anything_but_arithmetic(text, what, capsys, tmp_path):
+    with pytest.raises(FitInputError, match=f"d.csv: --T: .*{what}"):
+        fit._parse_T(text, "d.csv")
+    assert cli.main(["fit", str(EXAMPLE), "--T", text, "--out", str(tmp_path / "o")]) == 2
+    assert "--T:" in capsys.readouterr().err
+
+
 def test_dc_match_without_dc_sample_is_bad_input(tmp_path):
     k = np.logspace(-2, 0, 30)
     p = write_csv(tmp_path / "nodc.csv", k, known(2 * k))
