@@ -96,6 +96,11 @@ class HoldoutSelection:
     rule: str
 
 
+def _source(frf) -> str:
+    """The data file's name for messages: ``metadata["file"]`` (lfdrom ``.npz``), else ``metadata["source"]``."""
+    return str(frf.metadata.get("file") or frf.metadata.get("source") or "<data>")
+
+
 def _split(frf) -> tuple[np.ndarray, np.ndarray]:
     """Indices ``(fit, held_out)``: even/odd positions by increasing omega; DC and inf always fitted."""
     w = frf.omega if frf.omega is not None else frf.omega_d
@@ -131,7 +136,7 @@ def holdout_order(frf, *, max_order: int = 30, dc_gain=None, stable: bool = True
 
     fit_idx, held = _split(frf)
     if held.size == 0:
-        raise FitInputError("<data>", "--order", "too few frequencies to hold any out; give --order N")
+        raise FitInputError(_source(frf), "--order", "too few frequencies to hold any out; give --order N")
     part, val = frf.take(fit_idx), frf.take(held)
     Hv = np.asarray(val.H)
     den = np.maximum(np.sqrt(np.mean(np.abs(Hv) ** 2, axis=(1, 2))), np.finfo(float).tiny)
@@ -153,7 +158,7 @@ def holdout_order(frf, *, max_order: int = 30, dc_gain=None, stable: bool = True
             continue
         errs[i] = float((np.sqrt(np.mean(np.abs(Hm - Hv) ** 2, axis=(1, 2))) / den).max())
     if not np.isfinite(errs).any():
-        raise FitInputError("<data>", "--order", "no order could be fitted to the even-indexed frequencies; give "
+        raise FitInputError(_source(frf), "--order", "no order could be fitted to the even-indexed frequencies; give "
                                                  "--order N")
     best = np.nanmin(errs)
     ok = np.flatnonzero(errs <= (1 + HOLDOUT_RTOL) * best + HOLDOUT_ATOL)
@@ -203,14 +208,17 @@ def fit_data(frf, *, order: int | str = "auto", dc_gain: str = "auto", stable: b
     from sysid.diagnostics import default_T
 
     t0 = time.perf_counter()
-    src = frf.metadata.get("source", "<data>")
+    src = _source(frf)
     if T is not None:
-        if frf.omega is None:
-            raise FitInputError(src, "--T", "the data are on discrete frequencies omega_d without continuous ones; "
-                                            "load them with this T (load_data(path, T=...))")
+        if frf.omega is None:  # discrete frequencies without a T: this T places them
+            frf = sysid.FrequencyResponse(frf.H, frf.omega_d, T, inputs=frf.inputs, outputs=frf.outputs,
+                                          metadata=frf.metadata)
         frf, T_rule = frf.with_T(T), f"T = {T:.6g} (given)"
     elif frf.T is not None:
         T_rule = f"T = {frf.T:.6g} (from the data file)"
+    elif frf.omega is None:
+        raise FitInputError(src, "--T", "the data are on discrete frequencies omega_d without a sampling period; "
+                                        "give it with --T (fit_data(..., T=...))")
     else:
         Td = default_T(frf.omega)
         frf = frf.with_T(Td)

@@ -180,7 +180,10 @@ def _load_npz(path: Path, T_opt):
             raise FitInputError(path, "key 'header'", f"an lfdrom FrequencyResponse file that does not load: {e}")
         if T_opt is not None and frf.omega is not None:
             frf = frf.with_T(T_opt)
-        return frf
+        elif T_opt is not None:  # discrete frequencies saved without a T: this T places them
+            frf = sysid.FrequencyResponse(frf.H, frf.omega_d, T_opt, inputs=frf.inputs, outputs=frf.outputs,
+                                          metadata=frf.metadata)
+        return frf.replace(metadata={**frf.metadata, "file": path.name})
     return _read_arrays(path, d, T_opt)
 
 

@@ -288,6 +288,28 @@ def test_T_option_rejects_anything_but_arithmetic(text, what, capsys, tmp_path):
     assert "--T:" in capsys.readouterr().err
 
 
+def test_T_option_places_discrete_npz_saved_without_T(tmp_path, capsys):
+    wd, w = sysid.mckelvey_grid(32, 1.0)
+    p = tmp_path / "disc.npz"
+    sysid.FrequencyResponse(known(w), wd).save(p)
+    with pytest.raises(FitInputError, match=r"disc\.npz: --T: .*discrete frequencies .*give it with --T"):
+        fit_data(load_data(p), order=4)
+    frf = load_data(p, T=1.0)
+    assert frf.T == 1.0 and np.allclose(frf.omega_d, wd)
+    assert fit_data(frf, order=4, T=1.0).result.max_error < 1e-6
+    assert fit_data(load_data(p), order=4, T=1.0).result.max_error < 1e-6
+    assert cli.main(["fit", str(p), "--T", "1", "--order", "4", "--no-figures", "--out", str(tmp_path / "o")]) == 0
+    assert cli.main(["fit", str(p), "--order", "4", "--out", str(tmp_path / "o")]) == 2
+    assert "disc.npz: --T:" in capsys.readouterr().err
+
+
+def test_holdout_messages_name_the_file(tmp_path):
+    p = tmp_path / "two.npz"
+    sysid.FrequencyResponse(np.ones((1, 1, 2), complex), np.array([0.0, np.pi]), 1.0).save(p)
+    with pytest.raises(FitInputError, match=r"two\.npz: --order: too few frequencies"):
+        fit_data(load_data(p), order="auto")
+
+
 def test_dc_match_without_dc_sample_is_bad_input(tmp_path):
     k = np.logspace(-2, 0, 30)
     p = write_csv(tmp_path / "nodc.csv", k, known(2 * k))
