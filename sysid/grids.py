@@ -14,7 +14,8 @@ import numpy as np
 
 from .errors import FrequencyGridError
 
-__all__ = ["check_period", "discrete_to_continuous", "continuous_to_discrete", "mckelvey_grid", "GRID_RTOL"]
+__all__ = ["check_period", "check_discrete_frequencies", "check_continuous_frequencies", "check_distinct",
+           "discrete_to_continuous", "continuous_to_discrete", "mckelvey_grid", "GRID_RTOL"]
 
 #: Relative tolerance (of pi) that decides whether a grid is equispaced / a sample sits on 0 or pi.
 GRID_RTOL = 1e-9
@@ -33,6 +34,40 @@ def check_period(T: Any) -> float:
             f"sampling period T must be positive and finite, got T={T!r}; pass e.g. T=70/(2*pi)"
         )
     return Tf
+
+
+def check_discrete_frequencies(omega_d: Any) -> np.ndarray:
+    """Return ``omega_d`` as a 1-D float array, or raise :class:`FrequencyGridError` naming the first index
+    that is NaN, inf or outside ``[0, pi]`` (to ``GRID_RTOL * pi``)."""
+    wd = np.asarray(omega_d, dtype=float).reshape(-1)
+    tol = GRID_RTOL * np.pi
+    bad = np.flatnonzero(~np.isfinite(wd) | (wd < -tol) | (wd > np.pi + tol))
+    if bad.size:
+        raise FrequencyGridError(f"omega_d[{int(bad[0])}] = {float(wd[bad[0]])!r}; discrete frequencies must be finite "
+                                 "and lie in [0, pi] (rad/sample): repair or drop that sample")
+    return wd
+
+
+def check_continuous_frequencies(omega: Any) -> np.ndarray:
+    """Return ``omega`` as a 1-D float array, or raise :class:`FrequencyGridError` naming the first index that
+    is NaN or negative (``inf``, the feedthrough sample, is allowed)."""
+    w = np.asarray(omega, dtype=float).reshape(-1)
+    bad = np.flatnonzero(np.isnan(w) | (w < 0))
+    if bad.size:
+        raise FrequencyGridError(f"omega[{int(bad[0])}] = {float(w[bad[0]])!r}; continuous frequencies must be >= 0 "
+                                 "(U_inf/c units, inf allowed) and not NaN: repair or drop that sample")
+    return w
+
+
+def check_distinct(freq: Any, name: str = "omega_d") -> None:
+    """Raise :class:`FrequencyGridError` naming the first repeated frequency (both indices and the value)."""
+    w = np.asarray(freq, dtype=float).reshape(-1)
+    order = np.argsort(w, kind="stable")
+    same = np.flatnonzero(w[order][1:] == w[order][:-1])
+    if same.size:
+        i, j = sorted((int(order[same[0]]), int(order[same[0] + 1])))
+        raise FrequencyGridError(f"{name}[{i}] and {name}[{j}] are the same frequency {float(w[i])!r}; the "
+                                 "frequencies must be distinct: average or drop the repeated samples")
 
 
 def discrete_to_continuous(omega_d: np.ndarray, T: float) -> np.ndarray:

@@ -43,8 +43,10 @@ from typing import Any
 
 import numpy as np
 
+from .data_checks import check_nonzero_outputs, check_weights
 from .errors import ConstraintError, FrequencyGridError
 from .frd import FrequencyResponse
+from .grids import check_distinct
 from .identification_result import IdentificationResult, StabilisationReport
 from .metrics import dc_error, frf_errors, spectral_radius
 from .state_space import evaluate_ss
@@ -159,7 +161,9 @@ def identify(
     Raises
     ------
     FrequencyGridError
-        ``frf.T`` is None, or the grid does not suit ``method``.
+        ``frf.T`` is None, a frequency appears twice, or the grid does not suit ``method``.
+    FrequencyDataError
+        An output is zero at every frequency, or ``weights`` of the wrong shape, negative or not finite.
     OrderError
         Order outside what the data support.
     ConstraintError
@@ -193,6 +197,9 @@ def identify(
         )
     if not (0.0 <= float(margin) < 1.0):
         raise ValueError(f"margin must be in [0, 1), got {margin!r}")
+    check_distinct(frf.omega_d, "omega_d")
+    check_nonzero_outputs(frf.H, frf.outputs)
+    weights = check_weights(weights, *frf.shape)
     T = frf.T
     G = np.asarray(frf.H)
     z = frf.z

@@ -44,6 +44,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .data_checks import check_constraint, check_weights
 from .errors import ConstraintError, FrequencyDataError
 from .refit_solvers import clear_refit_cache, null_space_solve, reduce_regression, solve_compiled  # noqa: F401
 from .state_space import evaluate_ss, modal_form, resolvent_C
@@ -186,37 +187,12 @@ def _validate(A, C, z, G, weights, dc_gain, feedthrough):
     if not (np.all(np.isfinite(G)) and np.all(np.isfinite(z))):
         raise FrequencyDataError("G or z contains NaN or inf; remove or repair those frequency samples.")
     m = G.shape[1]
-    if weights is not None:
-        w = np.asarray(weights, dtype=float)
-        if w.shape == (K,):
-            pass
-        elif w.shape == (p, m, K):
-            pass
-        else:
-            raise FrequencyDataError(f"weights must have shape (K,) = ({K},) or (p, m, K) = ({p}, {m}, {K}); got {w.shape}.")
-        if not np.all(np.isfinite(w)) or np.any(w < 0):
-            raise FrequencyDataError("weights must be finite and nonnegative.")
-        weights = w
+    weights = check_weights(weights, p, m, K)
     cons = []
     for name, val, z0 in (("dc_gain", dc_gain, 1.0), ("feedthrough", feedthrough, -1.0)):
         if val is None:
             continue
-        v = np.asarray(val)
-        if np.iscomplexobj(v):
-            if np.abs(v.imag).max(initial=0.0) > 1e-12 * max(1.0, np.abs(v).max(initial=0.0)):
-                raise ConstraintError(
-                    f"{name} must be real (G at z = {z0:+.0f} of a real system is real); got complex values. "
-                    "Pass its real part."
-                )
-            v = v.real
-        v = np.asarray(v, dtype=float)
-        if v.ndim == 0 and p == 1 and m == 1:
-            v = v.reshape(1, 1)
-        if v.shape != (p, m):
-            raise ConstraintError(f"{name} must have shape (p, m) = ({p}, {m}); got {v.shape}.")
-        if not np.all(np.isfinite(v)):
-            raise ConstraintError(f"{name} contains NaN or inf.")
-        cons.append((name, z0, v))
+        cons.append((name, z0, check_constraint(val, name, p, m, z0)))
     return A, C, z, G, weights, cons, n, p, m, K
 
 

@@ -373,3 +373,38 @@ def test_summary_reports_the_data_diagnostics():
     t4 = FrequencyResponse.load(Path(__file__).resolve().parents[2] / "docs" / "data" / "frf-T4.npz")
     line = identify(t4, 9, dc_gain="match", stable=True).summary().splitlines()[-1]
     assert line.startswith("data: not consistent") and "Cm/gust FLAG (negative-time energy 1.7e-03" in line
+
+
+# ---------------------------------------------------------------------------- bad input
+def siso(M=32, T=1.0):
+    wd, w = mckelvey_grid(M, T)
+    s = 1j * np.where(np.isfinite(w), w, 0.0)
+    return wd, np.where(np.isfinite(w), 1.0 / (s ** 2 + 0.4 * s + 1.0), 0.0)
+
+
+@pytest.mark.parametrize("kw", [{}, {"stable": True}, {"dc_gain": "match"}, {"algorithm": "subspace"}])
+def test_output_zero_at_every_frequency(kw):
+    wd, h = siso()
+    frf = FrequencyResponse(np.stack([h, 0 * h])[:, None], wd, 1.0, outputs=["Cl", "Cd"])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)  # no divide-by-zero on the way
+        with pytest.raises(sysid.FrequencyDataError, match="output 'Cd' is zero at every frequency; drop it"):
+            identify(frf, 2, **kw)
+
+
+@pytest.mark.parametrize("kw", [{}, {"stable": True}, {"dc_gain": "match"}, {"algorithm": "subspace", "stable": True}])
+@pytest.mark.parametrize("weights", [np.ones(5), np.ones((1, 1, 5)), -np.ones(33)])
+def test_bad_weights_same_error_on_every_path(kw, weights):
+    wd, h = siso()
+    frf = FrequencyResponse(h.reshape(1, 1, -1), wd, 1.0)
+    what = "finite and nonnegative" if weights.size == 33 else r"weights must have shape \(K,\) = \(33,\)"
+    with pytest.raises(sysid.FrequencyDataError, match=what):
+        identify(frf, 2, weights=weights, **kw)
+
+
+@pytest.mark.parametrize("kw", [{}, {"stable": True, "dc_gain": "match"}])
+def test_repeated_frequency(kw):
+    wd, h = siso()
+    frf = FrequencyResponse(np.r_[h, 5.0].reshape(1, 1, -1), np.r_[wd, wd[5]], 1.0)
+    with pytest.raises(FrequencyGridError, match=r"omega_d\[5\] and omega_d\[33\] are the same frequency"):
+        identify(frf, 2, **kw)
