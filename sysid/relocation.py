@@ -70,7 +70,9 @@ import numpy as np
 
 from .candidates import (bound_candidate_gaps, candidate_eig, candidate_score, channel_errors, gap_excess,
                          pick_candidates, settle_equalities)
+from .data_checks import check_constraint, check_nonzero_outputs, check_weights
 from .errors import FrequencyDataError, OrderError
+from .grids import check_continuous_frequencies, check_distinct, check_period
 from .pole_refinement import refine_poles
 from .poles import (RESOLUTION, discrete_basis, initial_poles, input_normal, modal_realisation,
                     partial_fraction_basis, pole_distance, resolution_floor, stability_region)
@@ -300,8 +302,8 @@ def fit_relocated(omega, z, G, T, order, *, dc_gain=None, feedthrough=None, weig
         input columns (``order // m``, the first ``order % m`` columns one more), each column with its own
         poles common to all outputs; when ``p < m`` the transposed system is fitted.
     dc_gain, feedthrough : ndarray, shape (p, m), real, optional
-        Exact equalities ``G(z=1)`` and ``G(z=-1)``.
-    weights : ndarray, shape (p, m, K), optional
+        Exact equalities ``G(z=1)`` and ``G(z=-1)`` (a scalar when ``p = m = 1``).
+    weights : ndarray, shape (K,) or (p, m, K), optional
         Squared-residual weights (as in :func:`sysid.refit.fit_bd`), on top of the per-output ``1/peak``.
     start_poles : dict of str -> ndarray, optional
         Extra starting pole sets (continuous, canonical order), e.g. ``{"subspace": poles}``; used when
@@ -349,9 +351,13 @@ def fit_relocated(omega, z, G, T, order, *, dc_gain=None, feedthrough=None, weig
     OrderError
         ``order`` < 1, or more unknowns per output than real data (``2 K``).
     FrequencyDataError
-        NaN / inf in ``G``, or inconsistent shapes.
+        NaN / inf in ``G``, inconsistent shapes, bad ``weights``, or an output (one output's response to one
+        input) that is zero at every frequency.
+    FrequencyGridError
+        ``T`` not positive and finite; ``omega`` NaN, negative or with a frequency twice.
     ConstraintError
-        Inconsistent constraints (from :func:`sysid.refit.fit_cd`).
+        ``dc_gain`` / ``feedthrough`` complex, NaN or of the wrong shape, or inconsistent constraints (from
+        :func:`sysid.refit.fit_cd`).
     """
     from threadpoolctl import threadpool_limits
 
@@ -383,6 +389,15 @@ def _fit_relocated(omega, z, G, T, order, *, dc_gain, feedthrough, weights, star
             "remove or repair those samples before fitting"
         )
     p, m, K = G.shape
+    T = check_period(T)
+    omega = check_continuous_frequencies(omega)
+    check_distinct(omega, "omega")
+    check_nonzero_outputs(G, per_input=True)
+    weights = check_weights(weights, p, m, K)
+    if weights is not None and weights.ndim == 1:
+        weights = np.broadcast_to(weights, (p, m, K))
+    dc_gain = None if dc_gain is None else check_constraint(dc_gain, "dc_gain", p, m, 1.0)
+    feedthrough = None if feedthrough is None else check_constraint(feedthrough, "feedthrough", p, m, -1.0)
     n_real = 2 * K - int(np.count_nonzero(~np.isfinite(omega))) - int(np.count_nonzero(omega == 0))
     if order + 1 > n_real:
         raise OrderError(

@@ -444,6 +444,57 @@ def test_nan_data():
         FrequencyResponse(G, frf.omega_d, frf.T)
 
 
+def siso_frf():
+    wd, w = mckelvey_grid(32, 1.0)
+    s = 1j * np.where(np.isfinite(w), w, 0.0)
+    return FrequencyResponse(np.where(np.isfinite(w), 1.0 / (s ** 2 + 0.4 * s + 1.0), 0.0).reshape(1, 1, -1), wd, 1.0)
+
+
+def _with(a, k, v):
+    a = np.array(a)
+    a[k] = v
+    return a
+
+
+@pytest.mark.parametrize("change, error, what", [
+    (dict(T=0.0), sysid.FrequencyGridError, "T must be positive and finite"),
+    (dict(T=-1.0), sysid.FrequencyGridError, "T must be positive and finite"),
+    (dict(omega=lambda w: _with(w, 3, np.nan)), sysid.FrequencyGridError, r"omega\[3\] = nan"),
+    (dict(omega=lambda w: _with(w, 3, -5.0)), sysid.FrequencyGridError, r"omega\[3\] = -5.0"),
+    (dict(omega=lambda w: _with(w, 4, w[3])), sysid.FrequencyGridError, r"omega\[3\] and omega\[4\] are the same"),
+    (dict(weights=np.ones(5)), FrequencyDataError, r"weights must have shape \(K,\) = \(33,\)"),
+    (dict(weights=-np.ones(33)), FrequencyDataError, "finite and nonnegative"),
+    (dict(dc_gain=np.ones(2)), sysid.ConstraintError, r"dc_gain must have shape \(p, m\) = \(1, 1\)"),
+    (dict(feedthrough=1j), sysid.ConstraintError, "feedthrough must be real"),
+    (dict(G=lambda G: 0 * G), FrequencyDataError, "output 0 is zero at every frequency"),
+])
+def test_fit_relocated_bad_arguments(change, error, what):
+    frf = siso_frf()
+    args = dict(omega=np.array(frf.omega), z=frf.z, G=np.asarray(frf.H), T=1.0)
+    for k, v in change.items():
+        args[k] = v(args[k]) if callable(v) else v
+    with pytest.raises(error, match=what):
+        fit_relocated(args.pop("omega"), args.pop("z"), args.pop("G"), args.pop("T"), 2, **args)
+
+
+def test_fit_relocated_scalar_dc_gain_and_vector_weights():
+    # (K,) weights and a scalar DC gain of a one-input one-output system, as refit.fit_bd accepts them
+    frf = siso_frf()
+    G = np.asarray(frf.H)
+    ref = fit_relocated(frf.omega, frf.z, G, 1.0, 2, dc_gain=np.ones((1, 1)), weights=np.ones((1, 1, 33)))
+    rl = fit_relocated(frf.omega, frf.z, G, 1.0, 2, dc_gain=1.0, weights=np.ones(33))
+    np.testing.assert_allclose(np.sort_complex(rl.poles), np.sort_complex(ref.poles), rtol=1e-12)
+    np.testing.assert_allclose(rl.max_error_per_output, ref.max_error_per_output, rtol=1e-9, atol=1e-14)
+
+
+def test_fit_relocated_zero_pair_of_a_two_input_fit():
+    frf = siso_frf()
+    h = np.asarray(frf.H)[0, 0]
+    G = np.stack([np.stack([h, 0 * h]), np.stack([h, 2 * h])])  # (2, 2, K): output 0 does not see input 1
+    with pytest.raises(FrequencyDataError, match="response of output 0 to input 1 is zero at every frequency"):
+        fit_relocated(frf.omega, frf.z, G, 1.0, 4)
+
+
 def test_bad_algorithm_and_margin():
     frf = noisy_frf()
     with pytest.raises(ValueError, match="algorithm"):
