@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 
 from .errors import FrequencyDataError, FrequencyGridError, OrderError
+from .grids import check_discrete_frequencies
 from .state_space import evaluate_ss, lstsq_bd, lstsq_bd_phi, modal_form, resolvent_C  # noqa: F401
 
 __all__ = [
@@ -159,11 +160,9 @@ def _unpack(data: Any, omega_d: Any = None) -> tuple[np.ndarray, np.ndarray]:
         if M < 1:
             raise FrequencyGridError("need at least 2 frequencies")
         return G, np.pi * np.arange(M + 1) / M
-    wd = np.asarray(omega_d, dtype=float).reshape(-1)
+    wd = check_discrete_frequencies(omega_d)  # finite, in [0, pi]
     if wd.size != G.shape[2]:
         raise FrequencyDataError(f"omega_d has {wd.size} frequencies but G has K={G.shape[2]} (G.shape[2])")
-    if (wd < -_GRID_ATOL).any() or (wd > np.pi + _GRID_ATOL).any():
-        raise FrequencyGridError("omega_d must lie in [0, pi] (rad/sample)")
     return G, wd
 
 

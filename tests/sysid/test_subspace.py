@@ -109,6 +109,18 @@ def test_needs_discrete_frequencies():
         subspace_identify(frf, 1)
 
 
+@pytest.mark.parametrize("bad, shown", [(np.nan, "nan"), (np.inf, "inf"), (-0.5, "-0.5"), (3.5, "3.5")])
+@pytest.mark.parametrize("call", [lambda G, wd: mckelvey2(G, wd, 2), lambda G, wd: sysid.hankel_svd(G, wd),
+                                  lambda G, wd: subspace_identify(G, 2, omega_d=wd)])
+def test_omega_d_array_checked_up_front(bad, shown, call):
+    wd, _ = mckelvey_grid(32, 1.0)
+    A, B, C, D, _ = random_system(2, 1, 1, 0)
+    G = freqresp(A, B, C, D, np.exp(1j * wd))
+    wd[3] = bad
+    with pytest.raises(FrequencyGridError, match=rf"omega_d\[3\] = {shown}; .*finite and lie in \[0, pi\]"):
+        call(G, wd)
+
+
 @pytest.mark.parametrize("order, q, match", [
     (8, 8, r"q = 8"),
     (20, None, r"largest possible order is 15"),
