@@ -205,6 +205,7 @@ def fit_data(frf, *, order: int | str = "auto", dc_gain: str = "auto", stable: b
     FitOutcome
     """
     import sysid
+    from sysid.data_checks import check_nonzero_outputs
     from sysid.diagnostics import default_T
 
     t0 = time.perf_counter()
@@ -238,6 +239,7 @@ def fit_data(frf, *, order: int | str = "auto", dc_gain: str = "auto", stable: b
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)  # diagnose() reports a complex DC sample
             dc = np.array(frf.dc_gain)
+    check_nonzero_outputs(frf.H, frf.outputs)  # before the hold-out fits, which would skip every order for it
     selection = None
     if order == "auto":
         selection = holdout_order(frf, max_order=max_order, dc_gain=dc, stable=stable)

@@ -310,6 +310,16 @@ def test_holdout_messages_name_the_file(tmp_path):
         fit_data(load_data(p), order="auto")
 
 
+@pytest.mark.parametrize("order", ["auto", "2"])
+def test_output_zero_everywhere_is_bad_input(tmp_path, capsys, order):
+    k = grid_k()
+    H = known(2 * k)
+    H[1] = 0.0
+    p = write_csv(tmp_path / "zero.csv", k, H)
+    assert cli.main(["fit", str(p), "--order", order, "--no-figures", "--out", str(tmp_path / "o")]) == 2
+    assert "zero.csv: output 'Cm' is zero at every frequency; drop it" in capsys.readouterr().err
+
+
 def test_dc_match_without_dc_sample_is_bad_input(tmp_path):
     k = np.logspace(-2, 0, 30)
     p = write_csv(tmp_path / "nodc.csv", k, known(2 * k))
