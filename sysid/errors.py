@@ -11,6 +11,7 @@ __all__ = [
     "ConstraintError",
     "SolverError",
     "ModelError",
+    "TimeDataError",
 ]
 
 
@@ -24,6 +25,11 @@ class FrequencyGridError(ValueError):
 
 class OrderError(ValueError):
     """The requested model order is not supported by the data or by the Hankel sizes."""
+
+
+class TimeDataError(ValueError):
+    """A time history is unusable for a simulation: times not equispaced or not increasing, an input of
+    another length than the times."""
 
 
 class ConstraintError(ValueError):

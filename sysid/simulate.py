@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .errors import ModelError
+from .errors import ModelError, TimeDataError
 from .transforms import c2d_bilinear, c2d_zoh, d2c_bilinear
 
 __all__ = ["markov_parameters", "simulate_discrete", "rediscretise", "rom_simulation", "rom_response",
@@ -167,6 +167,8 @@ def rom_simulation(A, B, C, D, T, t, u, discretisation="tustin", method="auto"):
 
     Raises
     ------
+    TimeDataError
+        ``t`` not equispaced (to ``1e-9`` of its step) or not increasing, or ``u`` of another length.
     ValueError
         Fewer than two time points, or an unknown discretisation.
     ModelError
@@ -174,10 +176,22 @@ def rom_simulation(A, B, C, D, T, t, u, discretisation="tustin", method="auto"):
     """
     import control
 
-    t = np.asarray(t, dtype=float)
+    t = np.asarray(t, dtype=float).reshape(-1)
     if t.size < 2:
         raise ValueError(f"need at least two time points, got {t.size}")
-    discrete = rediscretise(control.ss(A, B, C, D, T), float(t[1] - t[0]), discretisation)
+    dt = float(t[1] - t[0])
+    steps = np.diff(t)
+    if not (np.isfinite(dt) and dt > 0):
+        raise TimeDataError(f"times must increase: t[1] - t[0] = {dt!r}; give equispaced increasing times")
+    bad = np.flatnonzero(~(np.abs(steps - dt) <= 1e-9 * dt))
+    if bad.size:
+        k = int(bad[0])
+        raise TimeDataError(f"times must be equispaced (the ROM is re-discretised at one step): t[{k + 1}] - t[{k}] "
+                            f"= {float(steps[k])!r} but t[1] - t[0] = {dt!r}; resample the input on an equispaced grid")
+    N_u = np.atleast_2d(np.asarray(u)).shape[-1]
+    if N_u != t.size:
+        raise TimeDataError(f"u has {N_u} samples but t has {t.size} times; give one input sample per time")
+    discrete = rediscretise(control.ss(A, B, C, D, T), dt, discretisation)
     return simulate_discrete(discrete.A, discrete.B, discrete.C, discrete.D, np.asarray(u, dtype=float), method)
 
 
@@ -203,6 +217,8 @@ def rom_response(model, t, u, *, discretisation: str = "tustin", method: str = "
 
     Raises
     ------
+    TimeDataError
+        ``t`` not equispaced (to ``1e-9`` of its step) or not increasing, or ``u`` of another length.
     ValueError
         Fewer than two time points, or an unknown discretisation or method.
     ModelError

@@ -56,6 +56,22 @@ def test_rom_simulation_bad_input(t, disc, match):
         rom_simulation(np.eye(1) * 0.5, np.ones((1, 1)), np.ones((1, 1)), np.zeros((1, 1)), 1.0, t, t, disc)
 
 
+@pytest.mark.parametrize("t, u, match", [
+    (np.r_[0.0, 0.01, np.linspace(0.5, 10.0, 99)], np.ones(101), r"equispaced .*t\[2\] - t\[1\] = 0.49"),
+    (np.r_[np.arange(50) * 0.1, 4.9 + 0.1 * (1 + 1e-6)], np.ones(51), r"equispaced .*t\[50\] - t\[49\]"),
+    (np.arange(5.0)[::-1], np.ones(5), "times must increase"),
+    (np.linspace(0.0, 10.0, 101), np.ones(50), "u has 50 samples but t has 101 times"),
+    (np.linspace(0.0, 10.0, 101), np.ones((1, 102)), "u has 102 samples but t has 101 times"),
+])
+def test_rom_response_needs_equispaced_times_and_one_input_per_time(t, u, match):
+    rom = control.ss([[0.5]], [[1.0]], [[1.0]], [[0.0]], 0.5)
+    with pytest.raises(sysid.TimeDataError, match=match):
+        rom_response(rom, t, u)
+    # ulp-level jitter of a computed grid is still one step
+    t_ok = np.cumsum(np.full(2001, 0.01)) - 0.01
+    assert rom_response(rom, t_ok, np.ones(t_ok.size)).outputs.shape == (1, t_ok.size)
+
+
 def test_rom_response_returns_python_control_data():
     """rom_response: the same outputs as rom_simulation, as a control.TimeResponseData with the model's names."""
     rom = control.ss([[0.5]], [[1.0]], [[1.0], [2.0]], [[0.0], [0.0]], 0.5, inputs=["gust"], outputs=["Cl", "Cm"])
