@@ -176,6 +176,8 @@ def _validate(A, C, z, G, weights, dc_gain, feedthrough):
     p = C.shape[0]
     z = np.asarray(z, dtype=complex).ravel()
     K = z.size
+    if K == 0:
+        raise FrequencyDataError("no frequencies (z is empty); give the data's points z = exp(1j omega_d).")
     G = np.asarray(G)
     if G.ndim == 1 and p == 1:
         G = G.reshape(1, 1, -1)
@@ -460,8 +462,8 @@ def fit_alternating(A, C, z, G, *, iterations: int = 10, rtol: float = 1e-9, wei
     -------
     AlternatingFit
     """
-    if iterations < 1:
-        raise ValueError(f"iterations must be >= 1; got {iterations}.")
+    if isinstance(iterations, bool) or not isinstance(iterations, (int, np.integer)) or iterations < 1:
+        raise ValueError(f"iterations must be an integer >= 1; got {iterations!r}.")
     history = []
     C = np.asarray(C, dtype=float)
     bd = cd = None

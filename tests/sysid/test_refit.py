@@ -229,6 +229,18 @@ def test_bad_inputs_raise_typed_errors(grid):
                dc_gain=np.ones((2, 1)), feedthrough=np.zeros((2, 1)))
 
 
+def test_no_frequencies_is_a_typed_error():
+    with pytest.raises(FrequencyDataError, match=r"no frequencies \(z is empty\)"):
+        fit_bd(np.array([[0.5]]), np.array([[1.0]]), np.zeros(0, complex), np.zeros((1, 1, 0), complex))
+
+
+@pytest.mark.parametrize("iterations", [2.5, 0, True, "3"])
+def test_fit_alternating_iterations_must_be_a_positive_integer(grid, iterations):
+    A, B, C, D = random_system(4, 1, 1, seed=0)
+    with pytest.raises(ValueError, match="iterations must be an integer >= 1"):
+        fit_alternating(A, C, grid, frequency_response(A, B, C, D, grid), iterations=iterations)
+
+
 @pytest.mark.parametrize("p,m", [(1, 1), (2, 1), (2, 3)])
 def test_fit_cd_recovers_and_constrains(p, m, grid):
     n = 7
