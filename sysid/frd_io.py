@@ -48,8 +48,18 @@ def load_frf(cls, path: str | Path):
     with np.load(Path(path), allow_pickle=False) as f:
         if "header" not in f or "H" not in f:
             raise FrequencyDataError(f"{path} is not a FrequencyResponse file (no 'header'/'H' entries)")
-        header = json.loads(str(f["header"]))
-        meta = json.loads(str(f["metadata"]))
+        if "metadata" not in f:
+            raise FrequencyDataError(f"{path}: no 'metadata' entry (FrequencyResponse.save writes one, '{{}}' when "
+                                     "empty); add it or write the file with FrequencyResponse.save")
+        try:
+            header = json.loads(str(f["header"]))
+            meta = json.loads(str(f["metadata"]))
+        except ValueError as exc:
+            header = meta = f"not JSON ({exc})"
+        if not (isinstance(header, dict) and isinstance(meta, dict) and {"inputs", "outputs"} <= header.keys()):
+            raise FrequencyDataError(f"{path}: 'header' or 'metadata' is not what FrequencyResponse.save writes "
+                                     "(JSON objects, the header with 'inputs' and 'outputs'); write the file with "
+                                     "FrequencyResponse.save")
         H = f["H"]
         wd = f["omega_d"] if "omega_d" in f else None
         w = f["omega"] if "omega" in f else None

@@ -213,6 +213,20 @@ def test_save_load_continuous_only(tmp_path):
     assert back == frf and back.omega_d is None
 
 
+@pytest.mark.parametrize("entries, what", [
+    (dict(header='{"inputs": ["u"], "outputs": ["y"], "T": 1.0}'), "no 'metadata' entry"),
+    (dict(header="not json", metadata="{}"), "'header' or 'metadata' is not what FrequencyResponse.save writes"),
+    (dict(header='{"T": 1.0}', metadata="{}"), "'header' or 'metadata' is not what FrequencyResponse.save writes"),
+    (dict(header='{"inputs": ["u"], "outputs": ["y"]}', metadata="[1]"), "'header' or 'metadata' is not"),
+])
+def test_load_of_an_incomplete_file(tmp_path, entries, what):
+    wd, _ = mckelvey_grid(8, 1.0)
+    np.savez(tmp_path / "f.npz", H=np.ones((1, 1, 9), complex), omega_d=wd,
+             **{k: np.array(v) for k, v in entries.items()})
+    with pytest.raises(FrequencyDataError, match=f"f.npz: {what}"):
+        FrequencyResponse.load(tmp_path / "f.npz")
+
+
 def test_pickle_and_copy():
     import copy
     import pickle
