@@ -7,11 +7,25 @@ exist; :func:`min_order` counts the equality constraints of the refits.
 
 from __future__ import annotations
 
-from typing import Optional
+from typing import Any, Optional
 
+import numpy as np
+
+from .errors import FrequencyGridError, OrderError
 from .subspace import default_q
 
-__all__ = ["max_order", "min_order", "order_supported"]
+__all__ = ["max_order", "min_order", "order_supported", "MAX_ORDER_ALGORITHMS"]
+
+MAX_ORDER_ALGORITHMS = ("auto", "subspace", "relocation", "mckelvey1", "mckelvey2")
+"""What :func:`max_order` accepts: ``"mckelvey2"`` bounds Algorithm 2, the others Algorithm 1 (the subspace step
+of ``sysid.identify`` on McKelvey's grid, whichever identification algorithm follows it)."""
+
+
+def _count(value: Any, name: str, error=ValueError) -> int:
+    """``value`` as a positive int (NumPy integers accepted, bool refused), else ``error``."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+        raise error(f"{name} must be a positive integer, got {value!r}")
+    return int(value)
 
 
 def max_order(M: int, algorithm: str = "auto", p: int = 2, m: int = 1, order: Optional[int] = None) -> int:
@@ -27,7 +41,8 @@ def max_order(M: int, algorithm: str = "auto", p: int = 2, m: int = 1, order: Op
     ----------
     M : int
         Grid intervals (``N_omega = M + 1``).
-    algorithm : {"auto", "mckelvey1", "mckelvey2"}
+    algorithm : {"auto", "subspace", "relocation", "mckelvey1", "mckelvey2"}
+        ``"mckelvey2"``: Algorithm 2; any other: Algorithm 1 (the subspace step on McKelvey's grid).
     p, m : int
         Outputs and inputs.
     order : int, optional
@@ -37,7 +52,22 @@ def max_order(M: int, algorithm: str = "auto", p: int = 2, m: int = 1, order: Op
     -------
     int
         0 when no order is possible.
+
+    Raises
+    ------
+    FrequencyGridError
+        ``M`` not a positive integer.
+    OrderError
+        ``order`` not a positive integer.
+    ValueError
+        Unknown ``algorithm``; ``p`` or ``m`` not a positive integer.
     """
+    M = _count(M, "M (number of grid intervals)", FrequencyGridError)
+    p, m = _count(p, "p (outputs)"), _count(m, "m (inputs)")
+    if order is not None:
+        order = _count(order, "order", OrderError)
+    if algorithm not in MAX_ORDER_ALGORITHMS:
+        raise ValueError(f"algorithm must be one of {MAX_ORDER_ALGORITHMS}, got {algorithm!r}")
     K = M + 1
     method = "mckelvey2" if algorithm == "mckelvey2" else "mckelvey1"
     n = order if order is not None else M  # large target: the sizes saturate
@@ -78,7 +108,18 @@ def min_order(p: int, m: int = 1, dc_gain: str = "none", algorithm: str = "subsp
     Returns
     -------
     int
+
+    Raises
+    ------
+    ValueError
+        ``p`` or ``m`` not a positive integer, unknown ``dc_gain`` or ``algorithm``.
     """
+    p, m = _count(p, "p (outputs)"), _count(m, "m (inputs)")
+    if dc_gain not in ("none", "match"):
+        raise ValueError(f"dc_gain must be 'none' or 'match', got {dc_gain!r}")
+    if algorithm not in ("subspace", "relocation"):
+        raise ValueError(f"algorithm must be 'subspace' or 'relocation' (sysid.identify.resolve_algorithm), "
+                         f"got {algorithm!r}")
     if algorithm == "relocation":
         return max(1, min(p, m))
     return max(1, p) if dc_gain == "match" else 1
