@@ -39,6 +39,8 @@ with ``q0`` the free-stream residual is evaluated once for the reference).
 """
 
 import logging
+import math
+import operator
 import time
 from dataclasses import dataclass, field
 
@@ -47,7 +49,7 @@ import scipy.sparse as sp
 
 from .superlu import splu_nested, splu_pivoted
 from .errors import ConvergenceError, FlowConditionError, MeshError
-from .euler import DEFAULT_SCHEME, residual as _euler_residual, spectral_radius_sum
+from .euler import DEFAULT_SCHEME, Scheme, residual as _euler_residual, spectral_radius_sum
 from .flow import FlowCondition, primitive
 from .jacobian import jacobian
 from .loads import force_coefficients, wall_cp
@@ -166,6 +168,52 @@ def _positive(q, gamma):
 STRATEGIES = ("classic", "chord")
 
 
+def _positive_setting(name, value, hint, upper=None):
+    """``value`` as a float, or :class:`FlowConditionError` unless it is a finite number in ``(0, upper)``."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        v = math.nan
+    if isinstance(value, bool) or not (math.isfinite(v) and v > 0.0 and (upper is None or v < upper)):
+        span = "positive and finite" if upper is None else f"a number in (0, {upper:g})"
+        raise FlowConditionError(f"{name} must be {span} ({hint}); got {value!r}")
+    return v
+
+
+def _count_setting(name, value, hint):
+    """``value`` as an int, or :class:`FlowConditionError` unless it is a whole number ``>= 0``."""
+    try:
+        n = None if isinstance(value, bool) else operator.index(value)
+    except TypeError:
+        n = None
+    if n is None or n < 0:
+        raise FlowConditionError(f"{name} must be a whole number >= 0 ({hint}); got {value!r}")
+    return n
+
+
+def _check_settings(tol, scheme, strategy, n_rk, cfl0, max_newton, max_chord):
+    """The solver settings of :func:`solve_steady`, checked before any work (``FlowConditionError``)."""
+    tol = _positive_setting("tol", tol, "the required fall of the residual, e.g. 1e-10", upper=1.0)
+    if not isinstance(scheme, Scheme):
+        raise FlowConditionError(f"scheme must be a cfd.Scheme (or None for the default); got {scheme!r}")
+    for name in ("k2", "k4"):
+        k = getattr(scheme, name)
+        if isinstance(k, bool) or not isinstance(k, (int, float, np.integer, np.floating)) or not (
+                math.isfinite(k) and k >= 0.0):
+            raise FlowConditionError(f"scheme.{name} must be a finite number >= 0 (default "
+                                     f"{getattr(DEFAULT_SCHEME, name):g}); got {k!r}")
+    if not isinstance(strategy, str) or strategy not in STRATEGIES:
+        raise FlowConditionError(f"strategy must be one of {STRATEGIES}; got {strategy!r}")
+    if n_rk is not None:
+        n_rk = _count_setting("n_rk", n_rk, "Runge-Kutta start-up steps, or None for the strategy's default")
+    if cfl0 is not None:
+        cfl0 = _positive_setting("cfl0", cfl0, "CFL number of the first Newton step, e.g. 10, or None for the "
+                                 "strategy's default")
+    max_newton = _count_setting("max_newton", max_newton, "Newton steps allowed, e.g. 100")
+    max_chord = _count_setting("max_chord", max_chord, "chord steps per factorisation, e.g. 30")
+    return tol, n_rk, cfl0, max_newton, max_chord
+
+
 def solve_steady(grid, mach, alpha_deg, *, gamma=1.4, tol=1e-10, scheme=None, q0=None, n_rk=None, cfl_rk=2.5,
                  cfl0=None, cfl_max=1e10, growth=None, cfl_min=0.01, max_change=0.5, max_rise=2.0, max_newton=100,
                  strategy="chord", chord_ratio=0.5, max_chord=30, verbose=False, progress=None,
@@ -234,17 +282,17 @@ def solve_steady(grid, mach, alpha_deg, *, gamma=1.4, tol=1e-10, scheme=None, q0
     Raises
     ------
     FlowConditionError
-        Mach out of (0, 1), NaN or infinite input, or a non-physical ``q0``.
-    ValueError
-        Unknown ``strategy``.
+        Mach out of (0, 1), NaN or infinite input, or a non-physical ``q0``; a bad setting: ``tol`` not in
+        (0, 1), ``cfl0`` not positive and finite, ``n_rk``, ``max_newton`` or ``max_chord`` not a whole number
+        >= 0, ``scheme`` not a ``cfd.Scheme`` with finite non-negative constants, or an unknown ``strategy``.
     ConvergenceError
         If the iteration diverges (non-finite or non-physical state) or stalls before ``tol``; carries
         ``.history``.
     """
     flow = FlowCondition(mach, alpha_deg, gamma)
     scheme = DEFAULT_SCHEME if scheme is None else scheme
-    if strategy not in STRATEGIES:
-        raise ValueError(f"strategy must be one of {STRATEGIES}; got {strategy!r}")
+    tol, n_rk, cfl0, max_newton, max_chord = _check_settings(tol, scheme, strategy, n_rk, cfl0, max_newton,
+                                                             max_chord)
     chord = strategy == "chord"
     warm = chord and q0 is not None  # a neighbouring converged flow: no RK start, Newton at once
     if n_rk is None:

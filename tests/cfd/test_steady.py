@@ -67,6 +67,44 @@ def test_bad_flow_conditions_raise(grid0012, mach, alpha, match):
         cfd.solve_steady(grid0012, mach, alpha)
 
 
+@pytest.mark.parametrize(
+    "kw, match",
+    [
+        ({"tol": float("nan")}, "tol must be a number in \\(0, 1\\)"),
+        ({"tol": 0.0}, "tol must be"),
+        ({"tol": -1.0}, "tol must be"),
+        ({"tol": 1.0}, "tol must be"),
+        ({"tol": "a"}, "tol must be"),
+        ({"tol": None}, "tol must be"),
+        ({"cfl0": 0.0}, "cfl0 must be positive and finite"),
+        ({"cfl0": -10.0}, "cfl0 must be positive and finite"),
+        ({"cfl0": float("nan")}, "cfl0 must be positive and finite"),
+        ({"cfl0": float("inf")}, "cfl0 must be positive and finite"),
+        ({"n_rk": 2.5}, "n_rk must be a whole number >= 0"),
+        ({"n_rk": -3}, "n_rk must be a whole number >= 0"),
+        ({"n_rk": "5"}, "n_rk must be a whole number >= 0"),
+        ({"max_newton": None}, "max_newton must be a whole number >= 0"),
+        ({"max_newton": 10.0}, "max_newton must be a whole number >= 0"),
+        ({"max_chord": -1}, "max_chord must be a whole number >= 0"),
+        ({"scheme": "jst"}, "scheme must be a cfd.Scheme"),
+        ({"scheme": cfd.Scheme(k4=float("nan"))}, "scheme.k4 must be a finite number >= 0"),
+        ({"scheme": cfd.Scheme(k2=-1.0)}, "scheme.k2 must be a finite number >= 0"),
+        ({"strategy": "fast"}, "strategy must be one of"),
+        ({"strategy": None}, "strategy must be one of"),
+    ],
+)
+def test_bad_solver_settings_raise_before_any_work(grid0012, kw, match):
+    calls = []
+    with pytest.raises(FlowConditionError, match=match):
+        cfd.solve_steady(grid0012, 0.5, 1.0, progress=lambda *a: calls.append(a), **kw)
+    assert calls == []
+
+
+def test_whole_number_settings_accept_numpy_integers(grid0012):
+    sol = cfd.solve_steady(grid0012, 0.5, 0.0, tol=np.float64(1e-6), n_rk=np.int64(5), max_newton=np.int32(50))
+    assert sol.converged and sol.history[-1] <= 1e-6 * sol.history[0]
+
+
 def test_nan_initial_state_is_refused(grid0012):
     q0 = np.full(grid0012.cell_shape + (4,), np.nan)
     with pytest.raises(FlowConditionError, match="q0 contains NaN"):
