@@ -3,6 +3,7 @@
 Node, cell and face indices follow the conventions in the docstring of :mod:`cfd.mesh`.
 """
 
+import operator
 from dataclasses import dataclass
 
 import numpy as np
@@ -67,6 +68,56 @@ class Grid:
         return slice(self.n_wake, self.cell_shape[0] - self.n_wake)
 
 
+#: Nodes of the cut closer than this fraction of the local spacing along ``j = 0`` are one node.
+CUT_TOL = 1e-3
+
+
+def _coincident_pairs(x, y):
+    """Length of the leading run of node pairs ``(i, 0)``, ``(ni-1-i, 0)`` (``i < (ni-1)/2``) that coincide, and
+    the number of such pairs (the run covers them all for a zero-thickness body)."""
+    xw, yw = x[:, 0], y[:, 0]
+    ni = xw.size
+    seg = np.hypot(np.diff(xw), np.diff(yw))
+    local = np.minimum(np.r_[seg[0], seg], np.r_[seg, seg[-1]])  # shortest j = 0 edge at each node
+    n_pairs = (ni - 1) // 2 + (ni - 1) % 2  # pairs of distinct nodes
+    i = np.arange(n_pairs)
+    dist = np.hypot(xw[i] - xw[ni - 1 - i], yw[i] - yw[ni - 1 - i])
+    tol = CUT_TOL * np.minimum(local[i], local[ni - 1 - i])
+    apart = np.flatnonzero(dist > tol)
+    return (int(apart[0]) if apart.size else n_pairs), n_pairs
+
+
+def _check_wake(x, y, n_wake):
+    """``n_wake`` as an int, or :class:`MeshError` unless it is a whole number that fits and matches the cut."""
+    ni = x.shape[0]
+    try:
+        n = None if isinstance(n_wake, bool) else operator.index(n_wake)
+    except TypeError:
+        n = None
+    if n is None:
+        raise MeshError(f"n_wake must be a whole number (cells on each wake branch, e.g. grid.n_wake); got {n_wake!r}")
+    if n < 0 or ni - 1 - 2 * n < 4:
+        raise MeshError(
+            f"n_wake = {n} leaves {ni - 1 - 2 * n} wall cells out of {ni - 1}; "
+            "need 0 <= n_wake and at least 4 cells on the aerofoil"
+        )
+    run, n_pairs = _coincident_pairs(x, y)
+    # A C-grid's wake branches meet pairwise along j = 0 up to the sharp trailing edge, a node of both
+    # branches: run = n_wake + 1. A grid without a cut (n_wake = 0) may also have no common node at all; a
+    # zero-thickness body (a flat plate) has every pair coincident, so its n_wake cannot be checked.
+    if run == n + 1 or (n == 0 and run == 0) or run == n_pairs:
+        return n
+    if run == 0:
+        raise MeshError(
+            f"n_wake = {n} does not match the grid: nodes (0, 0) and ({ni - 1}, 0) do not coincide, so there is "
+            "no wake cut; pass n_wake=0 (or check the node ordering of the C-grid)"
+        )
+    raise MeshError(
+        f"n_wake = {n} does not match the grid: the wake-cut nodes (i, 0) and ({ni - 1} - i, 0) coincide for "
+        f"i = 0 .. {run - 1} (the last one the trailing edge), so n_wake should be {run - 1}"
+    )
+
+
 def grid_from_nodes(x, y, n_wake):
     """Build a ``Grid`` (metrics included) from node coordinates.
 
@@ -75,7 +126,10 @@ def grid_from_nodes(x, y, n_wake):
     x, y : array_like, shape (ni, nj)
         Node coordinates in chords, ordered as described in :mod:`cfd.mesh`.
     n_wake : int
-        Number of cells on each wake branch.
+        Number of cells on each wake branch. It must match the nodes: ``(i, 0)`` and ``(ni-1-i, 0)`` coincide
+        (to :data:`CUT_TOL` of the local spacing) for ``i = 0 .. n_wake``, the last pair being the sharp
+        trailing edge, and differ for ``i = n_wake + 1``; ``n_wake = 0`` also allows a grid without a cut
+        (no pair coincides). A zero-thickness body (every pair coincident) is not checked.
 
     Returns
     -------
@@ -85,7 +139,8 @@ def grid_from_nodes(x, y, n_wake):
     ------
     MeshError
         If the arrays disagree in shape, are too small for the two-layer JST stencil, contain
-        non-finite values, if the wake branches do not fit, or if any cell is inverted or degenerate.
+        non-finite values, if ``n_wake`` is not a whole number, leaves fewer than 4 wall cells or does not
+        match the wake cut (the message gives the value that does), or if any cell is inverted or degenerate.
     """
     x = np.asarray(x, dtype=float)
     y = np.asarray(y, dtype=float)
@@ -99,12 +154,7 @@ def grid_from_nodes(x, y, n_wake):
         )
     if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
         raise MeshError("node coordinates contain NaN or inf")
-    n_wake = int(n_wake)
-    if n_wake < 0 or ni - 1 - 2 * n_wake < 4:
-        raise MeshError(
-            f"n_wake = {n_wake} leaves {ni - 1 - 2 * n_wake} wall cells out of {ni - 1}; "
-            "need 0 <= n_wake and at least 4 cells on the aerofoil"
-        )
+    n_wake = _check_wake(x, y, n_wake)
 
     # Cell corners: 1 = (i, j), 2 = (i+1, j), 3 = (i+1, j+1), 4 = (i, j+1).
     x1, x2, x3, x4 = x[:-1, :-1], x[1:, :-1], x[1:, 1:], x[:-1, 1:]

@@ -33,3 +33,39 @@ def test_bad_grids_raise_mesh_error(mutate, match):
     x, y = _annulus()
     with pytest.raises(MeshError, match=match):
         grid_from_nodes(*mutate(x, y), n_wake=0)
+
+
+@pytest.fixture(scope="module")
+def c_grid_nodes():
+    from flowgrids import parabolic_c_grid
+
+    g = parabolic_c_grid(thickness=0.1, n_surface=32, n_wake=8, nj=13)
+    return g.x, g.y
+
+
+@pytest.mark.parametrize("n_wake", [0, 3, 7, 9])
+def test_n_wake_that_does_not_match_the_wake_cut_names_the_right_value(c_grid_nodes, n_wake):
+    with pytest.raises(MeshError, match=rf"n_wake = {n_wake} does not match the grid.*n_wake should be 8"):
+        grid_from_nodes(*c_grid_nodes, n_wake=n_wake)
+
+
+@pytest.mark.parametrize("n_wake", [10.7, 8.0, "8", None, True])
+def test_n_wake_must_be_a_whole_number(c_grid_nodes, n_wake):
+    with pytest.raises(MeshError, match="n_wake must be a whole number"):
+        grid_from_nodes(*c_grid_nodes, n_wake=n_wake)
+
+
+@pytest.mark.parametrize("n_wake", [-1, 23])
+def test_n_wake_out_of_range_raises(c_grid_nodes, n_wake):
+    with pytest.raises(MeshError, match=f"n_wake = {n_wake} leaves"):
+        grid_from_nodes(*c_grid_nodes, n_wake=n_wake)
+
+
+def test_grid_without_a_cut_needs_n_wake_zero():
+    x, y = _annulus()
+    with pytest.raises(MeshError, match="no wake cut; pass n_wake=0"):
+        grid_from_nodes(x, y, n_wake=2)
+
+
+def test_matching_n_wake_is_accepted_also_as_a_numpy_integer(c_grid_nodes):
+    assert grid_from_nodes(*c_grid_nodes, n_wake=np.int64(8)).n_wake == 8
