@@ -43,20 +43,20 @@ def frequency_grid(omega, T):
     return w, T
 
 
-def check_position(name, value):
-    """A position on the chord line (chords from the leading edge), checked real and finite."""
+def check_position(name, value, error=LinearError):
+    """A position on the chord line (chords from the leading edge), checked real and finite (else ``error``)."""
     try:
         x = float(value)
     except (TypeError, ValueError):
-        raise LinearError(f"{name} must be a real number (chords from the leading edge); got {value!r}") from None
+        raise error(f"{name} must be a real number (chords from the leading edge); got {value!r}") from None
     if not np.isfinite(x):
-        raise LinearError(f"{name} must be finite (chords); got {value!r}")
+        raise error(f"{name} must be finite (chords); got {value!r}")
     return x
 
 
-def check_x_ref(x_ref):
-    """The gust reference point (chords), checked finite."""
-    return check_position("x_ref", x_ref)
+def check_x_ref(x_ref, error=LinearError):
+    """The gust reference point (chords), checked finite (else ``error``, :class:`LinearError` by default)."""
+    return check_position("x_ref", x_ref, error)
 
 
 def check_pivot(pivot):

@@ -44,7 +44,7 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from .gust import OneMinusCosine, SharpEdged, SineGust, face_gust
-from .frequencies import check_pivot
+from .frequencies import check_pivot, check_x_ref
 from .linear import LinearError, check_gust_method
 from .motion import motion_forcing
 from .radau import RADAU_C, dense_weights, radau_transform, stability_function
@@ -481,6 +481,7 @@ def ltd_responses(lin, gusts, dt, t_end, method="svm", x_ref=0.0, max_phase_erro
     for gust in gusts:
         _check_gust(gust)
     dt, t_end = _check_times(dt, t_end)
+    x_ref = check_x_ref(x_ref)
     check_scheme(scheme, dt, step)
     for gust in gusts:
         _warn_phase(gust, dt, max_phase_error, scheme, step)
@@ -549,8 +550,8 @@ def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, ma
     ------
     LinearError
         Non-positive or non-finite ``dt``, ``t_end < dt``, unknown method or scheme, not a gust, neither a gust
-        nor a motion, a motion history of the wrong length or with non-finite values, a non-finite pivot, a
-        Radau step that is not a positive whole multiple of ``dt``.
+        nor a motion, a motion history of the wrong length or with non-finite values, a non-finite pivot or
+        ``x_ref``, a Radau step that is not a positive whole multiple of ``dt``.
     """
     check_gust_method(method)
     if gust is None and plunge is None and pitch is None:
@@ -559,6 +560,7 @@ def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, ma
     if gust is not None:
         _check_gust(gust)
     dt, t_end = _check_times(dt, t_end)
+    x_ref = check_x_ref(x_ref)
     pivot = check_pivot(pivot)
     check_scheme(scheme, dt, step)
     if gust is not None:

@@ -60,6 +60,7 @@ import scipy.sparse.linalg as spla
 from .errors import LocalMachError, NonPhysicalStateError, UnsteadyError, UnsteadyStepError  # noqa: F401 (re-exported)
 from .euler import residual
 from .flow import FlowCondition, primitive
+from .frequencies import check_x_ref
 from .gust import OneMinusCosine, SharpEdged, SineGust, cell_x_gradient, face_gust, gust_face_velocity, svm_source
 from .jacobian import H_STEP, jacobian
 from .linear import METHODS, factorise, grid_permutation, wall_loads
@@ -271,7 +272,7 @@ def unsteady_response(sol, gust, dt, t_end, method="svm", x_ref=0.0, *, rtol=1e-
     Raises
     ------
     UnsteadyError
-        Unknown method, not a gust, bad ``dt`` or ``t_end``, a non-converged ``sol``.
+        Unknown method, not a gust, bad ``dt`` or ``t_end``, a non-finite ``x_ref``, a non-converged ``sol``.
     UnsteadyStepError
         A step did not converge (``.partial`` holds the history so far); subclasses
         :class:`NonPhysicalStateError` (non-positive density or pressure) and :class:`LocalMachError`.
@@ -282,6 +283,7 @@ def unsteady_response(sol, gust, dt, t_end, method="svm", x_ref=0.0, *, rtol=1e-
         ``dt`` too large for the gust; a local Mach number above ``separation_mach``.
     """
     dt, t_end = _check_input(gust, method, dt, t_end)
+    x_ref = check_x_ref(x_ref, UnsteadyError)
     err = phase_error_estimate(gust, dt)
     if err > max_phase_error:
         warnings.warn(

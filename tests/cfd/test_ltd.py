@@ -299,6 +299,22 @@ def test_radau_bad_input_progress_and_phase_warning(lin):
     assert [c[0] for c in calls] == [3, 6, 9, 12, 15, 18, 20] and {c[1] for c in calls} == {20}
 
 
+@pytest.mark.parametrize("march", [
+    lambda lin, g, **kw: ltd_response(lin, g, 0.1, 1.0, **kw),
+    lambda lin, g, **kw: ltd_responses(lin, [g], 0.1, 1.0, **kw),
+])
+@pytest.mark.parametrize("x_ref, match", [
+    (float("nan"), "x_ref must be finite"),
+    (float("inf"), "x_ref must be finite"),
+    ("a", "x_ref must be a real number"),
+    (None, "x_ref must be a real number"),
+])
+def test_x_ref_must_be_finite(lin, march, x_ref, match):
+    g = OneMinusCosine(length=1.0, angle_deg=1.0, x0=-2.0)
+    with pytest.raises(LinearError, match=match):
+        march(lin, g, x_ref=x_ref)
+
+
 def test_scheme_options_are_checked(lin):
     g = OneMinusCosine(length=1.0, angle_deg=1.0, x0=-2.0)
     with pytest.raises(LinearError, match="applies to scheme='radau5' only"):

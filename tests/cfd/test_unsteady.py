@@ -149,6 +149,9 @@ def test_non_converged_steady_solution_is_refused(coarse):
     (dict(dt=0.0), "dt = 0.0 must be positive"),
     (dict(t_end=0.01), "at least one time step"),
     (dict(gust="1-cos"), "gust must be a cfd"),
+    (dict(x_ref=float("nan")), "x_ref must be finite"),
+    (dict(x_ref=float("inf")), "x_ref must be finite"),
+    (dict(x_ref="a"), "x_ref must be a real number"),
 ])
 def test_bad_arguments(coarse, kwargs, match):
     args = dict(gust=gust(0.1), dt=0.1, t_end=1.0)
