@@ -142,6 +142,35 @@ def _check_gust(gust):
         raise LinearError(f"gust must be a cfd.SineGust, OneMinusCosine or SharpEdged; got {type(gust).__name__}")
 
 
+def _check_initial(lin, initial, scheme):
+    """``initial`` as ``(q_prev, q_now)``, real finite arrays of shape ``(lin.n,)`` (``q_prev`` may be None for
+    Radau IIA, which does not use it), or None; else :class:`LinearError`."""
+    if initial is None:
+        return None
+    what = f"initial must be a pair (q_prev, q_now) of states of shape ({lin.n},) (4N, solver units)"
+    if isinstance(initial, np.ndarray) or not isinstance(initial, (tuple, list)) or len(initial) != 2:
+        raise LinearError(f"{what}; got {type(initial).__name__}" + (
+            f" of shape {np.shape(initial)}" if isinstance(initial, np.ndarray) else ""))
+    out = []
+    for name, a in zip(("q_prev", "q_now"), initial):
+        if a is None and name == "q_prev" and scheme == "radau5":
+            out.append(None)                            # a one-step method: q_now only
+            continue
+        try:
+            v = np.asarray(a)
+            ok = v.dtype.kind in "biuf"
+        except (TypeError, ValueError):
+            ok = False
+        if not ok:
+            raise LinearError(f"{what}; its {name} is not an array of real numbers: {type(a).__name__}")
+        if v.shape != (lin.n,):
+            raise LinearError(f"{what}; its {name} has shape {v.shape}")
+        if not np.all(np.isfinite(v)):
+            raise LinearError(f"{what}; its {name} contains NaN or inf")
+        out.append(v.astype(float))
+    return tuple(out)
+
+
 def _check_times(dt, t_end):
     try:
         dt = float(dt)
@@ -511,7 +540,7 @@ def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, ma
         Where the gust input signal is measured (chords).
     initial : tuple (q_prev, q_now) of ndarray, shape (4N,), optional
         State at ``s = -dt`` and ``s = 0`` (solver units); default at rest (zeros). Radau IIA (a one-step
-        method) uses ``q_now`` only.
+        method) uses ``q_now`` only (``q_prev`` may be None).
     max_phase_error : float
         Warn when :func:`phase_error_estimate` of the gust exceeds this.
     plunge : ndarray, shape (n + 1,), or callable, optional
@@ -551,7 +580,8 @@ def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, ma
     LinearError
         Non-positive or non-finite ``dt``, ``t_end < dt``, unknown method or scheme, not a gust, neither a gust
         nor a motion, a motion history of the wrong length or with non-finite values, a non-finite pivot or
-        ``x_ref``, a Radau step that is not a positive whole multiple of ``dt``.
+        ``x_ref``, a Radau step that is not a positive whole multiple of ``dt``, an ``initial`` that is not a pair of
+        finite real states of shape (4N,).
     """
     check_gust_method(method)
     if gust is None and plunge is None and pitch is None:
@@ -563,6 +593,7 @@ def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, ma
     x_ref = check_x_ref(x_ref)
     pivot = check_pivot(pivot)
     check_scheme(scheme, dt, step)
+    initial = _check_initial(lin, initial, scheme)
     if gust is not None:
         _warn_phase(gust, dt, max_phase_error, scheme, step)
     motion = None if plunge is None and pitch is None else (plunge, pitch, pivot)

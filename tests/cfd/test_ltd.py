@@ -315,6 +315,32 @@ def test_x_ref_must_be_finite(lin, march, x_ref, match):
         march(lin, g, x_ref=x_ref)
 
 
+@pytest.mark.parametrize("scheme", ["bdf2", "radau5"])
+@pytest.mark.parametrize("initial, match", [
+    (lambda n: np.zeros(n), "got ndarray of shape"),
+    (lambda n: (np.zeros(n),), "got tuple"),
+    (lambda n: (np.zeros(3), np.zeros(3)), "q_prev has shape \\(3,\\)"),
+    (lambda n: (np.zeros(n), np.zeros((n, 1))), "q_now has shape"),
+    (lambda n: (np.full(n, np.nan), np.zeros(n)), "q_prev contains NaN"),
+    (lambda n: (np.zeros(n), np.full(n, np.inf)), "q_now contains NaN or inf"),
+    (lambda n: (np.zeros(n), np.zeros(n, complex)), "q_now is not an array of real numbers"),
+    (lambda n: (np.zeros(n), "x"), "q_now is not an array of real numbers"),
+])
+def test_initial_state_is_checked(lin, scheme, initial, match):
+    g = OneMinusCosine(length=1.0, angle_deg=1.0, x0=-2.0)
+    with pytest.raises(LinearError, match="initial must be a pair.*" + match):
+        ltd_response(lin, g, 0.1, 1.0, initial=initial(lin.n), scheme=scheme)
+
+
+def test_radau_initial_state_may_omit_q_prev(lin):
+    g = OneMinusCosine(length=1.0, angle_deg=1.0, x0=-2.0)
+    a = ltd_response(lin, g, 0.1, 1.0, initial=(None, np.zeros(lin.n)), scheme="radau5")
+    b = ltd_response(lin, g, 0.1, 1.0, scheme="radau5")
+    assert np.array_equal(a.cl, b.cl)
+    with pytest.raises(LinearError, match="q_prev is not an array of real numbers: NoneType"):
+        ltd_response(lin, g, 0.1, 1.0, initial=(None, np.zeros(lin.n)))
+
+
 def test_scheme_options_are_checked(lin):
     g = OneMinusCosine(length=1.0, angle_deg=1.0, x0=-2.0)
     with pytest.raises(LinearError, match="applies to scheme='radau5' only"):
