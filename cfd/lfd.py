@@ -26,7 +26,7 @@ from .frequencies import check_motion_frequencies, check_pivot, check_x_ref, fre
 from .linear import LinearError, check_gust_method, check_outputs, factorise, grid_permutation
 from .motion import check_inputs, motion_forcing
 
-__all__ = ["lfd_response", "lfd_state", "solve_direct", "METHODS", "AUTO_FAST_ABOVE"]
+__all__ = ["lfd_response", "lfd_state", "solve_direct", "METHODS", "AUTO_FAST_ABOVE", "FAST_OPTIONS"]
 
 
 def solve_direct(A, b, perm=None):
@@ -42,6 +42,8 @@ def _permutation(lin):
 METHODS = ("auto", "direct", "fast")
 AUTO_FAST_ABOVE = 8
 """``method="auto"`` takes the fast sweep for more than this many finite frequencies."""
+FAST_OPTIONS = ("max_shifts", "n_moments", "basis", "progress", "log_interval", "workers")
+"""Keyword options of :func:`cfd.sweep.fast_sweep` that :func:`lfd_response` passes on (``**fast_options``)."""
 
 
 def _frequency_solver(lin, omega, perm):
@@ -113,8 +115,8 @@ def lfd_response(lin, omega, gust="svm", outputs=("Cl", "Cm"), x_ref=0.0, T=None
     pivot : float
         Pitch axis, chords from the leading edge on the chord line (used by ``"pitch"`` only).
     **fast_options
-        Passed to :func:`cfd.sweep.fast_sweep` (``max_shifts``, ``n_moments``, ``basis``, ``progress``,
-        ``workers``).
+        Passed to :func:`cfd.sweep.fast_sweep`: :data:`FAST_OPTIONS` (``max_shifts``, ``n_moments``, ``basis``,
+        ``progress``, ``log_interval``, ``workers``); others raise :class:`LinearError`.
 
     Returns
     -------
@@ -129,7 +131,8 @@ def lfd_response(lin, omega, gust="svm", outputs=("Cl", "Cm"), x_ref=0.0, T=None
     ------
     LinearError
         Negative, NaN or -inf frequencies, ``inf`` with a motion input, unknown gust method, input, output name
-        or ``method``, a non-finite pivot, bad ``tol``.
+        or ``method``, a non-finite pivot, bad ``tol``, an unknown keyword option (not in :data:`FAST_OPTIONS`), or
+        fast-sweep options with the direct path.
     """
     check_gust_method(gust)
     names, rows = check_outputs(outputs)
@@ -137,6 +140,10 @@ def lfd_response(lin, omega, gust="svm", outputs=("Cl", "Cm"), x_ref=0.0, T=None
     pivot = check_pivot(pivot)
     if method not in METHODS:
         raise LinearError(f"method must be one of {METHODS}; got {method!r}")
+    unknown = sorted(set(fast_options) - set(FAST_OPTIONS))
+    if unknown:
+        raise LinearError(f"unknown option(s) {unknown}: lfd_response's fast-sweep options are {FAST_OPTIONS} "
+                          "(method='fast'); check the spelling")
     w, T = frequency_grid(omega, T)
     x_ref = check_x_ref(x_ref)
     check_motion_frequencies(inputs, w)

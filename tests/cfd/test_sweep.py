@@ -1,5 +1,6 @@
 """cfd.sweep: the fast LFD sweep against the direct per-frequency path (cfd.lfd), on coarse grids."""
 
+import inspect
 import sys
 import warnings
 from pathlib import Path
@@ -199,10 +200,20 @@ def test_lfd_response_method_dispatch(plate, method, n, expected):
     (dict(method="fast", tol=0.0), "tol must be a positive finite"),
     (dict(method="fast", tol=np.nan), "tol must be a positive finite"),
     (dict(method="direct", max_shifts=3), "belong to the fast sweep"),
+    (dict(method="fast", max_shift=3), r"unknown option\(s\) \['max_shift'\].*fast-sweep options are \('max_shifts'"),
+    (dict(method="direct", max_shift=3), r"unknown option\(s\) \['max_shift'\]"),
+    (dict(method="auto", nmoments=3, x=1), r"unknown option\(s\) \['nmoments', 'x'\]"),
 ])
 def test_lfd_response_method_bad_input(plate, kwargs, match):
     with pytest.raises(LinearError, match=match):
         lfd_response(plate, [0.5, 1.0], **kwargs)
+
+
+def test_fast_options_are_the_keywords_fast_sweep_takes_beyond_lfd_response():
+    from cfd.lfd import FAST_OPTIONS
+
+    own = set(inspect.signature(lfd_response).parameters)
+    assert set(FAST_OPTIONS) == set(inspect.signature(fast_sweep).parameters) - own
 
 
 def test_progress_reports_every_shift_and_changes_nothing(plate, caplog):
