@@ -33,9 +33,12 @@ from .errors import AeroModelError, SpeedError
 from .fit import MotionModel, fit_motion
 from .section import TypicalSection
 
-__all__ = ["coupled_model", "state_matrix", "as_motion_model", "check_speed", "STATE_OUTPUTS"]
+__all__ = ["coupled_model", "state_matrix", "as_motion_model", "check_speed", "STATE_OUTPUTS", "FIT_OPTIONS"]
 
 STATE_OUTPUTS = ["plunge", "pitch", "plunge_rate", "pitch_rate", "plunge_acc", "pitch_acc"]
+FIT_OPTIONS = ("gust_order", "T", "optimise", "poles")
+"""Keyword options of :func:`aeroelastic.fit_motion` that :func:`as_motion_model` (``flutter``, ``gust_response``)
+passes on."""
 
 
 def check_speed(speed: Any) -> float:
@@ -68,7 +71,15 @@ def check_speed(speed: Any) -> float:
 
 
 def as_motion_model(aero: Any, order: int = 4, **fit_kw) -> MotionModel:
-    """Return ``aero`` if it is a :class:`MotionModel`, else fit it with :func:`fit_motion`."""
+    """Return ``aero`` if it is a :class:`MotionModel`, else fit it with :func:`fit_motion`.
+
+    Raises :class:`AeroModelError` for ``aero`` of another type, or a keyword option not in :data:`FIT_OPTIONS`
+    (whatever ``aero`` is, so that a misspelled option is never silently ignored).
+    """
+    unknown = sorted(set(fit_kw) - set(FIT_OPTIONS))
+    if unknown:
+        raise AeroModelError(f"unknown option(s) {unknown}: the fit options (aeroelastic.fit_motion, used when aero "
+                             f"is frequency-response data) are {FIT_OPTIONS}; check the spelling")
     if isinstance(aero, MotionModel):
         return aero
     import sysid

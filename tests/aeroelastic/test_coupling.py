@@ -71,3 +71,23 @@ def test_model_errors():
         ae.coupled_model(np.eye(2), HP, 1.0)
     with pytest.raises(TypeError, match="TypicalSection"):
         ae.coupled_model(m, (20, -0.2), 1.0)
+
+
+def test_fit_options_are_fit_motions_keyword_options():
+    import inspect
+
+    params = inspect.signature(ae.fit_motion).parameters.values()
+    assert set(ae.coupling.FIT_OPTIONS) == {p.name for p in params if p.kind is p.KEYWORD_ONLY}
+
+
+@pytest.mark.parametrize("call", [
+    lambda aero, **kw: ae.flutter(aero, HP, np.linspace(0.1, 3.0, 5), **kw),
+    lambda aero, **kw: ae.gust_response(aero, HP, 1.0, (np.linspace(0.0, 1.0, 11), np.zeros(11)), **kw),
+    lambda aero, **kw: ae.coupling.as_motion_model(aero, 2, **kw),
+])
+@pytest.mark.parametrize("data", [False, True])
+@pytest.mark.parametrize("kw, bad", [({"optimse": False}, "'optimse'"), ({"gust_ordr": 3, "T": 1.0}, "'gust_ordr'")])
+def test_unknown_fit_options_are_refused(model, call, data, kw, bad):
+    aero = th.theodorsen_frf(W, HP.a, gust=True) if data else model
+    with pytest.raises(ae.AeroModelError, match=rf"unknown option\(s\) \[{bad}\].*\('gust_order', 'T', 'optimise'"):
+        call(aero, **kw)
