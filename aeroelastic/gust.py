@@ -65,8 +65,20 @@ def _gust_history(gust: Any, t: Any):
             )
     else:
         u = gust
-    t = np.asarray(t, dtype=float).reshape(-1)
-    u = np.asarray(u, dtype=float).reshape(-1)
+    arrays = []
+    for name, a in (("t", t), ("u", u)):
+        try:
+            a = np.asarray(a)
+            real = a.dtype.kind in "biuf"
+        except (TypeError, ValueError):
+            real = False
+        if not real:
+            raise AeroModelError(f"{name} must be an array of real numbers, got {type(a).__name__}")
+        if a.ndim != 1:
+            raise AeroModelError(f"{name} must be 1-D (one gust history), got shape {a.shape}; give one history per "
+                                 "call (or ravel it yourself if that is what you mean)")
+        arrays.append(a.astype(float))
+    t, u = arrays
     if t.size != u.size or t.size < 2:
         raise AeroModelError(f"t and u must be 1-D of the same length >= 2, got {t.size} and {u.size}")
     if np.any(~np.isfinite(t)) or np.any(~np.isfinite(u)) or np.any(np.diff(t) <= 0):

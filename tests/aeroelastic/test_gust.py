@@ -87,3 +87,16 @@ def test_input_forms_and_errors(theo):
         ae.gust_response(ae.fit_motion(th.theodorsen_frf(W, HP.a), 2), HP, 1.2, (T, U))
     with pytest.raises(ae.SpeedError):
         ae.gust_response(theo, HP, 0.0, (T, U))
+
+
+@pytest.mark.parametrize("history, match", [
+    ((T[:, None], U), r"t must be 1-D .*got shape \(601, 1\)"),
+    ((T, U[None, :]), r"u must be 1-D .*got shape \(1, 601\)"),
+    ((T[:600].reshape(2, -1), U[:600].reshape(2, -1)), "t must be 1-D"),
+    ((T, U.astype(complex)), "u must be an array of real numbers"),
+    ((T, ["a"] * T.size), "u must be an array of real numbers"),
+    ((np.float64(1.0), np.float64(0.0)), r"t must be 1-D .*got shape \(\)"),
+])
+def test_gust_history_must_be_one_dimensional_and_real(theo, history, match):
+    with pytest.raises(ae.AeroModelError, match=match):
+        ae.gust_response(theo, HP, 1.2, history)
