@@ -14,7 +14,8 @@ class AeroModelError(ValueError):
 
 
 class SpeedError(ValueError):
-    """A speed (index) is not positive and finite, or a speed grid is unusable."""
+    """A speed (index) is not positive and finite, a speed grid is unusable, or so is the instability threshold
+    (``tol``) of the search along it."""
 
 
 class FitError(RuntimeError):

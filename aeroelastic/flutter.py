@@ -157,6 +157,18 @@ def _check_speeds(speeds: Any) -> np.ndarray:
     return V
 
 
+def _check_tol(tol: Any) -> float:
+    """``tol`` of :func:`flutter` as a float, or :class:`SpeedError` unless it is positive and finite."""
+    try:
+        t = float(tol)
+    except (TypeError, ValueError):
+        t = math.nan
+    if isinstance(tol, bool) or not (math.isfinite(t) and t > 0.0):
+        raise SpeedError(f"tol must be a positive, finite growth rate (Re lambda above which a root counts as "
+                         f"unstable, omega_alpha units; default 1e-9), got {tol!r}")
+    return t
+
+
 def flutter(aero: Any, section: TypicalSection, speeds: Any = None, *, order: int = 4, tol: float = 1e-9,
             **fit_kw) -> FlutterResult:
     """Flutter (or divergence) speed of the typical section from an aerodynamic model of its motion.
@@ -186,10 +198,11 @@ def flutter(aero: Any, section: TypicalSection, speeds: Any = None, *, order: in
     Raises
     ------
     SpeedError
-        Unusable speed grid.
+        Unusable speed grid, or ``tol`` not positive and finite.
     """
     if not isinstance(section, TypicalSection):
         raise TypeError(f"section must be an aeroelastic.TypicalSection, got {type(section).__name__}")
+    tol = _check_tol(tol)
     model = as_motion_model(aero, order, **fit_kw)
     if speeds is None:
         speeds = np.linspace(0.02, 3.0, 301) * math.sqrt(section.mu)

@@ -110,6 +110,12 @@ def test_speed_grid_errors(theo, speeds):
         ae.flutter(theo, HP, speeds)
 
 
+@pytest.mark.parametrize("tol", [float("nan"), float("inf"), 0.0, -1.0, "a", None, True])
+def test_tol_must_be_positive_and_finite(theo, tol):
+    with pytest.raises(ae.SpeedError, match="tol must be a positive, finite growth rate"):
+        ae.flutter(theo, HP, SPEEDS, tol=tol)
+
+
 def test_root_locus_is_tracked_and_frozen(result):
     E = result.eigenvalues
     assert E.shape == (SPEEDS.size, 4 + 2 * 4)
