@@ -49,7 +49,7 @@ import numpy as np
 
 from .gust import face_gust
 from .frequencies import check_pivot, check_x_ref
-from .linear import LinearError, check_gust_method
+from .linear import LinearError, check_gust_method, check_linear_system
 from .ltd import check_march
 from .motion import motion_forcing
 
@@ -174,13 +174,15 @@ def coupled_ltd(lin, gust, dt, t_end, *, mass, stiffness, load, pivot, damping=N
     ------
     LinearError
         Not a gust, bad ``dt`` or ``t_end``, unknown method, a matrix that is not a finite (2, 2) array, a
-        non-finite pivot or ``x_ref``, or a singular coupled step (e.g. ``mass``, ``stiffness`` and ``load`` all zero).
+        non-finite pivot or ``x_ref``, a singular coupled step (e.g. ``mass``, ``stiffness`` and ``load`` all zero), or
+        ``lin`` not a ``LinearSystem``.
 
     Notes
     -----
     Cost: one factorisation and four back-substitutions to set up, then one back-substitution, a gust forcing
     and a 4 x 4 product per step (as ``cfd.ltd_response``).
     """
+    check_linear_system(lin)
     check_gust_method(method)
     dt, t_end = check_march(gust, dt, t_end, max_phase_error)
     pivot = check_pivot(pivot)

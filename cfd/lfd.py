@@ -23,7 +23,7 @@ from sysid import FrequencyResponse
 
 from .gust import face_gust_harmonic
 from .frequencies import check_motion_frequencies, check_pivot, check_x_ref, frequency_grid
-from .linear import LinearError, check_gust_method, check_outputs, factorise, grid_permutation
+from .linear import LinearError, check_gust_method, check_linear_system, check_outputs, factorise, grid_permutation
 from .motion import check_inputs, motion_forcing
 
 __all__ = ["lfd_response", "lfd_state", "solve_direct", "METHODS", "AUTO_FAST_ABOVE", "FAST_OPTIONS"]
@@ -132,8 +132,9 @@ def lfd_response(lin, omega, gust="svm", outputs=("Cl", "Cm"), x_ref=0.0, T=None
     LinearError
         Negative, NaN or -inf frequencies, ``inf`` with a motion input, unknown gust method, input, output name
         or ``method``, a non-finite pivot, bad ``tol``, an unknown keyword option (not in :data:`FAST_OPTIONS`), or
-        fast-sweep options with the direct path.
+        fast-sweep options with the direct path; ``lin`` not a ``LinearSystem``.
     """
+    check_linear_system(lin)
     check_gust_method(gust)
     names, rows = check_outputs(outputs)
     inputs = check_inputs(inputs)

@@ -42,15 +42,16 @@ import scipy.sparse as sp
 
 from .superlu import splu_nested, splu_pivoted
 from .boundary import wall_pressure
-from .euler import residual
+from .euler import Scheme, residual
 from .flow import FlowCondition, pressure
 from .gust import cell_x_gradient, svm_source
 from .jacobian import H_STEP, coloured_complex_step, jacobian
 from .loads import force_coefficients
+from .mesh_metrics import Grid
 from .ordering import nested_dissection, unknown_permutation
 
 __all__ = ["LinearSystem", "linearise", "linearise_state", "wall_loads", "factorise", "OUTPUTS", "METHODS",
-           "LinearError"]
+           "LinearError", "check_linear_system"]
 
 OUTPUTS = ("Cl", "Cm", "Cd")
 METHODS = ("svm", "fvm")
@@ -76,6 +77,15 @@ def check_outputs(outputs):
     if bad or not outputs:
         raise LinearError(f"unknown output(s) {bad or outputs!r}; choose from {OUTPUTS}")
     return outputs, [OUTPUTS.index(o) for o in outputs]
+
+
+def check_linear_system(lin, name="lin"):
+    """Raise :class:`LinearError` unless ``lin`` is a :class:`LinearSystem` (e.g. a steady solution passed instead)."""
+    if not isinstance(lin, LinearSystem):
+        hint = "pass cfd.linearise(sol)" if hasattr(lin, "grid") and hasattr(lin, "q") else \
+            "build it with cfd.linearise(cfd.solve_steady(grid, mach, alpha_deg))"
+        raise LinearError(f"expected a LinearSystem as {name}, got {type(lin).__name__}; {hint}")
+    return lin
 
 
 def _load_coefficients(grid, flow):
@@ -415,9 +425,20 @@ def linearise_state(grid, q, flow, scheme=None):
     -------
     LinearSystem
     """
-    q = np.asarray(q, dtype=float)
+    if not isinstance(grid, Grid):
+        raise LinearError(f"grid must be a cfd.Grid (cfd.c_grid or cfd.grid_from_nodes); got {type(grid).__name__}")
+    if not isinstance(flow, FlowCondition):
+        raise LinearError(f"flow must be a cfd.FlowCondition; got {type(flow).__name__}")
+    if scheme is not None and not isinstance(scheme, Scheme):
+        raise LinearError(f"scheme must be a cfd.Scheme or None (the solution's or the default); got {scheme!r}")
+    try:
+        q = np.asarray(q, dtype=float)
+    except (TypeError, ValueError):
+        raise LinearError(f"the steady state q must be an array of real numbers; got {type(q).__name__}") from None
     if q.shape != grid.cell_shape + (4,):
         raise LinearError(f"steady state has shape {q.shape}; this grid needs {grid.cell_shape + (4,)}")
+    if not np.all(np.isfinite(q)):
+        raise LinearError("the steady state q contains NaN or inf; linearise a converged cfd.solve_steady solution")
     V = np.repeat(grid.area.ravel(), 4)
     J = jacobian(grid, q, flow, scheme=scheme)
     Bi = _face_matrix(grid, q, flow, scheme, "i")
@@ -453,7 +474,17 @@ def linearise(sol, scheme=None):
     Returns
     -------
     LinearSystem
+
+    Raises
+    ------
+    LinearError
+        ``sol`` without ``grid`` and ``q`` (e.g. None or a Grid), a state of the wrong shape or with NaN or inf, a
+        ``scheme`` that is not a ``cfd.Scheme``.
     """
+    if not (hasattr(sol, "grid") and hasattr(sol, "q")):
+        hint = ("solve the flow first: cfd.linearise(cfd.solve_steady(grid, mach, alpha_deg))" if isinstance(sol, Grid)
+                else "pass the result of cfd.solve_steady")
+        raise LinearError(f"sol must be a steady solution with grid and q; got {type(sol).__name__}: {hint}")
     flow = getattr(sol, "flow", None)
     if flow is None:
         flow = FlowCondition(sol.mach, getattr(sol, "alpha_deg", 0.0))

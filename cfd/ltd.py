@@ -45,7 +45,7 @@ from threadpoolctl import threadpool_limits
 
 from .gust import OneMinusCosine, SharpEdged, SineGust, face_gust
 from .frequencies import check_pivot, check_x_ref
-from .linear import LinearError, check_gust_method
+from .linear import LinearError, check_gust_method, check_linear_system
 from .motion import motion_forcing
 from .radau import RADAU_C, dense_weights, radau_transform, stability_function
 
@@ -503,6 +503,7 @@ def ltd_responses(lin, gusts, dt, t_end, method="svm", x_ref=0.0, max_phase_erro
     LinearError
         As :func:`ltd_response`, or an empty list of gusts.
     """
+    check_linear_system(lin)
     check_gust_method(method)
     gusts = list(gusts)
     if not gusts:
@@ -581,8 +582,9 @@ def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, ma
         Non-positive or non-finite ``dt``, ``t_end < dt``, unknown method or scheme, not a gust, neither a gust
         nor a motion, a motion history of the wrong length or with non-finite values, a non-finite pivot or
         ``x_ref``, a Radau step that is not a positive whole multiple of ``dt``, an ``initial`` that is not a pair of
-        finite real states of shape (4N,).
+        finite real states of shape (4N,), ``lin`` not a ``LinearSystem``.
     """
+    check_linear_system(lin)
     check_gust_method(method)
     if gust is None and plunge is None and pitch is None:
         raise LinearError("nothing to march: give a gust, or a plunge or pitch history (ltd_response(lin, None, dt, "

@@ -50,7 +50,7 @@ import numpy as np
 from sysid import FrequencyResponse
 
 from .frequencies import check_motion_frequencies, check_pivot, check_x_ref, frequency_grid
-from .linear import LinearError, check_gust_method, check_outputs
+from .linear import LinearError, check_gust_method, check_linear_system, check_outputs
 from .motion import check_inputs
 from .sweep_basis import SAFETY, SweepBasis, face_gust_vector, gust_operator  # noqa: F401
 from .sweep_workers import shift_workers
@@ -237,14 +237,15 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
     Raises
     ------
     LinearError
-        Bad tolerance, ``workers``, frequencies (``inf`` with a motion input), gust, input or output names, or a
-        basis of another system.
+        Bad tolerance, ``workers``, frequencies (``inf`` with a motion input), gust, input or output names, a
+        basis of another system, or ``lin`` not a ``LinearSystem``.
 
     Warns
     -----
     RuntimeWarning
         When ``tol`` is not met within ``max_shifts``; the message names the frequencies.
     """
+    check_linear_system(lin)
     tol = _check_tol(tol)
     check_gust_method(gust)
     names, rows = check_outputs(outputs)

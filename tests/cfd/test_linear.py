@@ -11,12 +11,17 @@ sys.path.append(str(Path(__file__).parent))
 
 from flowgrids import parabolic_c_grid  # noqa: E402
 
+import cfd  # noqa: E402
+
 from cfd.euler import lift_coefficient, residual  # noqa: E402
 from cfd.flow import FlowCondition  # noqa: E402
 from cfd.gust import OneMinusCosine, cell_x_gradient, face_gust, gust_face_velocity, svm_source  # noqa: E402
 from cfd.jacobian import residual_derivative  # noqa: E402
 from cfd.loads import force_coefficients  # noqa: E402
 from cfd.linear import LinearError, check_outputs, linearise, linearise_state, wall_loads  # noqa: E402
+from cfd.sweep import fast_sweep  # noqa: E402
+
+GUST = OneMinusCosine(length=1.0, angle_deg=1.0, x0=-2.0)
 
 
 @pytest.fixture(scope="module")
@@ -119,6 +124,55 @@ def test_linearise_from_solution_object(perturbed):
     assert lin.flow == flow
     with pytest.raises(LinearError):
         linearise_state(grid, q[:-1], flow)
+
+
+def _solution_like(grid, q, flow):
+    class Sol:
+        pass
+
+    sol = Sol()
+    sol.grid, sol.q, sol.mach, sol.alpha_deg = grid, q, flow.mach, flow.alpha_deg
+    return sol
+
+
+@pytest.mark.parametrize("make, match", [
+    (lambda grid, q, flow: None, "sol must be a steady solution with grid and q; got NoneType"),
+    (lambda grid, q, flow: grid, r"got Grid: solve the flow first: cfd.linearise\(cfd.solve_steady"),
+    (lambda grid, q, flow: _solution_like(grid, np.full_like(q, np.nan), flow), "q contains NaN or inf"),
+    (lambda grid, q, flow: _solution_like(grid, q[:-1], flow), "steady state has shape"),
+    (lambda grid, q, flow: _solution_like(grid, np.full(q.shape, "a"), flow), "array of real numbers"),
+])
+def test_linearise_refuses_what_is_not_a_steady_solution(perturbed, make, match):
+    grid, flow, q, _ = perturbed
+    with pytest.raises(LinearError, match=match):
+        linearise(make(grid, q, flow))
+
+
+def test_linearise_state_checks_its_arguments(perturbed):
+    grid, flow, q, _ = perturbed
+    with pytest.raises(LinearError, match="scheme must be a cfd.Scheme"):
+        linearise(_solution_like(grid, q, flow), scheme="jst")
+    with pytest.raises(LinearError, match="grid must be a cfd.Grid"):
+        linearise_state(None, q, flow)
+    with pytest.raises(LinearError, match="flow must be a cfd.FlowCondition"):
+        linearise_state(grid, q, 0.4)
+
+
+@pytest.mark.parametrize("call", [
+    lambda lin: cfd.lfd_response(lin, [0.5]),
+    lambda lin: cfd.lfd_response(lin, [0.5], method="fast"),
+    lambda lin: fast_sweep(lin, [0.5]),
+    lambda lin: cfd.ltd_response(lin, GUST, 0.1, 1.0),
+    lambda lin: cfd.ltd_responses(lin, [GUST], 0.1, 1.0),
+    lambda lin: cfd.coupled_ltd(lin, GUST, 0.1, 1.0, mass=np.eye(2), stiffness=np.eye(2), load=np.eye(2),
+                                pivot=0.25),
+])
+def test_linear_solvers_refuse_a_steady_solution(perturbed, call):
+    grid, flow, q, _ = perturbed
+    with pytest.raises(LinearError, match=r"expected a LinearSystem as lin, got Sol; pass cfd.linearise\(sol\)"):
+        call(_solution_like(grid, q, flow))
+    with pytest.raises(LinearError, match="expected a LinearSystem as lin, got NoneType; build it with"):
+        call(None)
 
 
 def test_output_names():
