@@ -31,7 +31,7 @@ import numpy as np
 from . import boundary as bc
 from .errors import MeshError
 
-__all__ = ["Scheme", "residual", "spectral_radius_sum"]
+__all__ = ["Scheme", "residual", "spectral_radius_sum", "check_state"]
 
 
 @dataclass(frozen=True)
@@ -57,10 +57,16 @@ class Scheme:
 DEFAULT_SCHEME = Scheme()
 
 
-def _check(grid, q, face_velocity, source):
+def check_state(grid, q, name="state"):
+    """Raise :class:`MeshError` unless the last three axes of ``q`` are the grid's cells and 4 variables."""
     shape = grid.cell_shape + (4,)
-    if q.shape[-3:] != shape:
-        raise MeshError(f"state has shape {q.shape}; this grid needs (..., {shape[0]}, {shape[1]}, 4)")
+    if np.shape(q)[-3:] != shape:
+        raise MeshError(f"{name} has shape {np.shape(q)}; this grid needs (..., {shape[0]}, {shape[1]}, 4)")
+
+
+def _check(grid, q, face_velocity, source):
+    check_state(grid, q)
+    shape = grid.cell_shape + (4,)
     if face_velocity is not None:
         wi, wj = face_velocity
         ni, nj = grid.shape

@@ -11,6 +11,10 @@ moment is about ``(0.25, 0)``, nose-up positive. Reference: dynamic pressure ``0
 import numpy as np
 
 from .boundary import wall_pressure
+from .errors import FlowConditionError, MeshError
+from .euler import check_state
+from .flow import FlowCondition
+from .mesh_metrics import Grid
 
 __all__ = ["wall_cp", "force_coefficients"]
 
@@ -21,6 +25,18 @@ def _wall_pressure(grid, q, gamma):
     p0 = (gamma - 1.0) * (q0[..., 3] - 0.5 * (q0[..., 1] ** 2 + q0[..., 2] ** 2) / q0[..., 0])
     p1 = (gamma - 1.0) * (q1[..., 3] - 0.5 * (q1[..., 1] ** 2 + q1[..., 2] ** 2) / q1[..., 0])
     return wall_pressure(p0, p1)
+
+
+def _check_load_input(grid, q, flow):
+    """``q`` as an array after :func:`cfd.euler.check_state` (as :func:`cfd.residual` checks it) and the types."""
+    if not isinstance(grid, Grid):
+        raise MeshError(f"grid must be a cfd.Grid (cfd.c_grid or cfd.grid_from_nodes); got {type(grid).__name__}")
+    if not isinstance(flow, FlowCondition):
+        raise FlowConditionError(f"flow must be a cfd.FlowCondition (e.g. cfd.FlowCondition(mach, alpha_deg)); "
+                                 f"got {type(flow).__name__}")
+    q = np.asarray(q)
+    check_state(grid, q, "q")
+    return q
 
 
 def wall_cp(grid, q, flow):
@@ -39,7 +55,15 @@ def wall_cp(grid, q, flow):
         trailing edge to the leading edge, then the upper surface back.
     cp : ndarray, shape (..., n_surface)
         ``(p_w - p_inf) / (0.5 mach^2)``.
+
+    Raises
+    ------
+    MeshError
+        ``q`` whose last three axes are not ``(ni-1, nj-1, 4)`` (as :func:`cfd.residual`), ``grid`` not a Grid.
+    FlowConditionError
+        ``flow`` not a FlowCondition.
     """
+    q = _check_load_input(grid, q, flow)
     x = grid.x[:, 0]
     ic = np.arange(grid.wall.start, grid.wall.stop)
     x_wall = 0.5 * (x[ic] + x[ic + 1])
@@ -62,6 +86,11 @@ def force_coefficients(grid, q, flow, x_ref=(0.25, 0.0)):
     -------
     cl, cd, cm : ndarray, shape (...) (floats for a single state)
         Wind axes (drag along the free stream, lift normal to it); ``cm`` nose up positive.
+
+    Raises
+    ------
+    MeshError, FlowConditionError
+        As :func:`wall_cp`.
     """
     _, cp = wall_cp(grid, q, flow)
     s = grid.sj[:, grid.wall, 0]

@@ -1,6 +1,7 @@
 import numpy as np
 import pytest
 
+from cfd import FlowConditionError, MeshError
 from cfd.flow import FlowCondition, conserved
 from cfd.loads import force_coefficients, wall_cp
 from flowgrids import parabolic_c_grid
@@ -50,3 +51,28 @@ def test_wall_positions_follow_the_c_grid_order():
     x_wall, _ = wall_cp(g, np.broadcast_to(FlowCondition(0.5).q, g.cell_shape + (4,)), FlowCondition(0.5))
     assert x_wall.shape == (g.n_surface,)
     assert x_wall[0] > 0.9 and x_wall[-1] > 0.9 and x_wall.min() < 0.01
+
+
+@pytest.mark.parametrize("load", [wall_cp, force_coefficients])
+@pytest.mark.parametrize("bad, match", [
+    (lambda q: q.transpose(1, 0, 2), r"q has shape \(12, 48, 4\); this grid needs \(\.\.\., 48, 12, 4\)"),
+    (lambda q: q[..., :3], r"q has shape \(48, 12, 3\)"),
+    (lambda q: q[0], r"q has shape \(12, 4\)"),
+])
+def test_state_of_the_wrong_shape_is_refused_as_residual_does(load, bad, match):
+    g = parabolic_c_grid(thickness=0.1, n_surface=32, n_wake=8, nj=13)
+    flow = FlowCondition(0.5)
+    q = np.broadcast_to(flow.q, g.cell_shape + (4,))
+    with pytest.raises(MeshError, match=match):
+        load(g, bad(q), flow)
+
+
+@pytest.mark.parametrize("load", [wall_cp, force_coefficients])
+def test_flow_and_grid_types_are_checked(load):
+    g = parabolic_c_grid(thickness=0.1, n_surface=32, n_wake=8, nj=13)
+    flow = FlowCondition(0.5)
+    q = np.broadcast_to(flow.q, g.cell_shape + (4,))
+    with pytest.raises(FlowConditionError, match="flow must be a cfd.FlowCondition"):
+        load(g, q, 0.5)
+    with pytest.raises(MeshError, match="grid must be a cfd.Grid"):
+        load(None, q, flow)
