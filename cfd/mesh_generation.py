@@ -58,6 +58,23 @@ def _check_sizes(ni, nj, n_surface, farfield):
     return n_wake2 // 2
 
 
+def _check_smoothing(max_iter, tol, n_layers, march_distance):
+    """The smoother's settings of :func:`c_grid`, checked (:class:`MeshError` naming the argument)."""
+    for name, v, default in (("max_iter", max_iter, 100), ("n_layers", n_layers, 16)):
+        if not isinstance(v, (int, np.integer)) or isinstance(v, bool) or v < 0:
+            raise MeshError(f"{name} must be a whole number >= 0 (default {default}); got {v!r}")
+
+    def real(v):
+        return isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool) and np.isfinite(v)
+
+    if not (real(tol) and tol > 0.0):
+        raise MeshError(f"tol must be a positive finite number (the smoother's node-move tolerance, default 1e-3); "
+                        f"got {tol!r}")
+    if not (real(march_distance) and march_distance >= 0.0):
+        raise MeshError(f"march_distance must be a finite number >= 0 (chords of the marched near-wall block, "
+                        f"default 0.3); got {march_distance!r}")
+
+
 def _boundaries(foil, ni, nj, n_surface, n_wake, farfield, le_spacing, te_spacing, wall_spacing, outer_blend):
     """Inner (wall + cut) and outer boundary nodes and the first-cell heights along ``j = 0``."""
     half = n_surface // 2
@@ -281,11 +298,14 @@ def c_grid(
     ------
     MeshError
         If the sizes do not fit the stencil or each other, the far field is too close, the spacings
-        are not positive and small enough, or the grid folds (inverted cells).
+        are not positive and small enough, a smoother setting is out of range (``max_iter``, ``n_layers`` not
+        whole numbers >= 0, ``tol`` not positive, ``march_distance`` negative, any of them non-finite), or the
+        grid folds (inverted cells).
     """
     if not all(hasattr(foil, a) for a in ("at_arc", "perimeter", "s_leading_edge_arc", "t")):
         raise MeshError(f"foil must be an aerofoil from cfd.naca (e.g. cfd.naca('0012')); got {type(foil).__name__}")
     n_wake = _check_sizes(ni, nj, n_surface, farfield)
+    _check_smoothing(max_iter, tol, n_layers, march_distance)
     if le_spacing is None:
         le_spacing = float(np.clip(0.25 * 1.1019 * foil.t**2, 0.001, 0.005))
     half_len = min(foil.s_leading_edge_arc, foil.perimeter - foil.s_leading_edge_arc)
@@ -294,6 +314,8 @@ def c_grid(
         ("le_spacing", le_spacing, half_len / (n_surface // 2)),
         ("te_spacing", te_spacing, half_len / (n_surface // 2)),
     ):
+        if not isinstance(v, (int, float, np.integer, np.floating)) or isinstance(v, bool):
+            raise MeshError(f"{name} must be a number of chords; got {v!r}")
         if not (np.isfinite(v) and 0.0 < v < hi):
             raise MeshError(
                 f"{name} = {v} must be positive and below the uniform spacing {hi:.4g} chords; "

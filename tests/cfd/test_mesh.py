@@ -136,6 +136,18 @@ def test_small_and_large_grids_keep_the_far_field_and_cut(ni, nj, n_surface, far
         (dict(te_spacing=0.5), "te_spacing"),
         (dict(le_spacing=-1.0), "le_spacing"),
         (dict(farfield="far"), "finite number of chords"),
+        (dict(wall_spacing="a"), "wall_spacing must be a number of chords; got 'a'"),
+        (dict(te_spacing=None), "te_spacing must be a number of chords; got None"),
+        (dict(march_distance=float("nan")), "march_distance must be a finite number >= 0"),
+        (dict(march_distance=-1.0), "march_distance must be a finite number >= 0"),
+        (dict(march_distance="a"), "march_distance must be a finite number >= 0"),
+        (dict(tol=float("nan")), "tol must be a positive finite number"),
+        (dict(tol=0.0), "tol must be a positive finite number"),
+        (dict(max_iter=-1), "max_iter must be a whole number >= 0"),
+        (dict(max_iter=2.5), "max_iter must be a whole number >= 0"),
+        (dict(max_iter="x"), "max_iter must be a whole number >= 0"),
+        (dict(n_layers=-3), "n_layers must be a whole number >= 0"),
+        (dict(n_layers=2.5), "n_layers must be a whole number >= 0"),
     ],
 )
 def test_bad_sizes_raise_mesh_error_saying_what_to_do(kwargs, match):
