@@ -72,7 +72,10 @@ def check_outputs(outputs):
     """Validate output names; returns the tuple of row indices into ``LinearSystem.C``."""
     if isinstance(outputs, str):
         outputs = (outputs,)
-    outputs = tuple(outputs)
+    try:
+        outputs = tuple(outputs)
+    except TypeError:
+        raise LinearError(f"outputs must be a name or a sequence of names from {OUTPUTS}; got {outputs!r}") from None
     bad = [o for o in outputs if o not in OUTPUTS]
     if bad or not outputs:
         raise LinearError(f"unknown output(s) {bad or outputs!r}; choose from {OUTPUTS}")

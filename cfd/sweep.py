@@ -52,7 +52,7 @@ from sysid import FrequencyResponse
 from .frequencies import check_motion_frequencies, check_pivot, check_x_ref, frequency_grid
 from .linear import LinearError, check_gust_method, check_linear_system, check_outputs
 from .motion import check_inputs
-from .sweep_basis import SAFETY, SweepBasis, face_gust_vector, gust_operator  # noqa: F401
+from .sweep_basis import SAFETY, SweepBasis, face_gust_vector, gust_operator, whole_number  # noqa: F401
 from .sweep_workers import shift_workers
 
 __all__ = ["SweepBasis", "fast_sweep", "gust_operator", "face_gust_vector", "SAFETY"]  # (all but fast_sweep
@@ -251,8 +251,18 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
     names, rows = check_outputs(outputs)
     inputs = check_inputs(inputs)
     pivot = check_pivot(pivot)
-    if int(max_shifts) != max_shifts or max_shifts < 1:
+    n_shifts = whole_number(max_shifts)
+    if n_shifts is None or n_shifts < 1:
         raise LinearError(f"max_shifts must be a positive integer (factorisations allowed); got {max_shifts!r}")
+    max_shifts = n_shifts
+    if basis is not None and not isinstance(basis, SweepBasis):
+        raise LinearError(f"basis must be a cfd.sweep.SweepBasis from an earlier sweep of this lin, or None; got "
+                          f"{type(basis).__name__}")
+    if progress is not None and not callable(progress):
+        raise LinearError(f"progress must be a callable progress(basis, worst, failing) or None; got {progress!r}")
+    if isinstance(log_interval, bool) or not isinstance(log_interval, (int, float, np.integer, np.floating)) or \
+            not log_interval >= 0.0:
+        raise LinearError(f"log_interval must be a number of seconds >= 0 (default 60); got {log_interval!r}")
     if not isinstance(workers, (int, np.integer)) or workers < 1:
         raise LinearError(f"workers must be a positive integer (processes for the shifts, 1: this one); got "
                           f"{workers!r}")

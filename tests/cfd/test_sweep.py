@@ -203,6 +203,19 @@ def test_lfd_response_method_dispatch(plate, method, n, expected):
     (dict(method="fast", max_shift=3), r"unknown option\(s\) \['max_shift'\].*fast-sweep options are \('max_shifts'"),
     (dict(method="direct", max_shift=3), r"unknown option\(s\) \['max_shift'\]"),
     (dict(method="auto", nmoments=3, x=1), r"unknown option\(s\) \['nmoments', 'x'\]"),
+    (dict(method="fast", max_shifts="a"), "max_shifts must be a positive integer"),
+    (dict(method="fast", max_shifts=np.nan), "max_shifts must be a positive integer"),
+    (dict(method="fast", max_shifts=np.inf), "max_shifts must be a positive integer"),
+    (dict(method="fast", max_shifts=2.5), "max_shifts must be a positive integer"),
+    (dict(method="fast", max_shifts=True), "max_shifts must be a positive integer"),
+    (dict(method="fast", n_moments=None), "n_moments must be an integer >= 2"),
+    (dict(method="fast", n_moments="4"), "n_moments must be an integer >= 2"),
+    (dict(method="fast", basis="x"), "basis must be a cfd.sweep.SweepBasis"),
+    (dict(method="fast", progress=5), "progress must be a callable"),
+    (dict(method="fast", log_interval="a"), "log_interval must be a number of seconds"),
+    (dict(method="fast", log_interval=np.nan), "log_interval must be a number of seconds"),
+    (dict(outputs=None), "outputs must be a name or a sequence of names"),
+    (dict(outputs=5), "outputs must be a name or a sequence of names"),
 ])
 def test_lfd_response_method_bad_input(plate, kwargs, match):
     with pytest.raises(LinearError, match=match):
