@@ -29,6 +29,7 @@ import numpy as np
 from scipy import optimize, special
 
 from .errors import AeroModelError, SectionError, SpeedError
+from .section import TypicalSection
 
 __all__ = [
     "theodorsen_function",
@@ -110,6 +111,13 @@ def sears_function(k: Any, reference: str = "midchord") -> np.ndarray:
     if reference == "leading_edge":
         return S * np.exp(-1j * kk)
     raise ValueError(f"reference must be 'midchord' or 'leading_edge', got {reference!r}")
+
+
+def _check_section(section: Any) -> TypicalSection:
+    if not isinstance(section, TypicalSection):
+        raise SectionError(f"section must be an aeroelastic.TypicalSection(mu, a, x_alpha, r_alpha2, omega_ratio), got "
+                           f"{type(section).__name__}")
+    return section
 
 
 def _check_a(a: Any) -> float:
@@ -314,8 +322,22 @@ def flutter_determinant(section, quasi_steady: bool = False, k_range: tuple[floa
     Raises
     ------
     SpeedError
-        No flutter in ``k_range``.
+        No flutter in ``k_range``; ``k_range`` not two positive finite reduced frequencies or ``n_k`` not a whole
+        number >= 2.
+    SectionError
+        ``section`` not a :class:`TypicalSection`.
     """
+    _check_section(section)
+    try:
+        k_lo, k_hi = (float(k) for k in k_range)
+        ok = all(np.isfinite(k) and k > 0.0 for k in (k_lo, k_hi)) and k_lo != k_hi
+    except (TypeError, ValueError):
+        ok = False
+    if not ok:
+        raise SpeedError(f"k_range must be two distinct positive finite reduced frequencies (the search grid is "
+                         f"geometric; k = 0 is the steady limit, start at a small k such as 0.02), got {k_range!r}")
+    if isinstance(n_k, bool) or not isinstance(n_k, (int, np.integer)) or n_k < 2:
+        raise SpeedError(f"n_k must be a whole number >= 2 (grid points in k_range; default 400), got {n_k!r}")
     Cfun = theodorsen_function if circulation is None else circulation
 
     def C_of(k):
@@ -325,7 +347,7 @@ def flutter_determinant(section, quasi_steady: bool = False, k_range: tuple[floa
         X = _theodorsen_det_quadratic(k, section, C_of(k))
         return X[np.argsort(X.real)]
 
-    ks = np.geomspace(k_range[0], k_range[1], n_k)
+    ks = np.geomspace(k_lo, k_hi, n_k)
     R = np.array([roots(k) for k in ks])
     best = None
     for j in range(2):
@@ -387,20 +409,26 @@ def jones_frf(omega: Any, a: float, T: float | None = None):
 def wagner_jones(tau: Any) -> np.ndarray:
     """Wagner's function (lift build-up after a step in incidence), R. T. Jones' approximation.
 
-    ``phi(tau) = 1 - 0.165 exp(-0.0455 tau) - 0.335 exp(-0.3 tau)``, ``tau = U t / b`` (semichords travelled).
+    ``phi(tau) = 1 - 0.165 exp(-0.0455 tau) - 0.335 exp(-0.3 tau)``, ``tau = U t / b`` (semichords travelled);
+    ``phi = 0`` for ``tau < 0`` (before the step), as :func:`cfd.wagner`.
     """
     t = np.asarray(tau, dtype=float)
-    return 1.0 - sum(A * np.exp(-b * t) for A, b in WAGNER_JONES)
+    with np.errstate(over="ignore"):                     # exp of a large negative tau: masked below
+        phi = 1.0 - sum(A * np.exp(-b * t) for A, b in WAGNER_JONES)
+    return np.where(t < 0.0, 0.0, phi)[()]
 
 
 def kussner_jones(tau: Any) -> np.ndarray:
     """Kussner's function (lift on entering a sharp-edged gust), R. T. Jones' approximation.
 
     ``psi(tau) = 1 - 0.236 exp(-0.058 tau) - 0.513 exp(-0.364 tau) - 0.171 exp(-2.42 tau)``, ``tau = U t / b``
-    measured from the gust front reaching the leading edge.
+    measured from the gust front reaching the leading edge; ``psi = 0`` for ``tau < 0`` (before it), as
+    :func:`cfd.kussner`.
     """
     t = np.asarray(tau, dtype=float)
-    return 1.0 - sum(A * np.exp(-b * t) for A, b in KUSSNER_JONES)
+    with np.errstate(over="ignore"):                     # exp of a large negative tau: masked below
+        psi = 1.0 - sum(A * np.exp(-b * t) for A, b in KUSSNER_JONES)
+    return np.where(t < 0.0, 0.0, psi)[()]
 
 
 def jones_section_model(section, speed: float):
@@ -435,10 +463,21 @@ def jones_section_model(section, speed: float):
         ``["gust"]`` (gust angle at the leading edge, rad); outputs ``["plunge", "pitch", "Cl", "Cm"]``
         (``h / c`` UP, rad, coefficients with ``Cm`` about the elastic axis). States:
         ``[h_T, theta, h_T', theta', z1, z2, y1, y2, y3]``.
+
+    Raises
+    ------
+    SectionError
+        ``section`` not a :class:`TypicalSection`.
+    SpeedError
+        ``speed`` not a positive finite number.
     """
     import control
 
-    V = float(speed)
+    _check_section(section)
+    try:
+        V = float(speed)
+    except (TypeError, ValueError):
+        V = float("nan")
     if not np.isfinite(V) or V <= 0:
         raise SpeedError(f"speed index must be positive and finite, got {speed!r}")
     mu, a, xa, r2, sig = section.mu, section.a, section.x_alpha, section.r_alpha2, section.omega_ratio

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 from scipy import special
 
+import aeroelastic as ae
 from aeroelastic import theodorsen as th
 from aeroelastic import AeroModelError
 
@@ -42,6 +43,46 @@ def test_jones_approximations_are_within_their_known_accuracy():
     psi = th.kussner_jones([1, 2, 5, 10, 20])
     lo, hi = np.array([0.38, 0.54, 0.74, 0.85, 0.93]), np.array([0.42, 0.55, 0.75, 0.86, 0.96])
     assert np.all((psi >= lo - 0.01) & (psi <= hi + 0.01))
+
+
+@pytest.mark.parametrize("fn", [th.wagner_jones, th.kussner_jones])
+def test_jones_indicial_functions_are_zero_before_the_step(fn):
+    # as cfd.wagner and cfd.kussner: no lift before the step (the exponentials would grow without bound)
+    tau = np.array([-50.0, -1.0, -1e-12, 0.0, 1.0])
+    out = fn(tau)
+    assert np.array_equal(out[:3], [0.0, 0.0, 0.0])
+    assert out[3] == fn(0.0) > 0.0 and out[4] > out[3]
+    assert fn(-50.0) == 0.0 and np.isscalar(fn(-50.0)) and np.isnan(fn(np.nan))
+
+
+HP_SECTION = dict(mu=20, a=-0.2, x_alpha=0.1, r_alpha2=0.24, omega_ratio=0.4)
+
+
+@pytest.mark.parametrize("kw, match", [
+    (dict(k_range=(0.0, 3.0)), "k_range must be two distinct positive finite"),
+    (dict(k_range=(-1.0, 3.0)), "k_range must be two distinct positive finite"),
+    (dict(k_range=(0.02, np.inf)), "k_range must be two distinct positive finite"),
+    (dict(k_range=(1.0, 1.0)), "k_range must be two distinct positive finite"),
+    (dict(k_range=3.0), "k_range must be two distinct positive finite"),
+    (dict(n_k=2.5), "n_k must be a whole number >= 2"),
+    (dict(n_k=1), "n_k must be a whole number >= 2"),
+])
+def test_flutter_determinant_settings_are_checked(kw, match):
+    with pytest.raises(ae.SpeedError, match=match):
+        th.flutter_determinant(ae.TypicalSection(**HP_SECTION), **kw)
+
+
+@pytest.mark.parametrize("call", [lambda s: th.flutter_determinant(s), lambda s: th.jones_section_model(s, 1.0)])
+@pytest.mark.parametrize("section", [None, HP_SECTION])
+def test_section_must_be_a_typical_section(call, section):
+    with pytest.raises(ae.SectionError, match="section must be an aeroelastic.TypicalSection"):
+        call(section)
+
+
+@pytest.mark.parametrize("speed", ["a", None, 0.0, np.nan])
+def test_jones_section_model_speed_is_checked(speed):
+    with pytest.raises(ae.SpeedError, match="speed index must be positive and finite"):
+        th.jones_section_model(ae.TypicalSection(**HP_SECTION), speed)
 
 
 @pytest.mark.parametrize("a", [-0.5, -0.2, 0.0, 0.3])
