@@ -290,6 +290,7 @@ def solve_steady(grid, mach, alpha_deg, *, gamma=1.4, tol=1e-10, scheme=None, q0
         ``.history``.
     """
     flow = FlowCondition(mach, alpha_deg, gamma)
+    gamma = flow.gamma  # the checked float (FlowCondition accepts any real number, e.g. numpy scalars)
     scheme = DEFAULT_SCHEME if scheme is None else scheme
     tol, n_rk, cfl0, max_newton, max_chord = _check_settings(tol, scheme, strategy, n_rk, cfl0, max_newton,
                                                              max_chord)

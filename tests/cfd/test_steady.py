@@ -105,6 +105,12 @@ def test_whole_number_settings_accept_numpy_integers(grid0012):
     assert sol.converged and sol.history[-1] <= 1e-6 * sol.history[0]
 
 
+def test_gamma_is_used_as_the_checked_float(grid0012):
+    a = cfd.solve_steady(grid0012, 0.5, 0.0, tol=1e-3, gamma=1.4)
+    b = cfd.solve_steady(grid0012, 0.5, 0.0, tol=1e-3, gamma="1.4")
+    assert b.gamma == 1.4 and np.array_equal(a.q, b.q)
+
+
 def test_nan_initial_state_is_refused(grid0012):
     q0 = np.full(grid0012.cell_shape + (4,), np.nan)
     with pytest.raises(FlowConditionError, match="q0 contains NaN"):
