@@ -185,6 +185,10 @@ def _check_times(dt, t_end):
 
 
 def _warn_phase(gust, dt, max_phase_error, scheme="bdf2", step=None):
+    if isinstance(max_phase_error, bool) or not isinstance(max_phase_error, (int, float, np.integer, np.floating)) \
+            or not max_phase_error > 0.0:
+        raise LinearError(f"max_phase_error must be a positive number (relative phase-rate error that warns, default "
+                          f"0.01; inf never warns); got {max_phase_error!r}")
     err = phase_error_estimate(gust, dt, scheme, step)
     if err > max_phase_error:
         if scheme == "bdf2":
@@ -501,11 +505,17 @@ def ltd_responses(lin, gusts, dt, t_end, method="svm", x_ref=0.0, max_phase_erro
     Raises
     ------
     LinearError
-        As :func:`ltd_response`, or an empty list of gusts.
+        As :func:`ltd_response`, or ``gusts`` empty or not a sequence (a single gust).
     """
     check_linear_system(lin)
     check_gust_method(method)
-    gusts = list(gusts)
+    if isinstance(gusts, (SineGust, OneMinusCosine, SharpEdged)):
+        raise LinearError("gusts must be a sequence of gusts; for one gust pass [gust] or use ltd_response")
+    try:
+        gusts = list(gusts)
+    except TypeError:
+        raise LinearError(f"gusts must be a sequence of cfd.SineGust, OneMinusCosine or SharpEdged; got "
+                          f"{type(gusts).__name__}") from None
     if not gusts:
         raise LinearError("gusts is empty: give at least one cfd.SineGust, OneMinusCosine or SharpEdged")
     for gust in gusts:
@@ -581,7 +591,8 @@ def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, ma
     LinearError
         Non-positive or non-finite ``dt``, ``t_end < dt``, unknown method or scheme, not a gust, neither a gust
         nor a motion, a motion history of the wrong length or with non-finite values, a non-finite pivot or
-        ``x_ref``, a Radau step that is not a positive whole multiple of ``dt``, an ``initial`` that is not a pair of
+        ``x_ref``, a ``max_phase_error`` that is not a positive number, a Radau step that is not a positive whole
+        multiple of ``dt``, an ``initial`` that is not a pair of
         finite real states of shape (4N,), ``lin`` not a ``LinearSystem``.
     """
     check_linear_system(lin)

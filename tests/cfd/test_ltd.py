@@ -341,6 +341,26 @@ def test_radau_initial_state_may_omit_q_prev(lin):
         ltd_response(lin, g, 0.1, 1.0, initial=(None, np.zeros(lin.n)))
 
 
+@pytest.mark.parametrize("march", [
+    lambda lin, g, **kw: ltd_response(lin, g, 0.1, 1.0, **kw),
+    lambda lin, g, **kw: ltd_responses(lin, [g], 0.1, 1.0, **kw),
+])
+@pytest.mark.parametrize("limit", [float("nan"), 0.0, -1.0, "a", None])
+def test_max_phase_error_must_be_a_positive_number(lin, march, limit):
+    g = OneMinusCosine(length=1.0, angle_deg=1.0, x0=-2.0)
+    with pytest.raises(LinearError, match="max_phase_error must be a positive number"):
+        march(lin, g, max_phase_error=limit)
+
+
+@pytest.mark.parametrize("gusts, match", [
+    (OneMinusCosine(length=1.0, angle_deg=1.0, x0=-2.0), r"pass \[gust\] or use ltd_response"),
+    (3.0, "gusts must be a sequence of cfd.SineGust"),
+])
+def test_ltd_responses_needs_a_sequence_of_gusts(lin, gusts, match):
+    with pytest.raises(LinearError, match=match):
+        ltd_responses(lin, gusts, 0.1, 1.0)
+
+
 def test_scheme_options_are_checked(lin):
     g = OneMinusCosine(length=1.0, angle_deg=1.0, x0=-2.0)
     with pytest.raises(LinearError, match="applies to scheme='radau5' only"):
