@@ -592,8 +592,8 @@ def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, ma
         Non-positive or non-finite ``dt``, ``t_end < dt``, unknown method or scheme, not a gust, neither a gust
         nor a motion, a motion history of the wrong length or with non-finite values, a non-finite pivot or
         ``x_ref``, a ``max_phase_error`` that is not a positive number, a Radau step that is not a positive whole
-        multiple of ``dt``, an ``initial`` that is not a pair of
-        finite real states of shape (4N,), ``lin`` not a ``LinearSystem``.
+        multiple of ``dt``, an ``initial`` that is not a pair of finite real states of shape (4N,), ``lin`` not a
+        ``LinearSystem``.
     """
     check_linear_system(lin)
     check_gust_method(method)

@@ -166,6 +166,36 @@ def _check_input(gust, method, dt, t_end):
     return dt, t_end
 
 
+def _check_settings(rtol, atol, max_iter, stall_ratio, max_refactor, snapshot_times, max_phase_error,
+                    max_local_mach, separation_mach, steady_tol):
+    """The iteration and monitoring settings of :func:`unsteady_response` (UnsteadyError naming the argument);
+    returns ``snapshot_times`` as a list of floats."""
+    def real(v):
+        return isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool) and not np.isnan(v)
+
+    for name, v, default in (("rtol", rtol, "1e-6"), ("atol", atol, "1e-12")):
+        if not (real(v) and np.isfinite(v) and v >= 0.0):
+            raise UnsteadyError(f"{name} must be a finite number >= 0 (default {default}); got {v!r}")
+    if not (real(stall_ratio) and 0.0 < stall_ratio <= 1.0):
+        raise UnsteadyError(f"stall_ratio must be a number in (0, 1] (default 1/3); got {stall_ratio!r}")
+    for name, v, low, default in (("max_iter", max_iter, 1, 25), ("max_refactor", max_refactor, 0, 3)):
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < low:
+            raise UnsteadyError(f"{name} must be a whole number >= {low} (default {default}); got {v!r}")
+    for name, v, default in (("max_phase_error", max_phase_error, 0.01), ("max_local_mach", max_local_mach, 2.0),
+                             ("separation_mach", separation_mach, 1.3), ("steady_tol", steady_tol, 1e-8)):
+        if not (real(v) and v > 0.0):
+            raise UnsteadyError(f"{name} must be a positive number (default {default}; inf turns the check off); "
+                                f"got {v!r}")
+    try:
+        times = [float(s) for s in snapshot_times]
+    except (TypeError, ValueError):
+        times = None
+    if times is None or not all(np.isfinite(times)):
+        raise UnsteadyError(f"snapshot_times must be a sequence of finite convective times, e.g. (1.0, 2.5); got "
+                            f"{snapshot_times!r}")
+    return times
+
+
 def _steady_state(sol, steady_tol):
     """grid, q_bar, flow, scheme of ``sol``; refuses a steady state that is not converged."""
     flow = getattr(sol, "flow", None)
@@ -272,7 +302,9 @@ def unsteady_response(sol, gust, dt, t_end, method="svm", x_ref=0.0, *, rtol=1e-
     Raises
     ------
     UnsteadyError
-        Unknown method, not a gust, bad ``dt`` or ``t_end``, a non-finite ``x_ref``, a non-converged ``sol``.
+        Unknown method, not a gust, bad ``dt`` or ``t_end``, a non-finite ``x_ref``, a setting out of range
+        (``rtol``, ``atol`` negative; ``max_iter``, ``max_refactor`` not whole numbers; ``stall_ratio`` outside
+        (0, 1]; a limit or ``steady_tol`` not positive; any of them NaN), a non-converged ``sol``.
     UnsteadyStepError
         A step did not converge (``.partial`` holds the history so far); subclasses
         :class:`NonPhysicalStateError` (non-positive density or pressure) and :class:`LocalMachError`.
@@ -284,6 +316,8 @@ def unsteady_response(sol, gust, dt, t_end, method="svm", x_ref=0.0, *, rtol=1e-
     """
     dt, t_end = _check_input(gust, method, dt, t_end)
     x_ref = check_x_ref(x_ref, UnsteadyError)
+    snapshot_times = _check_settings(rtol, atol, max_iter, stall_ratio, max_refactor, snapshot_times,
+                                     max_phase_error, max_local_mach, separation_mach, steady_tol)
     err = phase_error_estimate(gust, dt)
     if err > max_phase_error:
         warnings.warn(

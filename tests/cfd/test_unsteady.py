@@ -152,6 +152,18 @@ def test_non_converged_steady_solution_is_refused(coarse):
     (dict(x_ref=float("nan")), "x_ref must be finite"),
     (dict(x_ref=float("inf")), "x_ref must be finite"),
     (dict(x_ref="a"), "x_ref must be a real number"),
+    (dict(rtol=-1.0), "rtol must be a finite number >= 0"),
+    (dict(atol=np.nan), "atol must be a finite number >= 0"),
+    (dict(max_iter=0), "max_iter must be a whole number >= 1"),
+    (dict(max_iter=2.5), "max_iter must be a whole number >= 1"),
+    (dict(max_refactor=-1), "max_refactor must be a whole number >= 0"),
+    (dict(stall_ratio=0.0), r"stall_ratio must be a number in \(0, 1\]"),
+    (dict(steady_tol=np.nan), "steady_tol must be a positive number"),
+    (dict(max_phase_error="a"), "max_phase_error must be a positive number"),
+    (dict(max_local_mach=0.0), "max_local_mach must be a positive number"),
+    (dict(separation_mach=np.nan), "separation_mach must be a positive number"),
+    (dict(snapshot_times=5), "snapshot_times must be a sequence of finite convective times"),
+    (dict(snapshot_times=[1.0, np.nan]), "snapshot_times must be a sequence"),
 ])
 def test_bad_arguments(coarse, kwargs, match):
     args = dict(gust=gust(0.1), dt=0.1, t_end=1.0)
