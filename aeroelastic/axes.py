@@ -28,6 +28,7 @@ import numpy as np
 
 from .errors import AeroModelError
 from .fit import LOAD_OUTPUTS, MOTION_INPUTS, channel_indices
+from .section import check_section
 
 __all__ = ["change_axes", "to_elastic_axis"]
 
@@ -83,4 +84,5 @@ def change_axes(frf, *, pivot: float, moment_axis: float, new_axis: float):
 
 def to_elastic_axis(frf, section, *, pivot: float = 0.25, moment_axis: float = 0.25):
     """:func:`change_axes` to ``section.elastic_axis`` (quarter-chord pivot and moment by default)."""
+    check_section(section)
     return change_axes(frf, pivot=pivot, moment_axis=moment_axis, new_axis=section.elastic_axis)

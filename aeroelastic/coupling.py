@@ -31,7 +31,7 @@ import numpy as np
 
 from .errors import AeroModelError, SpeedError
 from .fit import MotionModel, fit_motion
-from .section import TypicalSection
+from .section import TypicalSection, check_section
 
 __all__ = ["coupled_model", "state_matrix", "as_motion_model", "check_speed", "STATE_OUTPUTS", "FIT_OPTIONS"]
 
@@ -118,12 +118,16 @@ def coupled_model(aero: Any, section: TypicalSection, speed: float, *, gust: boo
     SpeedError
         ``speed`` not positive and finite.
     AeroModelError
-        ``gust=True`` for a model without gust input.
+        ``gust=True`` for a model without gust input, or ``gust`` not a bool or None.
+    SectionError
+        ``section`` not a :class:`TypicalSection`.
     """
     import control
 
-    if not isinstance(section, TypicalSection):
-        raise TypeError(f"section must be an aeroelastic.TypicalSection, got {type(section).__name__}")
+    check_section(section)
+    if not isinstance(gust, (bool, np.bool_, type(None))):
+        raise AeroModelError(f"gust must be True, False or None (default: when the model has a gust input); got "
+                             f"{gust!r}")
     V = check_speed(speed)
     model = as_motion_model(aero)
     if gust is None:

@@ -22,7 +22,7 @@ from scipy import optimize
 from .coupling import as_motion_model, state_matrix
 from .errors import SpeedError
 from .fit import MotionModel
-from .section import TypicalSection
+from .section import TypicalSection, check_section
 
 __all__ = ["FlutterResult", "flutter", "divergence_speed", "root_locus_response"]
 
@@ -138,6 +138,7 @@ def root_locus_response(aero: Any, section: TypicalSection, speeds: Any, *, orde
     eigenvalues : ndarray, complex, shape (N, n)
         Tracked along branches (see :attr:`FlutterResult.eigenvalues`).
     """
+    check_section(section)
     model = as_motion_model(aero, order)
     V = _check_speeds(speeds)
     E = np.array([_eigs(model, section, v) for v in V])
@@ -200,8 +201,7 @@ def flutter(aero: Any, section: TypicalSection, speeds: Any = None, *, order: in
     SpeedError
         Unusable speed grid, or ``tol`` not positive and finite.
     """
-    if not isinstance(section, TypicalSection):
-        raise TypeError(f"section must be an aeroelastic.TypicalSection, got {type(section).__name__}")
+    check_section(section)
     tol = _check_tol(tol)
     model = as_motion_model(aero, order, **fit_kw)
     if speeds is None:
@@ -253,6 +253,7 @@ def divergence_speed(aero: Any, section: TypicalSection, *, order: int = 4) -> f
     """
     from scipy.linalg import eigvals
 
+    check_section(section)
     model = as_motion_model(aero, order)
     lam = eigvals(section.stiffness_matrix, section.load_matrix @ model.M0)
     lam = lam[np.isfinite(lam)]

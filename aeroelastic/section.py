@@ -25,7 +25,7 @@ import numpy as np
 
 from .errors import SectionError
 
-__all__ = ["TypicalSection"]
+__all__ = ["TypicalSection", "check_section"]
 
 
 def _num(name: str, v, *, positive: bool = False) -> float:
@@ -125,3 +125,20 @@ class TypicalSection:
         r2, xa, s2 = self.r_alpha2, self.x_alpha, self.omega_ratio**2
         w2 = np.roots([r2 - xa**2, -r2 * (1 + s2), r2 * s2])
         return np.sort(np.sqrt(w2.real))
+
+
+def check_section(section) -> TypicalSection:
+    """``section`` itself if it is a :class:`TypicalSection`, else :class:`SectionError` naming what it got.
+
+    Parameters
+    ----------
+    section : TypicalSection
+
+    Returns
+    -------
+    TypicalSection
+    """
+    if not isinstance(section, TypicalSection):
+        raise SectionError(f"section must be an aeroelastic.TypicalSection(mu, a, x_alpha, r_alpha2, omega_ratio), "
+                           f"got {type(section).__name__}")
+    return section

@@ -29,7 +29,7 @@ import numpy as np
 from scipy import optimize, special
 
 from .errors import AeroModelError, SectionError, SpeedError
-from .section import TypicalSection
+from .section import TypicalSection, check_section
 
 __all__ = [
     "theodorsen_function",
@@ -111,13 +111,6 @@ def sears_function(k: Any, reference: str = "midchord") -> np.ndarray:
     if reference == "leading_edge":
         return S * np.exp(-1j * kk)
     raise ValueError(f"reference must be 'midchord' or 'leading_edge', got {reference!r}")
-
-
-def _check_section(section: Any) -> TypicalSection:
-    if not isinstance(section, TypicalSection):
-        raise SectionError(f"section must be an aeroelastic.TypicalSection(mu, a, x_alpha, r_alpha2, omega_ratio), got "
-                           f"{type(section).__name__}")
-    return section
 
 
 def _check_a(a: Any) -> float:
@@ -327,7 +320,7 @@ def flutter_determinant(section, quasi_steady: bool = False, k_range: tuple[floa
     SectionError
         ``section`` not a :class:`TypicalSection`.
     """
-    _check_section(section)
+    check_section(section)
     try:
         k_lo, k_hi = (float(k) for k in k_range)
         ok = all(np.isfinite(k) and k > 0.0 for k in (k_lo, k_hi)) and k_lo != k_hi
@@ -473,7 +466,7 @@ def jones_section_model(section, speed: float):
     """
     import control
 
-    _check_section(section)
+    check_section(section)
     try:
         V = float(speed)
     except (TypeError, ValueError):

@@ -178,8 +178,9 @@ def identify(
     if minimax_within is not None and not (isinstance(minimax_within, (int, float)) and np.isfinite(minimax_within)
                                            and minimax_within > 0):
         raise ValueError(f"minimax_within must be a positive fraction (e.g. 0.1) or None; got {minimax_within!r}")
-    if isinstance(dc_gain, (bool, np.bool_)) and dc_gain:
-        dc_gain = "match"  # not the array [[1.0]]: True is the study file's "match"
+    if isinstance(dc_gain, (bool, np.bool_)):
+        dc_gain = "match" if dc_gain else None  # not the array [[1.0]]: True is the study file's "match"; False,
+        # like None, imposes nothing (and so leaves "auto" on the subspace fit when stability is not imposed)
     auto_algorithm = algorithm == "auto"
     if algorithm == "auto" and isinstance(frf, FrequencyResponse):
         algorithm = resolve_algorithm(algorithm, frf.shape[0], frf.shape[1], stable=stable, dc_gain=dc_gain is not None)

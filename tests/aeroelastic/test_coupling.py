@@ -69,7 +69,7 @@ def test_model_errors():
         ae.coupled_model(m, HP, 1.0, gust=True)
     with pytest.raises(ae.AeroModelError, match="aero must be"):
         ae.coupled_model(np.eye(2), HP, 1.0)
-    with pytest.raises(TypeError, match="TypicalSection"):
+    with pytest.raises(ae.SectionError, match="TypicalSection"):
         ae.coupled_model(m, (20, -0.2), 1.0)
 
 
@@ -91,3 +91,22 @@ def test_unknown_fit_options_are_refused(model, call, data, kw, bad):
     aero = th.theodorsen_frf(W, HP.a, gust=True) if data else model
     with pytest.raises(ae.AeroModelError, match=rf"unknown option\(s\) \[{bad}\].*\('gust_order', 'T', 'optimise'"):
         call(aero, **kw)
+
+
+def test_gust_flag_must_be_a_bool():
+    m = ae.fit_motion(th.theodorsen_frf(W, HP.a), 2)
+    with pytest.raises(ae.AeroModelError, match="gust must be True, False or None"):
+        ae.coupled_model(m, HP, 1.0, gust="no")
+
+
+@pytest.mark.parametrize("call", [
+    lambda m: ae.coupled_model(m, None, 1.0),
+    lambda m: ae.flutter(m, None, np.linspace(0.5, 3.0, 11)),
+    lambda m: ae.root_locus_response(m, None, np.linspace(0.5, 3.0, 11)),
+    lambda m: ae.divergence_speed(m, None),
+    lambda m: ae.to_elastic_axis(th.theodorsen_frf(W, HP.a), None),
+])
+def test_a_missing_section_is_a_section_error(call):
+    m = ae.fit_motion(th.theodorsen_frf(W, HP.a), 2)
+    with pytest.raises(ae.SectionError, match="section must be an aeroelastic.TypicalSection"):
+        call(m)

@@ -128,6 +128,10 @@ def test_dc_gain_bool_means_match_or_none(flag, enforced):
         np.testing.assert_allclose(res.evaluate(np.array([0.0]))[0, 0, 0].real, 3.0, rtol=1e-9)
         with pytest.raises(ConstraintError, match="dc_gain='match' needs a sample at omega = 0"):
             identify(frf.take(np.arange(1, 33)), 2, dc_gain=flag)
+    else:  # False imposes nothing, like None: the same algorithm ("auto": subspace without stability) and model
+        ref = identify(frf, 2)
+        assert res.algorithm == ref.algorithm == "subspace"
+        np.testing.assert_array_equal(res.model.A, ref.model.A)
 
 
 def test_dc_gain_wrong_shape():
