@@ -57,6 +57,22 @@ def _frozen(a):
     return a
 
 
+def _check_real(name, a, shape):
+    """``a`` as a float array if it is real, finite and of ``shape`` (None: any), else AeroModelError."""
+    try:
+        v = np.asarray(a)
+        ok = v.dtype.kind in "biuf"
+    except (TypeError, ValueError):
+        ok = False
+    if not ok:
+        raise AeroModelError(f"MotionModel.{name} must be an array of real numbers, got {type(a).__name__}")
+    if shape is not None and v.shape != shape:
+        raise AeroModelError(f"MotionModel.{name} must have shape {shape}, got {v.shape}")
+    if not np.all(np.isfinite(v)):
+        raise AeroModelError(f"MotionModel.{name} contains NaN or inf")
+    return v.astype(float)
+
+
 @dataclass(frozen=True)
 class MotionModel:
     """Fitted aerodynamic model of the section's motion (and optionally gust), convective time.
@@ -98,6 +114,17 @@ class MotionModel:
     gust_max_error: float = float("nan")
     omega: np.ndarray = field(default=None, repr=False)
     gust_identification: Any = field(default=None, repr=False)
+
+    def __post_init__(self):
+        """Shapes and values checked once (a model built by hand reaches flutter and gust solvers unchecked
+        otherwise): :class:`AeroModelError` naming the attribute."""
+        for name in ("M0", "M1", "M2"):
+            _check_real(name, getattr(self, name), (2, 2))
+        poles = _check_real("poles", self.poles, None)
+        if poles.ndim != 1 or np.any(poles <= 0):
+            raise AeroModelError(f"poles must be a 1-D array of positive lag roots beta_j (poles s = -beta_j); got "
+                                 f"{np.array2string(poles, precision=4)}")
+        _check_real("residues", self.residues, (poles.size, 2, 2))
 
     @property
     def n_lags(self) -> int:
@@ -260,6 +287,11 @@ def fit_motion(frf, order: int = 4, *, gust_order: int = 8, T: float | None = No
     if 2 * w.size < n_coef + 1:
         raise FitError(f"{w.size} frequencies cannot determine {n_coef} real coefficients per entry; give more frequencies "
                        "or a lower order")
+    if not np.any(Hm != 0):
+        raise FitError("the motion data (Cl and Cm for plunge and pitch) are zero at every frequency: nothing to fit; "
+                       "check the data's inputs and outputs")
+    if order and not np.any(w > 0):
+        raise FitError(f"{order} lag roots need data at positive frequencies; give some, or order=0")
     s = 1j * w
     peak = np.abs(Hm).max(axis=2, keepdims=True)
     # an entry that is zero throughout (e.g. the plunge column of static data) is weighted by the largest entry

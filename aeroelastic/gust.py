@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -133,10 +134,22 @@ def gust_response(aero: Any, section: TypicalSection, speed: float, gust: Any, t
         The model has no gust input, or the history is malformed.
     SpeedError
         ``speed`` not positive and finite.
+
+    Warns
+    -----
+    RuntimeWarning
+        The coupled section is unstable at ``speed`` (above its flutter or divergence speed): the history grows
+        without bound, and the warning gives the growth rate.
     """
     model = as_motion_model(aero, order, **fit_kw)
     if not model.has_gust:
         raise AeroModelError("the aerodynamic model has no 'gust' input; give data with inputs ['gust', 'plunge', 'pitch']")
     tt, u = _gust_history(gust, t)
     sys = coupled_model(model, section, speed, gust=True)
+    eig = np.linalg.eigvals(np.asarray(sys.A))
+    growth = float(eig.real.max()) if eig.size else 0.0
+    if growth > 1e-9 * max(1.0, float(np.abs(eig).max())):
+        warnings.warn(f"the coupled section is unstable at speed {float(speed):g} (growth rate {growth:.3g} per unit "
+                      "omega_alpha t): above its flutter or divergence speed, the gust response grows without bound",
+                      RuntimeWarning, stacklevel=2)
     return simulate(sys, section, speed, tt, u)

@@ -74,3 +74,26 @@ def test_errors():
         ae.fit_motion(th.theodorsen_frf([0.0, 0.5, 1.0], -0.2), 4)
     with pytest.raises(ae.FitError, match="positive lag roots"):
         ae.fit_motion(frf, 2, poles=[0.1, -0.2])
+
+
+@pytest.mark.parametrize("change, match", [
+    (dict(M0=np.full((2, 2), np.nan)), "M0 contains NaN"),
+    (dict(M1=np.zeros((3, 3))), r"M1 must have shape \(2, 2\)"),
+    (dict(M2="x"), "M2 must be an array of real numbers"),
+    (dict(poles=np.array([-0.3])), "poles must be a 1-D array of positive"),
+    (dict(residues=np.zeros((2, 2, 2))), r"residues must have shape \(1, 2, 2\)"),
+])
+def test_motion_model_checks_its_arrays(change, match):
+    good = dict(M0=np.eye(2), M1=np.zeros((2, 2)), M2=np.zeros((2, 2)), poles=np.array([0.3]),
+                residues=np.zeros((1, 2, 2)))
+    with pytest.raises(ae.AeroModelError, match=match):
+        ae.MotionModel(**{**good, **change})
+    assert ae.MotionModel(**good).n_lags == 1
+
+
+def test_all_zero_motion_data_is_a_fit_error():
+    frf = th.theodorsen_frf(W, -0.2)
+    zero = sysid.FrequencyResponse.from_continuous(np.zeros_like(frf.H), frf.omega, frf.T, inputs=frf.inputs,
+                                                   outputs=frf.outputs)
+    with pytest.raises(ae.FitError, match="zero at every frequency"):
+        ae.fit_motion(zero, 2)

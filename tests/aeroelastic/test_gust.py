@@ -100,3 +100,14 @@ def test_input_forms_and_errors(theo):
 def test_gust_history_must_be_one_dimensional_and_real(theo, history, match):
     with pytest.raises(ae.AeroModelError, match=match):
         ae.gust_response(theo, HP, 1.2, history)
+
+
+def test_above_the_flutter_speed_the_response_warns(theo):
+    # flutter of this section at V = 2.18 (Theodorsen): below it no warning, above it a RuntimeWarning
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        ae.gust_response(theo, HP, 1.5, U, t=T)
+    with pytest.warns(RuntimeWarning, match="unstable at speed 2.6"):
+        ae.gust_response(theo, HP, 2.6, U, t=T)
