@@ -33,7 +33,15 @@ def frequencies(omega):
 
 
 def frequency_grid(omega, T):
-    """Frequencies (checked) and the sampling period: ``T`` as given, else recovered from a McKelvey pair."""
+    """Frequencies (checked) and the sampling period: ``T`` as given (checked here, before any solve), else
+    recovered from a McKelvey pair."""
+    if T is not None:
+        try:
+            T = float(T)
+        except (TypeError, ValueError):
+            raise LinearError(f"T (sampling period of the data, convective time) must be a number; got {T!r}") from None
+        if not (np.isfinite(T) and T > 0):
+            raise LinearError(f"T (sampling period of the data, convective time) must be positive and finite; got {T!r}")
     omega_d, w = frequencies(omega)
     if T is None and omega_d is not None:
         inner = np.isfinite(w) & (w > 0)

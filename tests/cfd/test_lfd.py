@@ -176,3 +176,11 @@ def test_vortex_far_field_rank_one_term(thick):
     d = 3.0 * lin.V
     np.testing.assert_allclose(lin.solver(d)(d[:, None] * x + lin.apply_jacobian(x)), x, rtol=0, atol=1e-8)
     assert z @ lin.apply_jacobian(x[:, 0]) == pytest.approx(lin.apply_jacobian(z, transpose=True) @ x[:, 0], rel=1e-12)
+
+
+@pytest.mark.parametrize("T", [0.0, -1.0, np.nan, "x"])
+@pytest.mark.parametrize("method", ["direct", "fast"])
+def test_bad_sampling_period_is_refused_up_front(plate, T, method):
+    # checked with the frequencies, before any solve (it used to fail only when the response was assembled)
+    with pytest.raises(LinearError, match="T \\(sampling period"):
+        lfd_response(plate, [0.5, 1.0], T=T, method=method)
