@@ -57,9 +57,12 @@ KUSSNER_JONES = ((0.236, 0.058), (0.513, 0.364), (0.171, 2.42))
 
 
 def _as_k(k: Any) -> np.ndarray:
-    kk = np.asarray(k, dtype=float)
+    try:
+        kk = np.asarray(k, dtype=float)
+    except (TypeError, ValueError):
+        raise SpeedError(f"reduced frequencies k must be real numbers, got {k!r}") from None
     if np.any(~np.isfinite(kk)) or np.any(kk < 0):
-        raise ValueError(f"reduced frequencies k must be finite and >= 0, got {k!r}")
+        raise SpeedError(f"reduced frequencies k must be finite and >= 0, got {k!r}")
     return kk
 
 
@@ -110,7 +113,7 @@ def sears_function(k: Any, reference: str = "midchord") -> np.ndarray:
         return S
     if reference == "leading_edge":
         return S * np.exp(-1j * kk)
-    raise ValueError(f"reference must be 'midchord' or 'leading_edge', got {reference!r}")
+    raise AeroModelError(f"reference must be 'midchord' or 'leading_edge', got {reference!r}")
 
 
 def _check_a(a: Any) -> float:

@@ -11,7 +11,7 @@ from .euler import Scheme, residual
 from .jacobian import jacobian
 from .loads import force_coefficients, wall_cp
 from .steady import SteadySolution, solve_steady
-from .analytic import kussner, sears, sears_compressible, wagner
+from .analytic import AnalyticError, kussner, sears, sears_compressible, wagner
 from .gust import GustError, GustPositionError, OneMinusCosine, SharpEdged, SineGust
 from .linear import LinearError, LinearSystem, linearise
 from .lfd import lfd_response

@@ -105,3 +105,11 @@ def test_frf_layout_and_errors():
     np.testing.assert_allclose(frf.H[1, 0], frf.H[0, 0] * (-0.2 + 0.5) / 2)
     with pytest.raises(AeroModelError, match="infinite at omega = inf"):
         th.theodorsen_motion([0.0, np.inf], -0.2)
+
+
+@pytest.mark.parametrize("k", [-1.0, np.nan, "x"])
+def test_bad_reduced_frequency_is_a_speed_error(k):
+    with pytest.raises(ae.SpeedError, match="reduced frequencies k"):
+        th.theodorsen_function(k)
+    with pytest.raises(ae.SpeedError, match="reduced frequencies k"):
+        th.sears_function(k)
