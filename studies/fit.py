@@ -76,6 +76,7 @@ from .fit_data import FREQ_UNITS, FitInputError, load_data
 from .exit_codes import EXIT_FAILED, EXIT_NOT_WRITTEN, EXIT_OK
 from .exit_codes import EXIT_UNAVAILABLE as EXIT_BAD_INPUT  # 2: bad input, found before anything is computed
 from .files import atomic_write_text
+from .numbers import parse_number
 
 HOLDOUT_RTOL, HOLDOUT_ATOL = 0.1, 1e-6
 
@@ -402,43 +403,13 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     return p
 
 
-def _arithmetic(text: str) -> float:
-    """Value of ``text``: numbers, ``pi``, ``+ - * /``, unary minus and parentheses (no calls, no powers).
-
-    Raises ValueError for anything else (or a division by zero)."""
-    import ast
-    import operator
-
-    ops = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul, ast.Div: operator.truediv}
-
-    def value(node) -> float:
-        if isinstance(node, ast.Constant) and type(node.value) in (int, float):
-            return float(node.value)
-        if isinstance(node, ast.Name) and node.id == "pi":
-            return math.pi
-        if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
-            v = value(node.operand)
-            return -v if isinstance(node.op, ast.USub) else v
-        if isinstance(node, ast.BinOp) and type(node.op) in ops:
-            return ops[type(node.op)](value(node.left), value(node.right))
-        raise ValueError(f"{type(node).__name__} is not allowed")
-
-    if len(text) > 200:
-        raise ValueError("too long")
-    try:
-        return value(ast.parse(text.strip(), mode="eval").body)
-    except (SyntaxError, ZeroDivisionError, OverflowError) as e:
-        raise ValueError(str(e)) from None
-
-
 def _parse_T(text: str | None, file) -> float | None:
     if text is None:
         return None
     try:
-        v = _arithmetic(str(text))
-    except ValueError:
-        raise FitInputError(file, "--T", f"{text!r} is not a number (e.g. 11.14 or 70/(2*pi): numbers, pi, "
-                                         "+ - * / and parentheses)") from None
+        v = parse_number(str(text))  # the study files' arithmetic: numbers, pi, e, tau, + - * / ** and parentheses
+    except ValueError as e:
+        raise FitInputError(file, "--T", f"{e} (e.g. 11.14 or 70/(2*pi))") from None
     if not (math.isfinite(v) and v > 0):
         raise FitInputError(file, "--T", f"must be positive and finite, got {text}")
     return v

@@ -33,10 +33,11 @@ def test_theodorsen_fit_error_and_structure(theo_fit):
     np.testing.assert_allclose(m.evaluate_gust([0.0])[:, 0, 0], [2 * np.pi, 2 * np.pi * 0.3 / 2], rtol=1e-8)
 
 
-@pytest.mark.parametrize("order, bound", [(2, 3e-2), (3, 1e-2), (6, 1e-3)])
-def test_fit_error_falls_with_order(order, bound):
-    m = ae.fit_motion(th.theodorsen_frf(W, -0.2), order)
-    assert m.max_error < bound
+def test_fit_error_falls_with_order():
+    # Theodorsen's C(k) is not rational: each added lag root must lower the error (measured 1.6e-2, 5.3e-3,
+    # 1.8e-3, 2.2e-4), and six roots bring it below 1e-3 of the data
+    errors = [ae.fit_motion(th.theodorsen_frf(W, -0.2), order).max_error for order in (2, 3, 4, 6)]
+    assert np.all(np.diff(errors) < 0) and errors[-1] < 1e-3
 
 
 def test_exact_models_are_recovered():

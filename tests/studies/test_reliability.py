@@ -72,9 +72,11 @@ def test_impossible_studies_are_refused_with_the_key(kw, key, match):
 
 
 def test_accepted_limits_are_accepted():
-    loads_study(study_text(T=str(T_RANGE[0]), orders="2", dc="match"))
-    loads_study(study_text(T=str(T_RANGE[1])))
-    loads_study(study_text(dt="0.02", t_end=str(0.02 * MAX_STEPS)))
+    low = loads_study(study_text(T=str(T_RANGE[0]), orders="2", dc="match"))
+    assert low.cases[0].T == (T_RANGE[0],) and low.cases[0].orders == (2,) and low.methods[0].dc_gain == "match"
+    assert loads_study(study_text(T=str(T_RANGE[1]))).cases[0].T == (T_RANGE[1],)
+    longest = loads_study(study_text(dt="0.02", t_end=str(0.02 * MAX_STEPS))).simulation
+    assert (longest.dt, longest.t_end) == (0.02, 0.02 * MAX_STEPS)
 
 
 @pytest.mark.parametrize("algorithm", ["subspace", "relocation"])
@@ -477,7 +479,8 @@ def test_report_of_an_incomplete_store_is_not_a_success(computed, tmp_path, caps
 
 
 def test_no_gusts_no_step_limit():
-    loads_study(study_text(dt="1e-9").replace('gusts = ["G3"]', "gusts = []"))
+    cfg = loads_study(study_text(dt="1e-9").replace('gusts = ["G3"]', "gusts = []"))
+    assert cfg.gusts == () and cfg.simulation.dt == 1e-9
 
 
 def test_grid_limits():

@@ -50,7 +50,9 @@ def test_noisy_hold_out_error_is_minimal_near_true_order(seed):
     ho = sw.holdout_error
     assert ho[4] <= 1.5 * np.nanmin(ho)  # true order within 50% of the best hold-out error
     assert ho[0] > 10 * np.nanmin(ho)  # and far better than order 1
-    assert 1 <= sw.suggested <= 20
+    # the suggestion is near the true order 5: at this noise a weakly excited mode may sink below it (3 - 5 seen
+    # over the seeds), but a suggestion far above 5 would be fitting the noise
+    assert abs(sw.suggested - 5) <= 2
 
 
 def test_sweep_errors_agree_with_identify():
