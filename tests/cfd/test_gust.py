@@ -222,11 +222,11 @@ def test_bad_input():
         SharpEdged(angle_deg=95.0)
     with pytest.raises(GustPositionError, match="x0"):
         OneMinusCosine(length=1.0, angle_deg=1.0, x0=0.0)
-    with pytest.raises(ValueError):
+    with pytest.raises(GustError, match="exactly one of omega"):
         SineGust(angle_deg=1.0, omega=1.0, wavelength=2.0)
-    with pytest.raises(GustError):
+    with pytest.raises(GustError, match="omega = -1.0 must be positive"):
         SineGust(angle_deg=1.0, omega=-1.0)
-    with pytest.raises(GustError):
+    with pytest.raises(GustError, match="wavelength must be finite"):
         SineGust(angle_deg=1.0, wavelength=np.inf)
 
 

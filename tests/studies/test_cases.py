@@ -1,5 +1,6 @@
 """The case catalogue: the paper's tables, lookups, user cases and their validation, cfd gust objects."""
 
+import dataclasses
 import math
 
 import pytest
@@ -115,7 +116,7 @@ def test_to_gust_builds_the_cfd_objects():
 
 
 def test_frozen_and_table():
-    with pytest.raises(Exception):
+    with pytest.raises(dataclasses.FrozenInstanceError, match="cannot assign to field 'mach'"):
         TEST_CASES["T1"].mach = 0.3
     flows, gusts = case_table()
     assert [r["name"] for r in flows] == list(PAPER_T) and [r["name"] for r in gusts] == list(PAPER_G)

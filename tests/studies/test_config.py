@@ -231,9 +231,13 @@ def test_parse_number(value, expected):
     assert parse_number(value) == pytest.approx(expected, rel=1e-15)
 
 
-@pytest.mark.parametrize("value", ["pi()", "x", "a.b", "[1]", "10**10**10", "1 if 1 else 2", True, None, "", "1/0"])
-def test_parse_number_rejects(value):
-    with pytest.raises(ValueError):
+@pytest.mark.parametrize("value, match", [
+    ("pi()", "only numbers, pi, e, tau"), ("x", "only numbers, pi, e, tau"), ("a.b", "only numbers, pi, e, tau"),
+    ("[1]", "only numbers, pi, e, tau"), ("10**10**10", "overflows"), ("1 if 1 else 2", "only numbers, pi, e, tau"),
+    (True, "expected a number"), (None, "expected a number"), ("", "expected a number"), ("1/0", "divides by zero"),
+])
+def test_parse_number_rejects(value, match):
+    with pytest.raises(ValueError, match=match):
         parse_number(value)
 
 

@@ -320,10 +320,10 @@ def test_method_1_on_non_equispaced():
         identify(frf, 1, method="mckelvey1")
 
 
-@pytest.mark.parametrize("order", [0, 40])
-def test_bad_order(order):
+@pytest.mark.parametrize("order, match", [(0, "order must be >= 1"), (40, "order 40 is beyond what the data support")])
+def test_bad_order(order, match):
     frf, _ = data(seed=0, M=16)
-    with pytest.raises(OrderError):
+    with pytest.raises(OrderError, match=match):
         identify(frf, order)
 
 
