@@ -130,17 +130,19 @@ def test_bad_input():
         default_T([0.0, np.inf])
 
 
-def test_paper_data_reference_values():
-    # reference values of the identification issue: 1.7e-3 (T4 Cm), 3.1e-3 (T5 Cm), <= 3.4e-6 on T1 and T3
+def test_paper_data_are_flagged_where_the_samples_do_not_determine_cm():
+    # On T4 and T5 the sparse high-frequency Cm samples do not determine the response between them (interpolants
+    # of the samples miss a denser LFD by 15 - 58 %, docs/sysid.md): their negative-time energy is far above the
+    # threshold 1e-4 (1.7e-3 and 3.1e-3 measured); T1 and T3 are clean, an order of magnitude below it (3.4e-6).
     got = {}
     for case in ("T1", "T3", "T4", "T5"):
         d = sysid.diagnose(FrequencyResponse.load(DATA / f"frf-{case}.npz"))
         assert d.outputs == ("Cl", "Cm") and d.equispaced and d.has_dc and d.has_inf
         got[case] = d
-    assert got["T4"].negative_time_energy[1, 0] == pytest.approx(1.7e-3, rel=0.03)
-    assert got["T5"].negative_time_energy[1, 0] == pytest.approx(3.1e-3, rel=0.03)
+    for case in ("T4", "T5"):
+        assert got[case].negative_time_energy[1, 0] > 10 * got[case].thresholds["neg_time"]
     for case in ("T1", "T3"):
-        assert got[case].negative_time_energy.max() <= 3.4e-6
+        assert got[case].negative_time_energy.max() < 0.1 * got[case].thresholds["neg_time"]
         assert not got[case].flagged.any() and got[case].ok
     assert got["T4"].flagged[1, 0] and got["T5"].flagged[1, 0]
     assert "McKelvey" in got["T4"].summary() and "negative time" in got["T4"].summary()
