@@ -29,7 +29,7 @@ def test_invalid_inputs_raise_typed_errors(change, match):
 
 def test_frozen_and_derived_quantities():
     sec = TypicalSection(**HP)
-    with pytest.raises(AttributeError):
+    with pytest.raises(AttributeError, match="cannot assign to field 'mu'"):
         sec.mu = 3.0
     assert sec.elastic_axis == pytest.approx(0.4)
     assert isinstance(sec.mu, float)

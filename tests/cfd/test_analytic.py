@@ -101,9 +101,9 @@ def test_wagner_is_step_response_of_theodorsen():
 
 
 def test_bad_input():
-    with pytest.raises(AnalyticError):
+    with pytest.raises(AnalyticError, match="omega must be finite and >= 0"):
         sears(-1.0)
-    with pytest.raises(ValueError):
+    with pytest.raises(AnalyticError, match="omega must be finite and >= 0"):
         sears([np.nan])
     with pytest.raises(AnalyticError, match="reference"):
         sears(1.0, reference="trailing_edge")

@@ -94,7 +94,7 @@ def test_naca_returns_frozen_aerofoil_and_points():
     assert x.shape == y.shape == (41,) and foil.coordinates(10)[0].shape == (11,)
     assert (x[0], y[0]) == (x[-1], y[-1]) == (1.0, 0.0)
     assert x[20] == 0.0 and np.all(y[:20] <= 0) and np.all(y[21:] >= 0)
-    with pytest.raises(AttributeError):
+    with pytest.raises(AttributeError, match="cannot assign to field 't'"):
         foil.t = 0.2
     assert naca("NACA 2410") == naca("2410")
 

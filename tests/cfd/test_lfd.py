@@ -62,7 +62,7 @@ def test_bad_input(plate):
         lfd_response(plate, [1.0], gust="fbc")
     with pytest.raises(LinearError, match="output"):
         lfd_response(plate, [1.0], outputs=("Cl", "Cn"))
-    with pytest.raises(ValueError):
+    with pytest.raises(LinearError, match="x_ref"):
         lfd_response(plate, [1.0], x_ref=np.inf)
 
 

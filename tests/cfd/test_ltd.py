@@ -87,8 +87,8 @@ def test_one_minus_cosine_history(lin):
     H0 = lfd_response(lin, [0.0], outputs="Cl").H[0, 0, 0].real
     assert 0.3 * H0 * g.amplitude < h.cl.max() < H0 * g.amplitude
     assert h.t[np.argmax(h.cl)] > 4.0
-    with pytest.raises(ValueError):
-        h.cl[0] = 1.0  # frozen
+    with pytest.raises(ValueError, match="read-only"):
+        h.cl[0] = 1.0
 
 
 @pytest.mark.filterwarnings("ignore:dt = 0.05 gives an estimated BDF2 phase-rate error:RuntimeWarning")

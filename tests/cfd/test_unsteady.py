@@ -66,8 +66,8 @@ def test_history_fields_totals_and_snapshots(coarse):
     np.testing.assert_allclose(u.snapshots[1.0].ravel() - coarse.q.ravel(), u.q, atol=1e-15)
     assert u.amplitude_deg == 0.5 and u.method == "svm" and u.dt == 0.1
     assert np.all(u.residual[1:] <= 1e-8) and u.info["steady_residual"] < 1e-10
-    with pytest.raises(ValueError):
-        u.cl[0] = 1.0  # read-only, as the LTD's
+    with pytest.raises(ValueError, match="read-only"):
+        u.cl[0] = 1.0  # as the LTD's
 
 
 def test_zero_gust_stays_steady_and_progress_is_called(coarse):

@@ -171,7 +171,7 @@ def test_already_stable_is_returned_unchanged_and_errors():
     assert rf.spectral_radius_after < 1 - 1e-3
     with pytest.raises(ValueError, match="method"):
         stabilise(2 * A + np.eye(2), method="magic")
-    with pytest.raises(FrequencyDataError):
+    with pytest.raises(FrequencyDataError, match=r"A must be a non-empty square matrix; got shape \(2, 3\)"):
         stabilise(np.ones((2, 3)))
     with pytest.raises(ValueError, match="margin"):
         stabilise(A, margin=1.5)
