@@ -67,8 +67,9 @@ def test_jones_time_domain_model_flutters_where_the_determinant_with_jones_c_say
     fit = ae.flutter(ae.fit_motion(th.jones_frf(W, HP.a), 2, gust_order=3), HP, SPEEDS)
     assert fit.speed_index == pytest.approx(dj.speed_index, rel=1e-8)
     assert fit.frequency_ratio == pytest.approx(dj.frequency_ratio, rel=1e-7)
-    # Jones' approximation flutters 0.6 % below the exact C(k): the known size of its error
-    assert dj.speed_index / determinant.speed_index - 1 == pytest.approx(-0.0062, abs=5e-4)
+    # Jones' C(k) is within 1 - 2.3 % of Theodorsen's over k = 0.05 .. 1, and so are the flutter speeds
+    # (-0.62 % measured): a sign or coefficient slip in either model would move them apart by far more
+    assert abs(dj.speed_index / determinant.speed_index - 1) < 0.01
 
 
 def test_quasi_steady_limit():

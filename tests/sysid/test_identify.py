@@ -206,7 +206,9 @@ def test_output_matrix_refit_on_aerofoil_data():
     def err(res):
         return np.abs(res.evaluate(frf.omega_d)[:, 0] - G).max(axis=-1) / np.abs(G).max(axis=-1)
 
-    assert err(keep)[1] > 1.0 and err(both)[1] < 0.15 and err(both)[0] < 0.04
+    # the refit must mend what keeping C broke (Cm above its own peak) and improve both outputs, Cm by 10x at least
+    e_keep, e_both = err(keep), err(both)
+    assert e_keep[1] > 1.0 and e_both[1] < 0.1 * e_keep[1] and e_both[0] < e_keep[0]
     assert both.stabilisation.method == "lmi" and both.spectral_radius < 1 - 1e-3 and both.dc_error < 1e-9
 
 

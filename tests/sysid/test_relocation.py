@@ -259,13 +259,14 @@ def test_mimo_auto_keeps_the_subspace_algorithm():
 
 
 def test_paper_data_beats_the_old_stable_path():
-    # T4 (the hardest paper case for Cm): the old stable path's Cm error at N_r = 15 was 0.55 of Cm's peak,
-    # stable vector fitting's 0.047 (bench/sysid_peers_bench.py); the relocation is well below both on the
-    # samples (between them it resonates, so the default falls back there: test_identify.py)
+    # T4 (the hardest paper case for Cm): the old stable path's Cm error at N_r = 15 was 0.55 of Cm's peak;
+    # stable vector fitting (scikit-rf) at equal order on these data, the peer: 0.0538 (Cl) and 0.0216 (Cm)
+    # (docs/sysid.md, bench/sysid_peers_bench.py); the relocation must be below it on both outputs (between
+    # the samples it resonates, so the default falls back there: test_identify.py)
     frf = FrequencyResponse.load(DATA / "frf-T4.npz")
     res = identify(frf, 15, dc_gain="match", stable=True, algorithm="relocation")
     assert res.spectral_radius < 1 - 1e-3 and res.dc_error < 1e-10
-    assert res.errors.max_rel_per_output[1] < 0.047 and res.errors.max_rel_per_output[0] < 0.056
+    assert res.errors.max_rel_per_output[0] < 0.0538 and res.errors.max_rel_per_output[1] < 0.0216
 
 
 # ---------------------------------------------------------------------------- between the samples
