@@ -33,6 +33,7 @@ import os
 import sys
 import time
 import warnings
+from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Optional
@@ -250,6 +251,11 @@ def run_study(study, *, output_dir=None, store_dir=None, scheduler: Optional[str
     return results
 
 
+#: What a task lost with its worker process is told (a BrokenProcessPool says nothing of the cause).
+LOST_WORKER = ("a worker process died (killed, e.g. out of memory) and the pool with it; what is stored is kept, "
+               "run again to compute the rest: ")
+
+
 def _run(config: StudyConfig, pool, display: ProgressDisplay, force: bool, state: dict) -> StudyResults:
     root = str(config.store_dir)
     base = open_store(config)
@@ -291,8 +297,17 @@ def _run(config: StudyConfig, pool, display: ProgressDisplay, force: bool, state
     pending = {}  # future -> (kind, case, progress key)
     task_failures: list = []  # tasks that failed outside their pieces (their pieces were not stored)
 
+    def fail_task(kind, case_name, e):
+        text = (LOST_WORKER if isinstance(e, BrokenProcessPool) else "") + error_text(e)
+        tracker.say(f"{kind} task of {case_name} failed: {text}")
+        task_failures.append(dict(kind=kind, case=case_name, error=text, write=isinstance(e, OSError)))
+
     def submit(kind, case_name, fn, *args, key=None):
-        pending[pool.submit(fn, *args)] = (kind, case_name, key)
+        try:
+            pending[pool.submit(fn, *args)] = (kind, case_name, key)
+        except BrokenProcessPool as e:  # a worker died before: this task cannot start, the others still end
+            display.task_done(key)
+            fail_task(kind, case_name, e)
 
     cfd_left = {name: 0 for name in plan}
 
@@ -348,9 +363,7 @@ def _run(config: StudyConfig, pool, display: ProgressDisplay, force: bool, state
             try:
                 reports = future.result()
             except Exception as e:  # noqa: BLE001 - a task that failed outside its pieces (e.g. the store)
-                tracker.say(f"{kind} task of {name} failed: {error_text(e)}")
-                task_failures.append(dict(kind=kind, case=name, error=error_text(e),
-                                          write=isinstance(e, OSError)))
+                fail_task(kind, name, e)
                 reports = []
             for report in reports:
                 tracker.piece(report)

@@ -220,3 +220,42 @@ def test_lfdrom_rom_writes_npz_and_mat(computed, tmp_path, monkeypatch, capsys):
     np.testing.assert_allclose(mat["A"], model.A)
     assert meta["order"] == 4 and meta["case"] == "T2" and meta["method"]["dc_gain"] == "match"
     assert list(model.output_labels) == ["Cl", "Cm"]
+
+
+def test_a_dead_worker_fails_its_tasks_and_the_run_ends_resumable(computed, tmp_path, monkeypatch):
+    """A worker killed mid-run (BrokenProcessPool: the task in flight fails, every later submit raises) must not
+    stop the runner with a traceback: the lost tasks are recorded with the cause, the run ends (exit 3), what
+    was stored stays, and the next run computes the rest."""
+    from concurrent.futures import Future
+    from concurrent.futures.process import BrokenProcessPool
+
+    from studies.executors import InlinePool
+
+    config, _, _ = computed
+    study = copy_study(config, tmp_path, drop=("ltd", "rom", "sim"))
+
+    class BreakingPool(InlinePool):
+        name = "a pool whose second task loses its worker"
+
+        def __init__(self):
+            self.n = 0
+
+        def submit(self, fn, *args):
+            self.n += 1
+            if self.n == 2:
+                f = Future()
+                f.set_exception(BrokenProcessPool("A process in the process pool was terminated abruptly"))
+                return f
+            if self.n > 2:
+                raise BrokenProcessPool("A child process terminated abruptly, the process pool is not usable")
+            return super().submit(fn, *args)
+
+    monkeypatch.setattr(runner, "make_pool", lambda *a, **k: BreakingPool())
+    res = run_study(study, progress=False)
+    lost = res.run.task_failures
+    assert lost and all("a worker process died" in t["error"] and not t["write"] for t in lost)
+    status, message = commands.run_status(res)
+    assert status == commands.EXIT_INCOMPLETE and "incomplete" in message
+    monkeypatch.undo()
+    again = run_study(study, progress=False)
+    assert again.complete and again.run.task_failures == ()
