@@ -160,6 +160,10 @@ class ResultStore:
     code : dict, optional
         A fixed code version for every key instead of :func:`studies.provenance.code_version` (tests, or to
         pin a store to a release).
+    required : mapping, optional
+        Piece -> names of the arrays an entry of that piece must hold unless it records a failure (metadata
+        ``status = "failed"``); an entry without them is treated as corrupted (deleted, recomputed), e.g. one
+        written with another payload layout under a key that hashes only the computing code.
 
     Examples
     --------
@@ -168,10 +172,12 @@ class ResultStore:
     >>> e.hit, e["H"].shape                                                     # doctest: +SKIP
     """
 
-    def __init__(self, root, *, dependencies: Optional[Mapping[str, tuple]] = None, code: Optional[dict] = None):
+    def __init__(self, root, *, dependencies: Optional[Mapping[str, tuple]] = None, code: Optional[dict] = None,
+                 required: Optional[Mapping[str, tuple]] = None):
         self.root = Path(root)
         self.dependencies = dict(PIECE_DEPENDENCIES if dependencies is None else dependencies)
         self._code = code
+        self._required = {piece: tuple(names) for piece, names in (required or {}).items()}
 
     # ---- keys and paths -------------------------------------------------------------------------
     def _check_piece(self, piece: str) -> str:
@@ -236,6 +242,10 @@ class ResultStore:
                     arrays = {name: z[name] for name in z.files}
             except Exception as e:  # noqa: BLE001 - any failure to decode is corruption
                 raise _Corrupt(f"array file cannot be read ({e})") from None
+            lacking = [n for n in self._required.get(piece, ()) if n not in arrays]
+            if lacking and (body.get("metadata") or {}).get("status") != "failed":
+                raise _Corrupt(f"arrays {', '.join(lacking)} are missing (another layout of the piece, e.g. written "
+                               "by another version)")
         except (_Corrupt, KeyError, TypeError, AttributeError) as e:
             reason = str(e) if isinstance(e, _Corrupt) else f"malformed metadata ({type(e).__name__}: {e})"
             log.warning("corrupted entry %s/%s (%s): deleted, it will be recomputed",

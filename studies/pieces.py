@@ -46,6 +46,7 @@ from .schema import CFDOptions, SimulationOptions, StudyConfig, SweepPoint, case
 
 __all__ = [
     "PIECES",
+    "PAYLOAD_ARRAYS",
     "steady_piece",
     "frf_piece",
     "rom_piece",
@@ -122,11 +123,16 @@ def store_dependencies() -> dict:
     return {piece: tuple(deps) for piece, deps in PIECE_DEPENDENCIES.items()}
 
 
+#: Arrays each piece's payload holds (the ``*_payload`` functions below); an entry of another layout is corrupt.
+PAYLOAD_ARRAYS = {"steady": ("q",), "frf": ("H", "omega_d", "omega"), "ltd": ("t", "u", "cl", "cm", "cd"),
+                  "rom": ("A", "B", "C", "D", "hankel_sv", "frf_rom"), "sim": ("t", "cl", "cm")}
+
+
 def open_store(config: StudyConfig, store_dir=None) -> ResultStore:
     """The :class:`studies.cache.ResultStore` of a study (``store_dir`` overrides ``config.store_dir``), with
-    the keys of :func:`store_dependencies`."""
+    the keys of :func:`store_dependencies` and the payload layouts of :data:`PAYLOAD_ARRAYS`."""
     return ResultStore(Path(store_dir) if store_dir is not None else config.store_dir,
-                       dependencies=store_dependencies())
+                       dependencies=store_dependencies(), required=PAYLOAD_ARRAYS)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -31,6 +31,7 @@ from sysid.simulate import rom_simulation
 
 from .cache import ResultStore
 from .pieces import (
+    PAYLOAD_ARRAYS,
     failure_payload,
     frf_payload,
     frf_piece,
@@ -66,7 +67,7 @@ class PinnedStore(ResultStore):
     """
 
     def __init__(self, root, codes: dict):
-        super().__init__(root, dependencies=store_dependencies())
+        super().__init__(root, dependencies=store_dependencies(), required=PAYLOAD_ARRAYS)
         self._codes = dict(codes)
 
     def code_version(self, piece: str) -> dict:

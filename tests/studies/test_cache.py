@@ -254,3 +254,17 @@ def test_rom_npz_round_trip(tmp_path, dt):
         np.testing.assert_array_equal(getattr(back, name), getattr(m, name))
     assert back.dt == m.dt and back.input_labels == ["gust"] and back.output_labels == ["Cl", "Cm"]
     assert meta == {"case": "T2"}
+
+
+def test_an_entry_of_another_payload_layout_is_recomputed(tmp_path, caplog):
+    """A valid entry whose arrays are not the piece's layout (written by another version under a key that hashes
+    only the computing code) would fail every reader with a KeyError: it is corrupt, deleted and recomputed; a
+    recorded failure (no arrays) is not."""
+    required = {"frf": ("H", "omega")}
+    store = ResultStore(tmp_path, code=CODE, required=required)
+    ResultStore(tmp_path, code=CODE).put("frf", CONFIG, {"H": np.ones(2)})  # no omega: another layout
+    with caplog.at_level(logging.WARNING, logger="studies.cache"):
+        assert store.get("frf", CONFIG) is None
+    assert any("arrays omega are missing" in r.getMessage() for r in caplog.records)
+    store.put("frf", CONFIG, {}, {"status": "failed", "error": "diverged"})
+    assert store.get("frf", CONFIG).metadata["status"] == "failed"
