@@ -326,6 +326,13 @@ def cmd_run(args) -> int:
     workers = _workers(args.workers)
     if workers is None:
         return EXIT_UNAVAILABLE
+    from .executors import RunnerError, check_scheduler
+
+    try:
+        check_scheduler(args.scheduler)
+    except RunnerError as e:
+        _err(str(e))
+        return EXIT_UNAVAILABLE
     if args.dry_run or not args.quiet:
         print(_plan(config))
     status = _preflight(config, report=None if args.no_report else report_targets(config, args),

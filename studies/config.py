@@ -102,6 +102,7 @@ from .schema import (
     GUST_METHODS,
     MAX_M,
     MAX_STEPS,
+    MIN_GUST_STEPS,
     OUTPUTS,
     T_PAPER,
     T_RANGE,
@@ -426,7 +427,15 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
                                   None if length is None else P.number(length, f"{key}.length"),
                                   P.number(entry["angle_deg"], f"{key}.angle_deg")))
         except CaseError as e:
-            raise P.err(key, str(e)) from None
+            what = str(e).split(":", 1)[-1]
+            sub = next((f for f in ("kind", "length", "angle_deg") if f in what), None)
+            raise P.err(f"{key}.{sub}" if sub else key, str(e)) from None
+    for i, g in enumerate(gusts):
+        if g.length is not None and g.length < MIN_GUST_STEPS * dt:
+            raise P.err(f"gusts[{i}].length" if isinstance(raw_gusts[i], Mapping) else f"gusts[{i}]", (
+                f"gust {g.name!r} of length {g.length:g} chords passes the aerofoil in {g.length / dt:.3g} time steps "
+                f"of dt = {dt:g} (at least {MIN_GUST_STEPS}): the march would not resolve it; lengthen the gust or "
+                "use a smaller [simulation] dt"))
     gnames = [g.name.casefold() for g in gusts]
     for i, n in enumerate(gnames):
         if gnames.index(n) != i:

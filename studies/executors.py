@@ -23,7 +23,8 @@ from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor
 from concurrent.futures import wait as cf_wait
 from typing import Optional
 
-__all__ = ["InlinePool", "ProcessPool", "DaskPool", "make_pool", "RunnerError", "PARENT_POLL_S", "PROGRESS_POLL_S"]
+__all__ = ["InlinePool", "ProcessPool", "DaskPool", "make_pool", "check_scheduler", "RunnerError", "PARENT_POLL_S",
+           "PROGRESS_POLL_S"]
 
 
 class RunnerError(ValueError):
@@ -250,6 +251,14 @@ class DaskPool:
 
 
 
+def check_scheduler(scheduler: Optional[str]) -> Optional[str]:
+    """``scheduler`` if it is None, ``"local"`` or an address with a scheme (``tcp://host:8786``), else
+    :class:`RunnerError` (checked before anything runs, ``--dry-run`` included; reachability is not)."""
+    if scheduler is not None and (not isinstance(scheduler, str) or not (scheduler == "local" or "://" in scheduler)):
+        raise RunnerError(f"scheduler must be a Dask address such as 'tcp://host:8786' or 'local', got {scheduler!r}")
+    return scheduler
+
+
 def make_pool(scheduler: Optional[str], workers: Optional[int], progress=None):
     """The pool for a run's options (see the module docstring).
 
@@ -275,10 +284,7 @@ def make_pool(scheduler: Optional[str], workers: Optional[int], progress=None):
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         raise RunnerError(f"workers must be a positive integer, got {workers!r}")
     if scheduler is not None:
-        if not isinstance(scheduler, str) or not (scheduler == "local" or "://" in scheduler):
-            raise RunnerError(f"scheduler must be a Dask address such as 'tcp://host:8786' or 'local', got "
-                              f"{scheduler!r}")
-        return DaskPool(scheduler, workers)
+        return DaskPool(check_scheduler(scheduler), workers)
     if workers is None or workers == 1:
         return InlinePool()
     return ProcessPool(workers, progress=progress)

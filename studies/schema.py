@@ -29,6 +29,7 @@ __all__ = [
     "T_RANGE",
     "MAX_M",
     "MAX_STEPS",
+    "MIN_GUST_STEPS",
     "DISCRETISATIONS",
     "LTD_SCHEMES",
     "WEIGHTS",
@@ -50,6 +51,10 @@ grid and a "0.5 %" fit, ``T = 1e-300`` NaN models), a larger one crowds every sa
 MAX_M = 4096
 """Largest ``M_base`` (``N_omega = M + 1`` frequencies computed by the LFD per case and ``T``): 16 times the
 paper's 256."""
+
+MIN_GUST_STEPS = 4
+"""Fewest time steps of ``[simulation] dt`` in which a 1-cosine gust may pass the aerofoil (its length in chords
+over ``dt``): a shorter gust is not resolved by the march (at a length below ``dt`` its samples are all zero)."""
 
 MAX_STEPS = 1_000_000
 """Most time steps ``t_end / dt`` a study may ask of the LTD march (one sparse back-substitution per step,

@@ -50,3 +50,9 @@ def test_console_entry_in_a_subprocess():
     r = subprocess.run([sys.executable, "-c", "from studies.cli import main; raise SystemExit(main(['rom', 'T9', "
                         "'--order', '9']))"], cwd=ROOT, capture_output=True, text=True, timeout=120)
     assert r.returncode == 2 and "not a paper case" in r.stderr
+
+
+def test_dry_run_checks_the_scheduler(capsys):
+    # the scheduler's form is checked with the rest before anything runs, --dry-run included (exit 2)
+    assert cli.main(["run", str(ROOT / "studies" / "demo.toml"), "--scheduler", "bogus", "--dry-run"]) == 2
+    assert "scheduler must be a Dask address" in capsys.readouterr().err
