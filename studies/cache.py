@@ -52,6 +52,7 @@ from .provenance import code_version, provenance
 
 __all__ = [
     "CacheError",
+    "StoreReadError",
     "Entry",
     "ResultStore",
     "PIECE_DEPENDENCIES",
@@ -97,6 +98,11 @@ _ARRAY_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_.\-]{0,99}$")
 
 class CacheError(ValueError):
     """Bad use of the store: invalid piece name, arrays that cannot be stored, a bad compute result."""
+
+
+class StoreReadError(CacheError):
+    """An entry of the store cannot be read (a folder where its file should be, no permission, a store path
+    that is a file): not corruption that recomputing would mend, so it is reported, not deleted."""
 
 
 class _Corrupt(Exception):
@@ -213,6 +219,10 @@ class ResultStore:
             raw = jpath.read_bytes()
         except FileNotFoundError:
             return None
+        except OSError as e:
+            raise StoreReadError(f"the results store cannot be read at {jpath} ({type(e).__name__}: "
+                                 f"{e.strerror or e}); check the store folder (--store, [store] of the study) or "
+                                 "remove that entry") from None
         try:
             try:
                 doc = json.loads(raw)

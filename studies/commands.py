@@ -380,8 +380,13 @@ def _report(config: StudyConfig, args):
                    force_page=bool(getattr(args, "force_page", False)))
     if getattr(args, "out", None) is not None:
         options["output_dir"] = config.output_dir
+    from .cache import StoreReadError
+
     try:
         return make_report(config, **options)
+    except StoreReadError as e:
+        _err(str(e))
+        return EXIT_UNAVAILABLE
     except (NotWritableError, OSError) as e:
         _err(f"the report could not be written: {e}")
         return EXIT_NOT_WRITTEN

@@ -16,6 +16,7 @@ from studies import provenance as prov
 from studies.cache import (
     CacheError,
     ResultStore,
+    StoreReadError,
     export_rom_mat,
     export_rom_npz,
     load_rom_npz,
@@ -268,3 +269,14 @@ def test_an_entry_of_another_payload_layout_is_recomputed(tmp_path, caplog):
     assert any("arrays omega are missing" in r.getMessage() for r in caplog.records)
     store.put("frf", CONFIG, {}, {"status": "failed", "error": "diverged"})
     assert store.get("frf", CONFIG).metadata["status"] == "failed"
+
+
+def test_an_unreadable_entry_is_a_store_read_error_not_a_write_failure(tmp_path):
+    # a folder where the entry's file should be: not corruption (nothing is deleted), and not a write failure
+    store = ResultStore(tmp_path, code=CODE)
+    e = store.put("frf", CONFIG, arrays())
+    e.path.unlink()
+    e.path.mkdir()
+    with pytest.raises(StoreReadError, match="the results store cannot be read at .*IsADirectoryError"):
+        store.get("frf", CONFIG)
+    assert e.path.is_dir()

@@ -56,3 +56,12 @@ def test_dry_run_checks_the_scheduler(capsys):
     # the scheduler's form is checked with the rest before anything runs, --dry-run included (exit 2)
     assert cli.main(["run", str(ROOT / "studies" / "demo.toml"), "--scheduler", "bogus", "--dry-run"]) == 2
     assert "scheduler must be a Dask address" in capsys.readouterr().err
+
+
+def test_report_on_a_store_path_that_is_a_file_says_so(tmp_path, capsys):
+    store = tmp_path / "afile"
+    store.write_text("not a store")
+    status = cli.main(["report", str(ROOT / "studies" / "demo.toml"), "--store", str(store), "--out",
+                       str(tmp_path / "out")])
+    err = capsys.readouterr().err
+    assert status == 2 and "the results store cannot be read" in err and "could not be written" not in err
