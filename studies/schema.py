@@ -52,9 +52,10 @@ MAX_M = 4096
 """Largest ``M_base`` (``N_omega = M + 1`` frequencies computed by the LFD per case and ``T``): 16 times the
 paper's 256."""
 
-MIN_GUST_STEPS = 4
+MIN_GUST_STEPS = 2
 """Fewest time steps of ``[simulation] dt`` in which a 1-cosine gust may pass the aerofoil (its length in chords
-over ``dt``): a shorter gust is not resolved by the march (at a length below ``dt`` its samples are all zero)."""
+over ``dt``): a shorter one is missed or aliased by the sampling (below ``dt`` its samples can all be zero). Two
+steps give three samples of the bump, enough for the coarse test studies; real studies use 50 or more."""
 
 MAX_STEPS = 1_000_000
 """Most time steps ``t_end / dt`` a study may ask of the LTD march (one sparse back-substitution per step,
