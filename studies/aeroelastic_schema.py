@@ -51,6 +51,8 @@ from typing import Any, Callable, Optional
 
 import numpy as np
 
+from sysid.order_limits import max_order
+
 from .config_reader import did_you_mean
 from .numbers import normalise_float, parse_number
 from .schema import case_canonical
@@ -296,6 +298,16 @@ def parse_aeroelastic(table: Any, source: Callable[[str, str], Exception], cases
                             what="frequencies") if "omega" in table else DEFAULT_OMEGA)
     lags = _integer(source, table.get("lags", 4), "aeroelastic.lags", 0, MAX_LAGS)
     gust_order = _integer(source, table.get("gust_order", 8), "aeroelastic.gust_order", 1, 40)
+    # what the fits can take from len(omega) frequencies (omega = 0 among them), checked before any CFD
+    n_freq = len(omega)
+    if 2 * n_freq < lags + 3:  # Roger's fit: lags + 2 real coefficients per entry besides the static one
+        raise _error(source, "aeroelastic.lags", f"{lags} lag roots need at least {-(-(lags + 3) // 2)} "
+                     f"frequencies; aeroelastic.omega has {n_freq}: add frequencies or use fewer lags")
+    gust_limit = max_order(n_freq - 1, "mckelvey2", p=2, m=1)
+    if gust_order > gust_limit:
+        raise _error(source, "aeroelastic.gust_order", f"gust_order = {gust_order} is beyond what {n_freq} "
+                     f"frequencies support (at most {gust_limit}: sysid's limit for the gust column); add "
+                     "frequencies to aeroelastic.omega or lower gust_order")
     speeds = (_range_or_list(source, table["speeds"], "aeroelastic.speeds", zero=False, max_n=MAX_SPEEDS,
                              what="speed indices") if "speeds" in table else None)
     raw = table.get("sections")

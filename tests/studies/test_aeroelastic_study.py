@@ -71,8 +71,10 @@ def test_parse_defaults_and_grids(tmp_path):
     assert a.omega[0] == 0.0 and len(a.omega) == 25 and a.omega[-1] == pytest.approx(2.0)
     assert len(a.speeds) == 120 and a.sections[0].gust_speed == 1.5
     assert "25 motion frequencies" in describe(a) and "HP (mu 20, a -0.2" in describe(a)
-    cfg = study(tmp_path, '[aeroelastic]\ncases = ["m02"]\nomega = [0.1, 0.5, 1.0]\nspeeds = [1, 2, 3]\n' + SECTION)
-    assert cfg.aeroelastic.cases == ("M02",) and cfg.aeroelastic.omega == (0.0, 0.1, 0.5, 1.0)
+    # a list gets omega = 0 in front (15 values and 0: enough for the default gust_order 8)
+    listed = [round(0.1 * k, 1) for k in range(1, 16)]
+    cfg = study(tmp_path, f'[aeroelastic]\ncases = ["m02"]\nomega = {listed}\nspeeds = [1, 2, 3]\n' + SECTION)
+    assert cfg.aeroelastic.cases == ("M02",) and cfg.aeroelastic.omega == (0.0, *listed)
     # the study hash sees the section; a study without it keeps its hash
     assert study(tmp_path, AERO).hash() != loads_study(BASE, source="aero.toml", base_dir=tmp_path).hash()
     assert "aeroelastic" not in loads_study(BASE, source="aero.toml", base_dir=tmp_path).canonical()
@@ -91,6 +93,10 @@ def test_parse_defaults_and_grids(tmp_path):
     ("[aeroelastic]\nspeeds = { min = 0.1, max = 3.0 }\n" + SECTION, "aeroelastic.speeds.n", "missing"),
     ("[aeroelastic]\nspeeds = { min = 3.0, max = 1.0, n = 5 }\n" + SECTION, "aeroelastic.speeds", "above min"),
     ("[aeroelastic]\nlags = 40\n" + SECTION, "aeroelastic.lags", "between 0 and"),
+    ("[aeroelastic]\nomega = [0.1, 0.5]\nlags = 12\n" + SECTION, "aeroelastic.lags",
+     "12 lag roots need at least 8 frequencies; aeroelastic.omega has 3"),
+    ("[aeroelastic]\nomega = { min = 0.05, max = 1.0, n = 10 }\ngust_order = 40\n" + SECTION,
+     "aeroelastic.gust_order", "beyond what 11 frequencies support \\(at most 5"),
     ("[aeroelastic]\n" + SECTION + "gust_speed = 0\n", "aeroelastic.sections[0].gust_speed", "positive"),
     ("[aeroelastic]\nomega = 3\n" + SECTION, "aeroelastic.omega", "must be a table"),
 ])
@@ -162,11 +168,18 @@ def test_flutter_piece_computes_and_caches(tmp_path):
     assert np.max(np.abs(direct.Cl - g.Cl)) <= 1e-8 * np.max(np.abs(direct.Cl))
 
 
-def test_failed_flutter_is_stored_and_retried(tmp_path):
-    config = study(tmp_path, AERO.replace("lags = 4", "lags = 4\ngust_order = 30"))
+def test_failed_flutter_is_stored_and_retried(tmp_path, monkeypatch):
+    import aeroelastic
+
+    config = study(tmp_path, AERO)
     store = inject_theodorsen(config)
+
+    def refuse(*args, **kwargs):
+        raise aeroelastic.FitError("the fit refused these data (test)")
+
+    monkeypatch.setattr(aeroelastic, "fit_motion", refuse)
     (report,) = flutter_task(config, "M02", str(config.store_dir), codes_of(store), False)
-    assert report["status"] == "failed" and "order" in report["error"]
+    assert report["status"] == "failed" and "the fit refused these data" in report["error"]
     assert any("flutter of M02 with section HP failed" in f for f in load_results(config).failed)
     assert aeroelastic_plan(config, store, False)["M02"]["flutter"] == 1   # computed again by the next run
 
