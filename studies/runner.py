@@ -95,8 +95,9 @@ class RunInterrupted(KeyboardInterrupt):
     def __init__(self, computed: int, store_dir):
         self.computed = int(computed)
         self.store_dir = Path(store_dir)
-        super().__init__(f"interrupted after {self.computed} piece(s) stored in {self.store_dir}; they are kept, "
-                         "and running the same command again resumes from them")
+        super().__init__(f"interrupted after {self.computed} piece(s) stored in {self.store_dir} (and any the "
+                         "interrupted tasks had stored); they are kept, and running the same command again resumes "
+                         "from them")
 
     def __str__(self) -> str:
         return str(self.args[0]) if self.args else "interrupted"
@@ -349,37 +350,44 @@ def _run(config: StudyConfig, pool, display: ProgressDisplay, force: bool, state
             submit("nonlinear", name, nonlinear_task, config, name, gust, amps, root, codes, force,
                    key=task_key("nonlinear", f"{name} {gust}"))
 
-    for name, case_plan in plan.items():
-        if case_plan["steady"]:
-            submit("steady", name, steady_task, config, name, root, codes, key=task_key("steady", name))
-        else:
-            start_cfd(name)
+    try:
+        for name, case_plan in plan.items():
+            if case_plan["steady"]:
+                submit("steady", name, steady_task, config, name, root, codes, key=task_key("steady", name))
+            else:
+                start_cfd(name)
 
-    while pending:
-        done, _ = pool.wait(set(pending))
-        for future in done:
-            kind, name, key = pending.pop(future)
-            display.task_done(key)
-            try:
-                reports = future.result()
-            except Exception as e:  # noqa: BLE001 - a task that failed outside its pieces (e.g. the store)
-                fail_task(kind, name, e)
-                reports = []
-            for report in reports:
-                tracker.piece(report)
-            state["computed"] = tracker.done
-            if kind == "steady":
-                ok = reports and reports[0]["status"] == "ok"
-                if ok:
-                    start_cfd(name)
-                else:
-                    tracker.say(f"{name}: no steady flow, its FRFs, LTD histories and ROMs are skipped")
-            elif kind in ("frf", "ltd"):
-                cfd_left[name] -= 1
-                if cfd_left[name] == 0:
-                    start_roms(name)
-            elif kind == "motion" and reports and reports[0]["status"] == "ok":
-                start_aero(name, motion_done=True)
+        while pending:
+            done, _ = pool.wait(set(pending))
+            for future in done:
+                kind, name, key = pending.pop(future)
+                display.task_done(key)
+                try:
+                    reports = future.result()
+                except Exception as e:  # noqa: BLE001 - a task that failed outside its pieces (e.g. the store)
+                    fail_task(kind, name, e)
+                    reports = []
+                for report in reports:
+                    tracker.piece(report)
+                state["computed"] = tracker.done
+                if kind == "steady":
+                    ok = reports and reports[0]["status"] == "ok"
+                    if ok:
+                        start_cfd(name)
+                    else:
+                        tracker.say(f"{name}: no steady flow, its FRFs, LTD histories and ROMs are skipped")
+                elif kind in ("frf", "ltd"):
+                    cfd_left[name] -= 1
+                    if cfd_left[name] == 0:
+                        start_roms(name)
+                elif kind == "motion" and reports and reports[0]["status"] == "ok":
+                    start_aero(name, motion_done=True)
+    except KeyboardInterrupt:
+        # tasks that ended but were not handed back yet (with one process every task runs inside submit, so
+        # an interruption can leave finished ones behind) stored their pieces too: count them for the message
+        ended = [f for f in pending if f.done() and not f.cancelled() and f.exception() is None]
+        state["computed"] = tracker.done + sum(len(f.result()) for f in ended)
+        raise
 
     elapsed = time.perf_counter() - tracker.t0
     results = load_results(config, store_dir=config.store_dir)

@@ -259,3 +259,20 @@ def test_a_dead_worker_fails_its_tasks_and_the_run_ends_resumable(computed, tmp_
     monkeypatch.undo()
     again = run_study(study, progress=False)
     assert again.complete and again.run.task_failures == ()
+
+
+def test_interruption_counts_tasks_that_ended_before_it(computed, tmp_path, monkeypatch):
+    """With one process a task runs inside submit: a Ctrl-C in the case's FRF task comes after its LTD task
+    ended (its pieces stored) but before the runner took that task's reports; the message counts them."""
+    from studies.runner import RunInterrupted
+
+    config, _, _ = computed
+    study = copy_study(config, tmp_path, drop=("frf", "ltd", "rom", "sim"))
+
+    def interrupt(*a, **k):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(tasks, "lfd_on_mckelvey_grid", interrupt)
+    with pytest.raises(RunInterrupted) as e:
+        run_study(study, progress=False)
+    assert e.value.computed == len(load_results(study).ltd) == len(config.gusts) >= 1
