@@ -119,12 +119,13 @@ class MotionModel:
         """Shapes and values checked once (a model built by hand reaches flutter and gust solvers unchecked
         otherwise): :class:`AeroModelError` naming the attribute."""
         for name in ("M0", "M1", "M2"):
-            _check_real(name, getattr(self, name), (2, 2))
+            object.__setattr__(self, name, _frozen(_check_real(name, getattr(self, name), (2, 2))))
         poles = _check_real("poles", self.poles, None)
         if poles.ndim != 1 or np.any(poles <= 0):
             raise AeroModelError(f"poles must be a 1-D array of positive lag roots beta_j (poles s = -beta_j); got "
                                  f"{np.array2string(poles, precision=4)}")
-        _check_real("residues", self.residues, (poles.size, 2, 2))
+        object.__setattr__(self, "poles", _frozen(poles))
+        object.__setattr__(self, "residues", _frozen(_check_real("residues", self.residues, (poles.size, 2, 2))))
 
     @property
     def n_lags(self) -> int:

@@ -200,6 +200,12 @@ def flutter(aero: Any, section: TypicalSection, speeds: Any = None, *, order: in
     ------
     SpeedError
         Unusable speed grid, or ``tol`` not positive and finite.
+    SectionError
+        ``section`` not a :class:`TypicalSection`.
+    AeroModelError
+        ``aero`` neither a model nor data, or a fit option not in :data:`aeroelastic.coupling.FIT_OPTIONS`.
+    FitError
+        Data that cannot be fitted (see :func:`fit_motion`).
     """
     check_section(section)
     tol = _check_tol(tol)

@@ -74,7 +74,8 @@ def _gust_history(gust: Any, t: Any):
         except (TypeError, ValueError):
             real = False
         if not real:
-            raise AeroModelError(f"{name} must be an array of real numbers, got {type(a).__name__}")
+            kind = f"dtype {a.dtype}" if isinstance(a, np.ndarray) else type(a).__name__
+            raise AeroModelError(f"{name} must be an array of real numbers, got {kind}")
         if a.ndim != 1:
             raise AeroModelError(f"{name} must be 1-D (one gust history), got shape {a.shape}; give one history per "
                                  "call (or ravel it yourself if that is what you mean)")
@@ -131,7 +132,10 @@ def gust_response(aero: Any, section: TypicalSection, speed: float, gust: Any, t
     Raises
     ------
     AeroModelError
-        The model has no gust input, or the history is malformed.
+        The model has no gust input, the history is malformed, or a fit option is not in
+        :data:`aeroelastic.coupling.FIT_OPTIONS`.
+    SectionError
+        ``section`` not a :class:`TypicalSection`.
     SpeedError
         ``speed`` not positive and finite.
 

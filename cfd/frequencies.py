@@ -36,12 +36,16 @@ def frequency_grid(omega, T):
     """Frequencies (checked) and the sampling period: ``T`` as given (checked here, before any solve), else
     recovered from a McKelvey pair."""
     if T is not None:
+        what = "T (sampling period of the data, convective time) must be"
         try:
-            T = float(T)
+            T_value = None if isinstance(T, bool) else float(T)
         except (TypeError, ValueError):
-            raise LinearError(f"T (sampling period of the data, convective time) must be a number; got {T!r}") from None
-        if not (np.isfinite(T) and T > 0):
-            raise LinearError(f"T (sampling period of the data, convective time) must be positive and finite; got {T!r}")
+            T_value = None
+        if T_value is None:
+            raise LinearError(f"{what} a number; got {T!r}")
+        if not (np.isfinite(T_value) and T_value > 0):
+            raise LinearError(f"{what} positive and finite; got {T!r}")
+        T = T_value
     omega_d, w = frequencies(omega)
     if T is None and omega_d is not None:
         inner = np.isfinite(w) & (w > 0)

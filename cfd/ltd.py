@@ -148,6 +148,8 @@ def _check_initial(lin, initial, scheme):
     if initial is None:
         return None
     what = f"initial must be a pair (q_prev, q_now) of states of shape ({lin.n},) (4N, solver units)"
+    if isinstance(initial, np.ndarray) and initial.ndim == 2 and initial.shape[0] == 2:
+        initial = (initial[0], initial[1])  # a (2, 4N) array: its rows are the pair
     if isinstance(initial, np.ndarray) or not isinstance(initial, (tuple, list)) or len(initial) != 2:
         raise LinearError(f"{what}; got {type(initial).__name__}" + (
             f" of shape {np.shape(initial)}" if isinstance(initial, np.ndarray) else ""))
@@ -162,7 +164,8 @@ def _check_initial(lin, initial, scheme):
         except (TypeError, ValueError):
             ok = False
         if not ok:
-            raise LinearError(f"{what}; its {name} is not an array of real numbers: {type(a).__name__}")
+            kind = f"dtype {v.dtype}" if isinstance(a, np.ndarray) else type(a).__name__
+            raise LinearError(f"{what}; its {name} is not an array of real numbers: {kind}")
         if v.shape != (lin.n,):
             raise LinearError(f"{what}; its {name} has shape {v.shape}")
         if not np.all(np.isfinite(v)):

@@ -3,11 +3,11 @@
 Node, cell and face indices follow the conventions in the docstring of :mod:`cfd.mesh`.
 """
 
-import operator
 from dataclasses import dataclass
 
 import numpy as np
 
+from .checks import whole_number
 from .errors import MeshError
 
 __all__ = ["Grid", "grid_from_nodes"]
@@ -90,10 +90,7 @@ def _coincident_pairs(x, y):
 def _check_wake(x, y, n_wake):
     """``n_wake`` as an int, or :class:`MeshError` unless it is a whole number that fits and matches the cut."""
     ni = x.shape[0]
-    try:
-        n = None if isinstance(n_wake, bool) else operator.index(n_wake)
-    except TypeError:
-        n = None
+    n = whole_number(n_wake)
     if n is None:
         raise MeshError(f"n_wake must be a whole number (cells on each wake branch, e.g. grid.n_wake); got {n_wake!r}")
     if n < 0 or ni - 1 - 2 * n < 4:

@@ -40,13 +40,13 @@ with ``q0`` the free-stream residual is evaluated once for the reference).
 
 import logging
 import math
-import operator
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
 
+from .checks import whole_number
 from .superlu import splu_nested, splu_pivoted
 from .errors import ConvergenceError, FlowConditionError, MeshError
 from .euler import DEFAULT_SCHEME, Scheme, residual as _euler_residual, spectral_radius_sum
@@ -180,12 +180,10 @@ def _positive_setting(name, value, hint, upper=None):
     return v
 
 
-def _count_setting(name, value, hint):
-    """``value`` as an int, or :class:`FlowConditionError` unless it is a whole number ``>= 0``."""
-    try:
-        n = None if isinstance(value, bool) else operator.index(value)
-    except TypeError:
-        n = None
+def _count_setting(name, value, hint, allow_inf=False):
+    """``value`` as an int (or inf, a limit that never binds, with ``allow_inf``), or :class:`FlowConditionError`
+    unless it is a whole number ``>= 0`` (``100.0`` is one)."""
+    n = whole_number(value, allow_inf)
     if n is None or n < 0:
         raise FlowConditionError(f"{name} must be a whole number >= 0 ({hint}); got {value!r}")
     return n
@@ -209,8 +207,8 @@ def _check_settings(tol, scheme, strategy, n_rk, cfl0, max_newton, max_chord):
     if cfl0 is not None:
         cfl0 = _positive_setting("cfl0", cfl0, "CFL number of the first Newton step, e.g. 10, or None for the "
                                  "strategy's default")
-    max_newton = _count_setting("max_newton", max_newton, "Newton steps allowed, e.g. 100")
-    max_chord = _count_setting("max_chord", max_chord, "chord steps per factorisation, e.g. 30")
+    max_newton = _count_setting("max_newton", max_newton, "Newton steps allowed, e.g. 100", allow_inf=True)
+    max_chord = _count_setting("max_chord", max_chord, "chord steps per factorisation, e.g. 30", allow_inf=True)
     return tol, n_rk, cfl0, max_newton, max_chord
 
 

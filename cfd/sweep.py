@@ -52,7 +52,8 @@ from sysid import FrequencyResponse
 from .frequencies import check_motion_frequencies, check_pivot, check_x_ref, frequency_grid
 from .linear import LinearError, check_gust_method, check_linear_system, check_outputs
 from .motion import check_inputs
-from .sweep_basis import SAFETY, SweepBasis, face_gust_vector, gust_operator, whole_number  # noqa: F401
+from .checks import whole_number
+from .sweep_basis import SAFETY, SweepBasis, face_gust_vector, gust_operator  # noqa: F401
 from .sweep_workers import shift_workers
 
 __all__ = ["SweepBasis", "fast_sweep", "gust_operator", "face_gust_vector", "SAFETY"]  # (all but fast_sweep

@@ -11,6 +11,7 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 
+from .checks import whole_number
 from .orthonormal import ColumnBuffer, basis_coefficients, nested_extension, orthonormalise
 from .superlu import splu_nested, splu_pivoted
 from .gust import face_gust_harmonic
@@ -19,7 +20,7 @@ from .linear import LinearError, check_gust_method, check_outputs
 from .motion import motion_forcing
 from .ordering import nested_dissection, unknown_permutation
 
-__all__ = ["SweepBasis", "gust_operator", "face_gust_vector", "shift_blocks", "SAFETY", "whole_number"]
+__all__ = ["SweepBasis", "gust_operator", "face_gust_vector", "shift_blocks", "SAFETY"]
 
 log = logging.getLogger("cfd.sweep")
 
@@ -230,18 +231,6 @@ def shift_blocks(lin, perm, rows, omega, n_moments):
     return blocks, sizes, Z0, timings, [str(c.message) for c in caught]
 
 
-def whole_number(value):
-    """``value`` as an int if it is a whole number (``3``, ``np.int64(3)``, ``3.0``), else None (``True``, ``2.5``,
-    NaN, ``"3"``, None...)."""
-    if isinstance(value, (bool, str, bytes)):
-        return None
-    try:
-        n = int(value)
-    except (TypeError, ValueError, OverflowError):
-        return None
-    return n if n == value else None
-
-
 class SweepBasis:
     """Reduced dual basis of a :class:`~cfd.linear.LinearSystem`, reusable across sweeps.
 
@@ -273,9 +262,10 @@ class SweepBasis:
 
     def __init__(self, lin, outputs=("Cl", "Cm"), n_moments=16):
         names, rows = check_outputs(outputs)
-        n_moments = whole_number(n_moments)
-        if n_moments is None or n_moments < 2:
+        n_blocks = whole_number(n_moments)
+        if n_blocks is None or n_blocks < 2:
             raise LinearError(f"n_moments must be an integer >= 2 (Krylov blocks per shift); got {n_moments!r}")
+        n_moments = n_blocks
         self.lin = lin
         self.outputs = tuple(names)
         self.rows = list(rows)

@@ -58,6 +58,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from .errors import LocalMachError, NonPhysicalStateError, UnsteadyError, UnsteadyStepError  # noqa: F401 (re-exported)
+from .checks import whole_number
 from .euler import residual
 from .flow import FlowCondition, primitive
 from .frequencies import check_x_ref
@@ -179,8 +180,10 @@ def _check_settings(rtol, atol, max_iter, stall_ratio, max_refactor, snapshot_ti
     if not (real(stall_ratio) and 0.0 < stall_ratio <= 1.0):
         raise UnsteadyError(f"stall_ratio must be a number in (0, 1] (default 1/3); got {stall_ratio!r}")
     for name, v, low, default in (("max_iter", max_iter, 1, 25), ("max_refactor", max_refactor, 0, 3)):
-        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < low:
-            raise UnsteadyError(f"{name} must be a whole number >= {low} (default {default}); got {v!r}")
+        n = whole_number(v, allow_inf=True)
+        if n is None or n < low:
+            raise UnsteadyError(f"{name} must be a whole number >= {low} (default {default}; inf: no limit); "
+                                f"got {v!r}")
     for name, v, default in (("max_phase_error", max_phase_error, 0.01), ("max_local_mach", max_local_mach, 2.0),
                              ("separation_mach", separation_mach, 1.3), ("steady_tol", steady_tol, 1e-8)):
         if not (real(v) and v > 0.0):

@@ -105,6 +105,11 @@ class StoreReadError(CacheError):
     that is a file): not corruption that recomputing would mend, so it is reported, not deleted."""
 
 
+def _unreadable(path, e: OSError) -> StoreReadError:
+    return StoreReadError(f"the results store cannot be read at {path} ({type(e).__name__}: {e.strerror or e}); "
+                          "check the store folder (--store, [store] of the study) or remove that entry")
+
+
 class _Corrupt(Exception):
     """Internal: an entry failed verification."""
 
@@ -220,9 +225,7 @@ class ResultStore:
         except FileNotFoundError:
             return None
         except OSError as e:
-            raise StoreReadError(f"the results store cannot be read at {jpath} ({type(e).__name__}: "
-                                 f"{e.strerror or e}); check the store folder (--store, [store] of the study) or "
-                                 "remove that entry") from None
+            raise _unreadable(jpath, e) from None
         try:
             try:
                 doc = json.loads(raw)
@@ -243,6 +246,8 @@ class ResultStore:
                 data = npath.read_bytes()
             except FileNotFoundError:
                 raise _Corrupt(f"array file {npz['file']} is missing") from None
+            except OSError as e:
+                raise _unreadable(npath, e) from None
             if len(data) != npz["size"]:
                 raise _Corrupt(f"array file has {len(data)} bytes, expected {npz['size']} (truncated?)")
             if hashlib.sha256(data).hexdigest() != npz["sha256"]:

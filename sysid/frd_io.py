@@ -55,11 +55,13 @@ def load_frf(cls, path: str | Path):
             header = json.loads(str(f["header"]))
             meta = json.loads(str(f["metadata"]))
         except ValueError as exc:
-            header = meta = f"not JSON ({exc})"
+            header = meta = None
+            detail = f"not JSON ({exc})"
+        else:
+            detail = "not JSON objects, or the header lacks 'inputs' and 'outputs'"
         if not (isinstance(header, dict) and isinstance(meta, dict) and {"inputs", "outputs"} <= header.keys()):
             raise FrequencyDataError(f"{path}: 'header' or 'metadata' is not what FrequencyResponse.save writes "
-                                     "(JSON objects, the header with 'inputs' and 'outputs'); write the file with "
-                                     "FrequencyResponse.save")
+                                     f"({detail}); write the file with FrequencyResponse.save")
         H = f["H"]
         wd = f["omega_d"] if "omega_d" in f else None
         w = f["omega"] if "omega" in f else None

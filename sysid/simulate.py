@@ -168,7 +168,8 @@ def rom_simulation(A, B, C, D, T, t, u, discretisation="tustin", method="auto"):
     Raises
     ------
     TimeDataError
-        ``t`` not equispaced (to ``1e-9`` of its step) or not increasing, or ``u`` of another length.
+        ``t`` not equispaced (to ``1e-6`` of its step and size, beyond its rounding) or not increasing, or ``u`` of
+        another length.
     ValueError
         Fewer than two time points, or an unknown discretisation.
     ModelError
@@ -176,14 +177,19 @@ def rom_simulation(A, B, C, D, T, t, u, discretisation="tustin", method="auto"):
     """
     import control
 
-    t = np.asarray(t, dtype=float).reshape(-1)
+    t_in = np.asarray(t)
+    t = t_in.astype(float).reshape(-1)
     if t.size < 2:
         raise ValueError(f"need at least two time points, got {t.size}")
     dt = float(t[1] - t[0])
     steps = np.diff(t)
     if not (np.isfinite(dt) and dt > 0):
         raise TimeDataError(f"times must increase: t[1] - t[0] = {dt!r}; give equispaced increasing times")
-    bad = np.flatnonzero(~(np.abs(steps - dt) <= 1e-9 * dt))
+    # equispaced to 1e-6 of the step and of the times' size (times printed with six significant digits pass),
+    # beyond the rounding of their type (float32); a dropped or doubled sample is off by a whole step
+    eps = np.finfo(t_in.dtype).eps if np.issubdtype(t_in.dtype, np.floating) else np.finfo(float).eps
+    span = np.abs(t).max()
+    bad = np.flatnonzero(~(np.abs(steps - dt) <= 1e-6 * (dt + span) + 8 * eps * span))
     if bad.size:
         k = int(bad[0])
         raise TimeDataError(f"times must be equispaced (the ROM is re-discretised at one step): t[{k + 1}] - t[{k}] "
@@ -218,7 +224,8 @@ def rom_response(model, t, u, *, discretisation: str = "tustin", method: str = "
     Raises
     ------
     TimeDataError
-        ``t`` not equispaced (to ``1e-9`` of its step) or not increasing, or ``u`` of another length.
+        ``t`` not equispaced (to ``1e-6`` of its step and size, beyond its rounding) or not increasing, or ``u`` of
+        another length.
     ValueError
         Fewer than two time points, or an unknown discretisation or method.
     ModelError
@@ -226,9 +233,9 @@ def rom_response(model, t, u, *, discretisation: str = "tustin", method: str = "
     """
     import control
 
-    t = np.asarray(t, dtype=float)
     U = np.atleast_2d(np.asarray(u, dtype=float))
-    Y = rom_simulation(model.A, model.B, model.C, model.D, model.dt, t, U, discretisation, method)
+    Y = rom_simulation(model.A, model.B, model.C, model.D, model.dt, t, U, discretisation, method)  # t as given:
+    t = np.asarray(t, dtype=float)                                   # its rounding sets the equispacing check
     return control.TimeResponseData(t, Y, inputs=U, output_labels=list(model.output_labels),
                                     input_labels=list(model.input_labels), sysname=model.name, issiso=False,
                                     plot_inputs=True)

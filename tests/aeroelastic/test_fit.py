@@ -98,3 +98,9 @@ def test_all_zero_motion_data_is_a_fit_error():
                                                    outputs=frf.outputs)
     with pytest.raises(ae.FitError, match="zero at every frequency"):
         ae.fit_motion(zero, 2)
+
+
+def test_motion_model_keeps_its_arrays_frozen_even_from_lists():
+    m = ae.MotionModel(M0=[[1.0, 0.0], [0.0, 1.0]], M1=np.zeros((2, 2)), M2=np.zeros((2, 2)), poles=[0.3],
+                       residues=np.zeros((1, 2, 2)))
+    assert m.n_lags == 1 and isinstance(m.poles, np.ndarray) and not m.M0.flags.writeable

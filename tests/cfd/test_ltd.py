@@ -323,13 +323,22 @@ def test_x_ref_must_be_finite(lin, march, x_ref, match):
     (lambda n: (np.zeros(n), np.zeros((n, 1))), "q_now has shape"),
     (lambda n: (np.full(n, np.nan), np.zeros(n)), "q_prev contains NaN"),
     (lambda n: (np.zeros(n), np.full(n, np.inf)), "q_now contains NaN or inf"),
-    (lambda n: (np.zeros(n), np.zeros(n, complex)), "q_now is not an array of real numbers"),
+    (lambda n: (np.zeros(n), np.zeros(n, complex)), "q_now is not an array of real numbers: dtype complex128"),
     (lambda n: (np.zeros(n), "x"), "q_now is not an array of real numbers"),
 ])
 def test_initial_state_is_checked(lin, scheme, initial, match):
     g = OneMinusCosine(length=1.0, angle_deg=1.0, x0=-2.0)
     with pytest.raises(LinearError, match="initial must be a pair.*" + match):
         ltd_response(lin, g, 0.1, 1.0, initial=initial(lin.n), scheme=scheme)
+
+
+def test_initial_pair_may_be_a_two_row_array(lin):
+    # a (2, 4N) array's rows are the pair (q_prev, q_now), as before the checks; it marches like the tuple
+    g = OneMinusCosine(length=1.0, angle_deg=1.0, x0=-2.0)
+    q = np.zeros((2, lin.n))
+    a = ltd_response(lin, g, 0.1, 1.0, initial=q, max_phase_error=np.inf)
+    b = ltd_response(lin, g, 0.1, 1.0, initial=(q[0], q[1]), max_phase_error=np.inf)
+    assert np.array_equal(a.cl, b.cl)
 
 
 def test_radau_initial_state_may_omit_q_prev(lin):

@@ -49,7 +49,7 @@ def test_n_wake_that_does_not_match_the_wake_cut_names_the_right_value(c_grid_no
         grid_from_nodes(*c_grid_nodes, n_wake=n_wake)
 
 
-@pytest.mark.parametrize("n_wake", [10.7, 8.0, "8", None, True])
+@pytest.mark.parametrize("n_wake", [10.7, "8", None, True, float("inf")])
 def test_n_wake_must_be_a_whole_number(c_grid_nodes, n_wake):
     with pytest.raises(MeshError, match="n_wake must be a whole number"):
         grid_from_nodes(*c_grid_nodes, n_wake=n_wake)
@@ -69,3 +69,4 @@ def test_grid_without_a_cut_needs_n_wake_zero():
 
 def test_matching_n_wake_is_accepted_also_as_a_numpy_integer(c_grid_nodes):
     assert grid_from_nodes(*c_grid_nodes, n_wake=np.int64(8)).n_wake == 8
+    assert grid_from_nodes(*c_grid_nodes, n_wake=8.0).n_wake == 8  # a whole-valued float, e.g. (ni - 1 - n) / 2

@@ -84,7 +84,7 @@ def test_bad_flow_conditions_raise(grid0012, mach, alpha, match):
         ({"n_rk": -3}, "n_rk must be a whole number >= 0"),
         ({"n_rk": "5"}, "n_rk must be a whole number >= 0"),
         ({"max_newton": None}, "max_newton must be a whole number >= 0"),
-        ({"max_newton": 10.0}, "max_newton must be a whole number >= 0"),
+        ({"max_newton": 10.5}, "max_newton must be a whole number >= 0"),
         ({"max_chord": -1}, "max_chord must be a whole number >= 0"),
         ({"scheme": "jst"}, "scheme must be a cfd.Scheme"),
         ({"scheme": cfd.Scheme(k4=float("nan"))}, "scheme.k4 must be a finite number >= 0"),
@@ -103,6 +103,9 @@ def test_bad_solver_settings_raise_before_any_work(grid0012, kw, match):
 def test_whole_number_settings_accept_numpy_integers(grid0012):
     sol = cfd.solve_steady(grid0012, 0.5, 0.0, tol=np.float64(1e-6), n_rk=np.int64(5), max_newton=np.int32(50))
     assert sol.converged and sol.history[-1] <= 1e-6 * sol.history[0]
+    # whole-valued floats and inf (a limit that never binds) are accepted as before the checks
+    again = cfd.solve_steady(grid0012, 0.5, 0.0, tol=1e-6, n_rk=5.0, max_newton=50.0, max_chord=np.inf)
+    assert again.converged
 
 
 def test_gamma_is_used_as_the_checked_float(grid0012):

@@ -280,3 +280,10 @@ def test_an_unreadable_entry_is_a_store_read_error_not_a_write_failure(tmp_path)
     with pytest.raises(StoreReadError, match="the results store cannot be read at .*IsADirectoryError"):
         store.get("frf", CONFIG)
     assert e.path.is_dir()
+    # the same for its array file
+    e2 = store.put("rom", CONFIG, arrays())
+    npz = e2.path.with_name(json.loads(e2.path.read_text())["body"]["npz"]["file"])
+    npz.unlink()
+    npz.mkdir()
+    with pytest.raises(StoreReadError, match=r"cannot be read at .*\.npz"):
+        store.get("rom", CONFIG)
