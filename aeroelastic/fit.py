@@ -43,7 +43,7 @@ from scipy import optimize
 
 from .errors import AeroModelError, FitError
 
-__all__ = ["MotionModel", "fit_motion", "channel_indices", "MOTION_INPUTS", "LOAD_OUTPUTS", "ROOT_BAND"]
+__all__ = ["MotionModel", "fit_motion", "channel_indices", "real_array", "MOTION_INPUTS", "LOAD_OUTPUTS", "ROOT_BAND"]
 
 MOTION_INPUTS = ("plunge", "pitch")
 ROOT_BAND = (0.1, 2.0)
@@ -57,20 +57,37 @@ def _frozen(a):
     return a
 
 
-def _check_real(name, a, shape):
-    """``a`` as a float array if it is real, finite and of ``shape`` (None: any), else AeroModelError."""
+def real_array(name, a):
+    """``a`` as a float array if it holds real numbers, else :class:`AeroModelError` naming ``name``.
+
+    Parameters
+    ----------
+    name : str
+        The argument, for the message.
+    a : array_like
+
+    Returns
+    -------
+    ndarray of float
+    """
     try:
         v = np.asarray(a)
-        ok = v.dtype.kind in "biuf"
     except (TypeError, ValueError):
-        ok = False
-    if not ok:
-        raise AeroModelError(f"MotionModel.{name} must be an array of real numbers, got {type(a).__name__}")
+        v = None
+    if v is None or v.dtype.kind not in "biuf":
+        kind = f"dtype {v.dtype}" if isinstance(v, np.ndarray) else type(a).__name__
+        raise AeroModelError(f"{name} must be an array of real numbers, got {kind}")
+    return v.astype(float)
+
+
+def _check_real(name, a, shape):
+    """``a`` as a float array if it is real, finite and of ``shape`` (None: any), else AeroModelError."""
+    v = real_array(f"MotionModel.{name}", a)
     if shape is not None and v.shape != shape:
         raise AeroModelError(f"MotionModel.{name} must have shape {shape}, got {v.shape}")
     if not np.all(np.isfinite(v)):
         raise AeroModelError(f"MotionModel.{name} contains NaN or inf")
-    return v.astype(float)
+    return v
 
 
 @dataclass(frozen=True)

@@ -10,6 +10,7 @@ import numpy as np
 
 from .coupling import check_speed, as_motion_model, coupled_model
 from .errors import AeroModelError
+from .fit import real_array
 from .section import TypicalSection
 
 __all__ = ["GustResponse", "gust_response", "simulate"]
@@ -68,18 +69,11 @@ def _gust_history(gust: Any, t: Any):
         u = gust
     arrays = []
     for name, a in (("t", t), ("u", u)):
-        try:
-            a = np.asarray(a)
-            real = a.dtype.kind in "biuf"
-        except (TypeError, ValueError):
-            real = False
-        if not real:
-            kind = f"dtype {a.dtype}" if isinstance(a, np.ndarray) else type(a).__name__
-            raise AeroModelError(f"{name} must be an array of real numbers, got {kind}")
+        a = real_array(name, a)
         if a.ndim != 1:
             raise AeroModelError(f"{name} must be 1-D (one gust history), got shape {a.shape}; give one history per "
                                  "call (or ravel it yourself if that is what you mean)")
-        arrays.append(a.astype(float))
+        arrays.append(a)
     t, u = arrays
     if t.size != u.size or t.size < 2:
         raise AeroModelError(f"t and u must be 1-D of the same length >= 2, got {t.size} and {u.size}")

@@ -1,8 +1,11 @@
-"""Argument checks shared by the solvers: whole numbers given as ints, numpy integers or whole-valued floats."""
+"""Argument checks shared by the solvers: whole numbers given as ints, numpy integers or whole-valued floats;
+arrays of real numbers."""
 
 import math
 
-__all__ = ["whole_number"]
+import numpy as np
+
+__all__ = ["whole_number", "real_array", "kind_of"]
 
 
 def whole_number(value, allow_inf=False):
@@ -30,3 +33,26 @@ def whole_number(value, allow_inf=False):
     if not math.isfinite(f) or f != int(f):
         return None
     return int(f)
+
+
+def real_array(value):
+    """``value`` as a float array if it holds real numbers (bool, int or float dtype), else None.
+
+    Parameters
+    ----------
+    value : array_like
+
+    Returns
+    -------
+    ndarray of float or None
+    """
+    try:
+        v = np.asarray(value)
+    except (TypeError, ValueError):
+        return None
+    return v.astype(float) if v.dtype.kind in "biuf" else None
+
+
+def kind_of(value):
+    """What ``value`` is, for a message: ``"dtype complex128"`` for an array, else its type's name."""
+    return f"dtype {value.dtype}" if isinstance(value, np.ndarray) else type(value).__name__

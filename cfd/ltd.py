@@ -43,6 +43,7 @@ from dataclasses import dataclass
 import numpy as np
 from threadpoolctl import threadpool_limits
 
+from .checks import kind_of, real_array
 from .gust import OneMinusCosine, SharpEdged, SineGust, face_gust
 from .frequencies import check_pivot, check_x_ref
 from .linear import LinearError, check_gust_method, check_linear_system
@@ -158,19 +159,14 @@ def _check_initial(lin, initial, scheme):
         if a is None and name == "q_prev" and scheme == "radau5":
             out.append(None)                            # a one-step method: q_now only
             continue
-        try:
-            v = np.asarray(a)
-            ok = v.dtype.kind in "biuf"
-        except (TypeError, ValueError):
-            ok = False
-        if not ok:
-            kind = f"dtype {v.dtype}" if isinstance(a, np.ndarray) else type(a).__name__
-            raise LinearError(f"{what}; its {name} is not an array of real numbers: {kind}")
+        v = real_array(a)
+        if v is None:
+            raise LinearError(f"{what}; its {name} is not an array of real numbers: {kind_of(a)}")
         if v.shape != (lin.n,):
             raise LinearError(f"{what}; its {name} has shape {v.shape}")
         if not np.all(np.isfinite(v)):
             raise LinearError(f"{what}; its {name} contains NaN or inf")
-        out.append(v.astype(float))
+        out.append(v)
     return tuple(out)
 
 

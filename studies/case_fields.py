@@ -14,7 +14,17 @@ __all__ = ["CaseError", "UnknownCaseError", "check_real", "check_integer", "chec
 
 
 class CaseError(ValueError):
-    """A test or gust case definition is invalid (bad NACA code, Mach out of range, bad gust...)."""
+    """A test or gust case definition is invalid (bad NACA code, Mach out of range, bad gust...).
+
+    Attributes
+    ----------
+    field : str or None
+        The field that is wrong (``"length"``, ``"name"``...) where the check knows it, for the study file's key.
+    """
+
+    def __init__(self, message, field=None):
+        super().__init__(message)
+        self.field = field
 
 
 class UnknownCaseError(CaseError, KeyError):
@@ -61,13 +71,13 @@ def check_real(owner: str, name: str, value) -> float:
         Not a finite real number.
     """
     if isinstance(value, bool):
-        raise CaseError(f"{owner}: {name} must be a real number, got {value!r}")
+        raise CaseError(f"{owner}: {name} must be a real number, got {value!r}", name)
     try:
         v = float(value)
     except (TypeError, ValueError):
-        raise CaseError(f"{owner}: {name} must be a real number, got {value!r}") from None
+        raise CaseError(f"{owner}: {name} must be a real number, got {value!r}", name) from None
     if not math.isfinite(v):
-        raise CaseError(f"{owner}: {name} must be finite, got {value!r}")
+        raise CaseError(f"{owner}: {name} must be finite, got {value!r}", name)
     return v
 
 
@@ -121,7 +131,7 @@ def check_name(owner: str, name) -> str:
     if not isinstance(name, str) or not _NAME_RE.match(name):
         raise CaseError(
             f"{owner} name {name!r} must be a non-empty string of letters, digits and _ . + - "
-            "(it names files and table rows), e.g. 'naca0012-m05'")
+            "(it names files and table rows), e.g. 'naca0012-m05'", "name")
     return name
 
 

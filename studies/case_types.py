@@ -110,20 +110,21 @@ class GustCase:
         name = check_name("gust", self.name)
         owner = f"gust {name!r}"
         if self.kind not in GUST_KINDS:
-            raise CaseError(f"{owner}: kind {self.kind!r} is unknown; use one of {', '.join(GUST_KINDS)}")
+            raise CaseError(f"{owner}: kind {self.kind!r} is unknown; use one of {', '.join(GUST_KINDS)}", "kind")
         if self.kind == "sharp_edged":
             if self.length is not None:
-                raise CaseError(f"{owner}: a sharp-edged gust has no length; leave length out (None)")
+                raise CaseError(f"{owner}: a sharp-edged gust has no length; leave length out (None)", "length")
         else:
             if self.length is None:
-                raise CaseError(f"{owner}: a one_minus_cosine gust needs a length in chords, e.g. 1.0")
+                raise CaseError(f"{owner}: a one_minus_cosine gust needs a length in chords, e.g. 1.0", "length")
             length = check_real(owner, "length", self.length)
             if length <= 0.0:
-                raise CaseError(f"{owner}: length = {length} must be positive (chords)")
+                raise CaseError(f"{owner}: length = {length} must be positive (chords)", "length")
             object.__setattr__(self, "length", length)
         angle = check_real(owner, "angle_deg", self.angle_deg)
         if not 0.0 < abs(angle) < 90.0:
-            raise CaseError(f"{owner}: angle_deg = {angle} must satisfy 0 < |angle_deg| < 90 (e.g. 1 to 5 deg)")
+            raise CaseError(f"{owner}: angle_deg = {angle} must satisfy 0 < |angle_deg| < 90 (e.g. 1 to 5 deg)",
+                            "angle_deg")
         object.__setattr__(self, "angle_deg", angle)
 
     @property

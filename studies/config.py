@@ -426,14 +426,8 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
             gusts.append(GustCase(entry["name"], entry["kind"],
                                   None if length is None else P.number(length, f"{key}.length"),
                                   P.number(entry["angle_deg"], f"{key}.angle_deg")))
-        except CaseError as e:  # which field: the message after "gust 'NAME': " (a bad name has no such prefix)
-            prefix = f"gust {entry['name']!r}: "
-            if not str(e).startswith(prefix):
-                sub = "name"
-            else:
-                what = str(e)[len(prefix):]
-                sub = next((f for f in ("kind", "length", "angle_deg") if f in what), None)
-            raise P.err(f"{key}.{sub}" if sub else key, str(e)) from None
+        except CaseError as e:
+            raise P.err(f"{key}.{e.field}" if e.field else key, str(e)) from None
     for i, g in enumerate(gusts):
         if g.length is not None and g.length < MIN_GUST_STEPS * dt:
             raise P.err(f"gusts[{i}].length" if isinstance(raw_gusts[i], Mapping) else f"gusts[{i}]", (
