@@ -99,10 +99,13 @@ def _scheme_key(sim: SimulationOptions) -> dict:
 
 
 def ltd_piece(case: FlowCase, gust: GustCase, sim: SimulationOptions, cfd: CFDOptions) -> dict:
-    """LTD reference history of a case and gust."""
+    """LTD reference history of a case and gust.
+
+    Not keyed by ``cfd.outputs``: a history holds Cl, Cm and Cd whatever outputs the FRFs are fitted to, so a
+    study that changes its outputs reuses its LTDs.
+    """
     return dict(steady=steady_piece(case), gust=dict(kind=gust.kind, length=gust.length, angle_deg=gust.angle_deg),
-                dt=sim.dt, t_end=sim.t_end, x0=sim.x0, gust_method=cfd.gust_method, outputs=list(cfd.outputs),
-                **_scheme_key(sim))
+                dt=sim.dt, t_end=sim.t_end, x0=sim.x0, gust_method=cfd.gust_method, **_scheme_key(sim))
 
 
 def sim_piece(point: SweepPoint, gust: GustCase, M_base: int, sim: SimulationOptions, cfd: CFDOptions) -> dict:
