@@ -159,6 +159,12 @@ def _read_arrays(path: Path, d: dict, T_opt: float | None):
 def _load_npz(path: Path, T_opt):
     import sysid
 
+    with open(path, "rb") as f:
+        magic = f.read(4)
+    if magic and not magic.startswith(b"PK"):
+        # not a zip (a truncated one still starts with PK): np.load would read it as a pickle or as one .npy array
+        raise FitInputError(path, None, "not a .npz file (a .npz is a zip archive of arrays); write it with "
+                                        "numpy.savez or FrequencyResponse.save, or give the data as .csv or .mat")
     try:
         with np.load(path, allow_pickle=False) as z:
             d = {k: z[k] for k in z.files}

@@ -249,6 +249,8 @@ def _unreadable(tmp_path, kind):
         "empty.npz": (b"", "not readable as a .npz file"),
         "truncated.npz": (good.read_bytes()[:100], "not readable as a .npz file"),
         "empty.mat": (b"", "not readable as a MATLAB .mat file"),
+        "random.npz": (bytes(range(7, 107)), "not a .npz file"),
+        "npy.npz": (b"\x93NUMPY" + good.read_bytes()[6:60], "not a .npz file"),
     }
     if kind in files:
         (tmp_path / kind).write_bytes(files[kind][0])
@@ -260,8 +262,8 @@ def _unreadable(tmp_path, kind):
     return tmp_path / kind, "key 'H_re': is not numeric"
 
 
-@pytest.mark.parametrize("kind", ["latin1.csv", "empty.npz", "truncated.npz", "empty.mat", "objects.npz",
-                                  "string_re.npz"])
+@pytest.mark.parametrize("kind", ["latin1.csv", "empty.npz", "truncated.npz", "random.npz", "npy.npz", "empty.mat",
+                                  "objects.npz", "string_re.npz"])
 def test_unreadable_file_is_bad_input(tmp_path, capsys, kind):
     p, what = _unreadable(tmp_path, kind)
     with pytest.raises(FitInputError, match=rf"{p.name}: {what}"):
