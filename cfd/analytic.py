@@ -43,7 +43,10 @@ _REFERENCES = ("midchord", "leading_edge")
 
 
 def _omega(omega):
-    w = np.asarray(omega, dtype=float)
+    try:
+        w = np.asarray(omega, dtype=float)
+    except (TypeError, ValueError):
+        raise AnalyticError(f"omega must be a number or an array of numbers (U/c units), got {omega!r}") from None
     if np.any(~np.isfinite(w)) or np.any(w < 0.0):
         raise AnalyticError(
             "omega must be finite and >= 0 (U/c units; the response at -omega is the complex conjugate)"
@@ -146,8 +149,11 @@ def sears_compressible(omega, mach, reference="midchord"):
     -------
     ndarray, complex, shape (...)
     """
-    m = float(mach)
-    if not (np.isfinite(m) and 0.0 <= m < 1.0):
+    try:
+        m = float(mach)
+    except (TypeError, ValueError):
+        m = np.nan   # refused just below, with the value as given
+    if isinstance(mach, bool) or not (np.isfinite(m) and 0.0 <= m < 1.0):
         raise AnalyticError(f"mach = {mach!r} must be in [0, 1) for the subsonic compressible Sears function")
     w = _omega(omega)
     k = 0.5 * w
@@ -160,7 +166,10 @@ def sears_compressible(omega, mach, reference="midchord"):
 
 
 def _time(s, unit):
-    s = np.asarray(s, dtype=float)
+    try:
+        s = np.asarray(s, dtype=float)
+    except (TypeError, ValueError):
+        raise AnalyticError(f"s (time) must be a number or an array of numbers, got {s!r}") from None
     if unit == "chord":
         sb = 2.0 * s
     elif unit == "semichord":

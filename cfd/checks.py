@@ -1,11 +1,11 @@
 """Argument checks shared by the solvers: whole numbers given as ints, numpy integers or whole-valued floats;
-arrays of real numbers."""
+arrays of real numbers; the message for an argument that is not a grid."""
 
 import math
 
 import numpy as np
 
-__all__ = ["whole_number", "real_array", "kind_of"]
+__all__ = ["whole_number", "real_array", "kind_of", "not_a_grid"]
 
 
 def whole_number(value, allow_inf=False):
@@ -56,3 +56,8 @@ def real_array(value):
 def kind_of(value):
     """What ``value`` is, for a message: ``"dtype complex128"`` for an array, else its type's name."""
     return f"dtype {value.dtype}" if isinstance(value, np.ndarray) else type(value).__name__
+
+
+def not_a_grid(value):
+    """The message for a ``grid`` argument that is not a :class:`cfd.Grid` (each caller raises its own error)."""
+    return f"grid must be a cfd.Grid (from cfd.c_grid or cfd.grid_from_nodes); got {type(value).__name__}"

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import FlowConditionError
+from .errors import FlowConditionError, MeshError
 
 __all__ = ["FlowCondition", "conserved", "primitive", "pressure"]
 
@@ -124,7 +124,15 @@ def primitive(q, gamma=1.4):
     Returns
     -------
     rho, u, v, p : ndarray, shape (...)
+
+    Raises
+    ------
+    MeshError
+        ``q``'s last axis is not the 4 conserved variables.
     """
+    if np.shape(q)[-1:] != (4,):
+        raise MeshError(f"q has shape {np.shape(q)}; conserved states need a last axis of 4 "
+                        "(rho, rho u, rho v, rho E)")
     rho = q[..., 0]
     u = q[..., 1] / rho
     v = q[..., 2] / rho

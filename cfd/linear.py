@@ -42,6 +42,7 @@ import scipy.sparse as sp
 
 from .superlu import splu_nested, splu_pivoted
 from .boundary import wall_pressure
+from .checks import not_a_grid
 from .euler import Scheme, residual
 from .flow import FlowCondition, pressure
 from .gust import cell_x_gradient, svm_source
@@ -429,7 +430,7 @@ def linearise_state(grid, q, flow, scheme=None):
     LinearSystem
     """
     if not isinstance(grid, Grid):
-        raise LinearError(f"grid must be a cfd.Grid (cfd.c_grid or cfd.grid_from_nodes); got {type(grid).__name__}")
+        raise LinearError(not_a_grid(grid))
     if not isinstance(flow, FlowCondition):
         raise LinearError(f"flow must be a cfd.FlowCondition; got {type(flow).__name__}")
     if scheme is not None and not isinstance(scheme, Scheme):

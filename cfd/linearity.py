@@ -1,6 +1,7 @@
 """Where the linear models hold: the nonlinear gust response (:func:`cfd.unsteady.unsteady_response`) at several
 amplitudes against the LTD of the same gust (peak ratios and history errors, docs/nonlinear.md)."""
 
+import inspect
 from dataclasses import dataclass
 
 import numpy as np
@@ -55,20 +56,35 @@ def linearity(sol, gust, amplitudes, dt, t_end, method="svm", x_ref=0.0, lin=Non
     lin : LinearSystem, optional
         ``cfd.linearise(sol)``, built if not given.
     **kwargs
-        Passed to :func:`unsteady_response`.
+        Passed to :func:`unsteady_response` (its keyword-only settings, e.g. ``rtol``, ``max_iter``).
 
     Returns
     -------
     LinearityResult
+
+    Raises
+    ------
+    UnsteadyError
+        Empty, zero or non-numeric amplitudes, or a keyword :func:`unsteady_response` does not take (checked
+        before the LTD is computed).
     """
     from dataclasses import replace
 
     from .linear import linearise
     from .ltd import ltd_response
 
-    amps = np.asarray(amplitudes, dtype=float).ravel()
-    if amps.size == 0 or np.any(amps == 0.0):
-        raise UnsteadyError(f"amplitudes must be a non-empty list of nonzero gust angles (deg); got {amplitudes!r}")
+    settings = [name for name, par in inspect.signature(unsteady_response).parameters.items()
+                if par.kind is inspect.Parameter.KEYWORD_ONLY]
+    unknown = sorted(set(kwargs) - set(settings))
+    if unknown:
+        raise UnsteadyError(f"unknown keyword(s) {unknown} for unsteady_response; it takes {settings}")
+    try:
+        amps = np.asarray(amplitudes, dtype=float).ravel()
+    except (TypeError, ValueError):
+        amps = np.array([])   # refused just below, with the value as given
+    if amps.size == 0 or np.any(amps == 0.0) or not np.all(np.isfinite(amps)):
+        raise UnsteadyError(f"amplitudes must be a non-empty list of finite, nonzero gust angles (deg); "
+                            f"got {amplitudes!r}")
     lin = linearise(sol) if lin is None else lin
     h = ltd_response(lin, gust, dt, t_end, method=method, x_ref=x_ref,
                      max_phase_error=kwargs.get("max_phase_error", 0.01))

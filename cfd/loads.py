@@ -11,6 +11,7 @@ moment is about ``(0.25, 0)``, nose-up positive. Reference: dynamic pressure ``0
 import numpy as np
 
 from .boundary import wall_pressure
+from .checks import not_a_grid
 from .errors import FlowConditionError, MeshError
 from .euler import check_state
 from .flow import FlowCondition
@@ -30,7 +31,7 @@ def _wall_pressure(grid, q, gamma):
 def _check_load_input(grid, q, flow):
     """``q`` as an array after :func:`cfd.euler.check_state` (as :func:`cfd.residual` checks it) and the types."""
     if not isinstance(grid, Grid):
-        raise MeshError(f"grid must be a cfd.Grid (cfd.c_grid or cfd.grid_from_nodes); got {type(grid).__name__}")
+        raise MeshError(not_a_grid(grid))
     if not isinstance(flow, FlowCondition):
         raise FlowConditionError(f"flow must be a cfd.FlowCondition (e.g. cfd.FlowCondition(mach, alpha_deg)); "
                                  f"got {type(flow).__name__}")

@@ -4,6 +4,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .checks import not_a_grid
+from .errors import MeshError
+from .mesh_metrics import Grid
+
 __all__ = ["grid_quality", "GridQuality"]
 
 
@@ -81,7 +85,14 @@ def grid_quality(grid):
     Returns
     -------
     GridQuality
+
+    Raises
+    ------
+    MeshError
+        ``grid`` is not a :class:`cfd.Grid`.
     """
+    if not isinstance(grid, Grid):
+        raise MeshError(not_a_grid(grid))
     x, y = grid.x, grid.y
     ang = _corner_angles(x, y)
     wall = grid.wall

@@ -46,7 +46,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from .checks import whole_number
+from .checks import not_a_grid, whole_number
 from .superlu import splu_nested, splu_pivoted
 from .errors import ConvergenceError, FlowConditionError, MeshError
 from .euler import DEFAULT_SCHEME, Scheme, residual as _euler_residual, spectral_radius_sum
@@ -301,7 +301,7 @@ def solve_steady(grid, mach, alpha_deg, *, gamma=1.4, tol=1e-10, scheme=None, q0
     if growth is None:
         growth = _NEW["growth"] if chord else 2.0
     if not isinstance(grid, Grid):
-        raise MeshError(f"grid must be a cfd.Grid (from cfd.c_grid or cfd.grid_from_nodes); got {type(grid).__name__}")
+        raise MeshError(not_a_grid(grid))
     t_start = time.perf_counter()
     area = grid.area[..., None]
     if q0 is None:

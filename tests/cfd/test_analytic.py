@@ -113,3 +113,17 @@ def test_bad_input():
         kussner(1.0, "foo")
     with pytest.raises(AnalyticError, match="unit"):
         wagner(1.0, unit="metre")
+
+
+@pytest.mark.parametrize("call, match", [
+    (lambda: sears_compressible(1.0, mach="a"), r"mach = 'a' must be in \[0, 1\)"),
+    (lambda: sears_compressible(1.0, mach=None), r"mach = None"),
+    (lambda: sears_compressible(1.0, mach=True), r"mach = True"),
+    (lambda: sears("one"), r"omega must be a number or an array of numbers.*'one'"),
+    (lambda: sears_compressible([1.0, "x"], 0.5), r"omega must be a number"),
+    (lambda: kussner("late"), r"s \(time\) must be a number"),
+    (lambda: wagner(["a"]), r"s \(time\) must be a number"),
+])
+def test_non_numeric_input_is_an_analytic_error(call, match):
+    with pytest.raises(AnalyticError, match=match):
+        call()

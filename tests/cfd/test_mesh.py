@@ -166,3 +166,9 @@ def test_inverted_grid_is_refused():
 
     with pytest.raises(MeshError, match="inverted"):
         grid_from_nodes(g.x[::-1], g.y[::-1], g.n_wake)
+
+
+@pytest.mark.parametrize("not_a_grid", [None, np.zeros((3, 3)), "grid"])
+def test_grid_quality_names_what_it_got(not_a_grid):
+    with pytest.raises(MeshError, match=rf"grid must be a cfd.Grid .*got {type(not_a_grid).__name__}"):
+        grid_quality(not_a_grid)

@@ -178,3 +178,17 @@ def test_linearity_returns_peak_ratios_near_one_at_small_amplitudes(coarse):
     assert abs(res.cl_peak_ratio[0] - 1) < 1e-3 and res.cl_error[0] < 1e-3
     with pytest.raises(UnsteadyError, match="nonzero"):
         cfd.linearity(coarse, gust(1.0), [0.0], 0.1, 3.0)
+
+
+@pytest.mark.parametrize("amplitudes, kwargs, match", [
+    ([1.0], dict(max_iters=5), r"unknown keyword\(s\) \['max_iters'\] for unsteady_response; it takes .*'max_iter'"),
+    (["one"], {}, r"finite, nonzero gust angles .*'one'"),
+    ([1.0, np.nan], {}, r"finite, nonzero gust angles"),
+])
+def test_linearity_refuses_bad_input_before_the_ltd(coarse, monkeypatch, amplitudes, kwargs, match):
+    # refused before any march: the LTD would otherwise run first and the typo fail only after it
+    def no_march(*args, **kw):
+        raise AssertionError("the LTD was computed before the input was checked")
+    monkeypatch.setattr("cfd.ltd.ltd_response", no_march)
+    with pytest.raises(UnsteadyError, match=match):
+        cfd.linearity(coarse, gust(1.0), amplitudes, 0.1, 3.0, lin=object(), **kwargs)
