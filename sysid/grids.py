@@ -22,8 +22,10 @@ GRID_RTOL = 1e-9
 
 
 def check_period(T: Any) -> float:
-    """Return ``T`` as a positive finite float or raise :class:`FrequencyGridError`."""
+    """Return ``T`` as a positive finite float or raise :class:`FrequencyGridError` (``True`` is not a period)."""
     try:
+        if isinstance(T, bool):
+            raise TypeError
         Tf = float(T)
     except (TypeError, ValueError):
         raise FrequencyGridError(

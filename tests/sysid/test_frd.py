@@ -118,6 +118,13 @@ def test_typed_errors_are_value_errors():
         FrequencyResponse(np.ones(5), _WD5, -1.0)
 
 
+@pytest.mark.parametrize("T", [True, "eleven", None, [1.0]])
+def test_a_period_that_is_not_a_number_is_refused(T):
+    # True would read as T = 1 (float(True)); the study files and `lfdrom fit --T` refuse it too
+    with pytest.raises(FrequencyGridError, match="sampling period T must be a positive finite number"):
+        mckelvey_grid(8, T)
+
+
 def test_from_continuous_maps_frequencies():
     w = np.array([0.0, 0.5, 2.0, np.inf])
     H = np.array([1.0, 0.5 - 0.2j, 0.1j, 0.0])
