@@ -12,6 +12,7 @@ __all__ = [
     "SolverError",
     "ModelError",
     "TimeDataError",
+    "OptionError",
 ]
 
 
@@ -30,6 +31,11 @@ class OrderError(ValueError):
 class TimeDataError(ValueError):
     """A time history is unusable for a simulation: times not equispaced or not increasing, an input of
     another length than the times."""
+
+
+class OptionError(ValueError):
+    """An option has a value the function does not take: an unknown method or solver name, a margin or
+    fraction outside its range, a count that is not a whole number."""
 
 
 class ConstraintError(ValueError):

@@ -71,17 +71,22 @@ class IdentificationResult:
         Relative DC-gain error ``max|G(1) - H(0)| / max|H(0)|`` when the data have an ``omega = 0`` sample.
     enforced : dict
         ``{"dc_gain": bool, "feedthrough": bool, "stable": bool}``: which constraints hold by
-        construction (``"stable"`` is True when ``stable=True`` was requested; see ``stabilisation``).
+        construction. ``"stable"`` is True on the relocation path whatever ``stable`` asked (its poles are
+        stable by construction), and on the subspace path when ``stable=True`` was requested (see
+        ``stabilisation``).
     spectral_radius : float
         Of the final ``A``.
     stabilisation : StabilisationReport or None
-        ``None`` when ``stable=False``.
+        Subspace path: ``None`` when ``stable=False``. Relocation path: always a report of method
+        ``"relocation"`` (nothing changed after the fit).
     subspace : SubspaceResult
-        ``A``, ``C`` and Hankel data before stabilisation.
-    refit : object
-        The :class:`sysid.refit.BDFit` of the final model, or the :class:`sysid.refit.AlternatingFit` when
-        ``C`` was refitted too.
+        ``A``, ``C`` and Hankel data before stabilisation (on both paths: the relocation starts from it).
+    refit : BDFit, AlternatingFit or None
+        Subspace path: the :class:`sysid.refit.BDFit` of the final model, or the
+        :class:`sysid.refit.AlternatingFit` when ``C`` was refitted too. None on the relocation path, whose
+        residue fits are in ``relocation``.
     T : float
+        Sampling period of the data and of the model (convective time, ``c / U``).
     q, r : int, int or None
         Hankel sizes.
     data : FrequencyResponse

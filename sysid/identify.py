@@ -44,7 +44,7 @@ from typing import Any
 import numpy as np
 
 from .data_checks import check_nonzero_outputs, check_weights
-from .errors import ConstraintError, FrequencyGridError
+from .errors import ConstraintError, FrequencyDataError, FrequencyGridError, OptionError
 from .frd import FrequencyResponse
 from .grids import check_distinct
 from .identification_result import IdentificationResult, StabilisationReport
@@ -61,7 +61,7 @@ def _resolve_dc(dc_gain: Any, frf: FrequencyResponse, dc_data: np.ndarray | None
         return None
     if isinstance(dc_gain, str):
         if dc_gain != "match":
-            raise ValueError(f"dc_gain must be None, 'match' or a (p, m) array, got {dc_gain!r}")
+            raise OptionError(f"dc_gain must be None, 'match' or a (p, m) array, got {dc_gain!r}")
         dc = dc_data
         if dc is None:
             raise ConstraintError(
@@ -152,14 +152,25 @@ def identify(
         ``identify(frf, order)`` is exactly the paper's method. With several inputs and outputs the
         relocation splits the states between the input columns (each column its own poles, common to all
         outputs), which needs ``min(p, m)`` times the states of a subspace model of common poles, so
-        ``"auto"`` keeps the subspace algorithm there.
+        ``"auto"`` keeps the subspace algorithm there. When ``"auto"`` chose the relocation and its model's
+        gain between the data's frequencies exceeds :data:`UNOBSERVED_GAIN_LIMIT` times the data's peak (a
+        resonance where the grid has no samples, :func:`unobserved_gain`) while the stable subspace model's
+        gain is lower, the subspace model is returned instead, with a ``RuntimeWarning``: check
+        ``result.algorithm``.
 
     Returns
     -------
     IdentificationResult
+        ``result.algorithm`` says which path produced the model.
 
     Raises
     ------
+    TypeError
+        ``frf`` is not a :class:`FrequencyResponse`.
+    OptionError
+        An unknown ``algorithm``, ``method``, ``solver``, ``stabilise_method`` or ``dc_gain`` string, ``refit_c``
+        not ``"auto"`` / True / False, ``margin`` outside ``[0, 1)``, ``minimax_within`` not a positive number
+        (all checked before any work, whether the path taken uses them or not).
     FrequencyGridError
         ``frf.T`` is None, a frequency appears twice, or the grid does not suit ``method``.
     FrequencyDataError
@@ -173,11 +184,15 @@ def identify(
     """
     from .refit import fit_alternating, fit_bd
 
-    if algorithm not in ("auto", "relocation", "subspace"):
-        raise ValueError(f"algorithm must be 'auto', 'relocation' or 'subspace'; got {algorithm!r}")
+    for name, value, allowed in (("algorithm", algorithm, ("auto", "relocation", "subspace")),
+                                 ("method", method, ("auto", "mckelvey1", "mckelvey2")),
+                                 ("solver", solver, ("clarabel", "numpy")),
+                                 ("stabilise_method", stabilise_method, ("lmi", "reflect"))):
+        if not isinstance(value, str) or value not in allowed:   # checked before any work, used or not
+            raise OptionError(f"{name} must be one of {allowed}; got {value!r}")
     if minimax_within is not None and not (isinstance(minimax_within, (int, float)) and np.isfinite(minimax_within)
                                            and minimax_within > 0):
-        raise ValueError(f"minimax_within must be a positive fraction (e.g. 0.1) or None; got {minimax_within!r}")
+        raise OptionError(f"minimax_within must be a positive fraction (e.g. 0.1) or None; got {minimax_within!r}")
     if isinstance(dc_gain, (bool, np.bool_)):
         dc_gain = "match" if dc_gain else None  # not the array [[1.0]]: True is the study file's "match"; False,
         # like None, imposes nothing (and so leaves "auto" on the subspace fit when stability is not imposed)
@@ -187,7 +202,7 @@ def identify(
     elif algorithm == "auto":
         algorithm = "subspace"  # not a FrequencyResponse: rejected below
     if refit_c not in ("auto", True, False):
-        raise ValueError(f"refit_c must be 'auto', True or False; got {refit_c!r}")
+        raise OptionError(f"refit_c must be 'auto', True or False; got {refit_c!r}")
     if not isinstance(frf, FrequencyResponse):
         raise TypeError(f"identify() expects a sysid.FrequencyResponse, got {type(frf).__name__}")
     if frf.T is None or frf.omega_d is None:
@@ -196,8 +211,9 @@ def identify(
             "(omega_d = 2 arctan(omega T / 2)); build the data with a T, e.g. "
             "FrequencyResponse.from_continuous(H, omega, T) or frf.with_T(T)"
         )
-    if not (0.0 <= float(margin) < 1.0):
-        raise ValueError(f"margin must be in [0, 1), got {margin!r}")
+    if isinstance(margin, bool) or not isinstance(margin, (int, float, np.integer, np.floating)) \
+            or not (0.0 <= float(margin) < 1.0):
+        raise OptionError(f"margin must be a number in [0, 1), got {margin!r}")
     check_distinct(frf.omega_d, "omega_d")
     check_nonzero_outputs(frf.H, frf.outputs)
     weights = check_weights(weights, *frf.shape)
@@ -318,7 +334,7 @@ def _identify_relocation(frf, sub, svd, dc, ft, dc_data, weights, margin, stable
         w = np.asarray(weights, dtype=float)
         w = np.broadcast_to(w if w.ndim == 3 else w.reshape(1, 1, -1), (p, m, K))
         if not (np.all(np.isfinite(w)) and np.all(w >= 0)):
-            raise ValueError("weights must be finite and nonnegative")
+            raise FrequencyDataError("weights must be finite and nonnegative")
     starts = None
     lam = np.linalg.eigvals(sub.A)
     ok = np.abs(lam + 1.0) > 1e-8

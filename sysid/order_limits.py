@@ -11,7 +11,7 @@ from typing import Any, Optional
 
 import numpy as np
 
-from .errors import FrequencyGridError, OrderError
+from .errors import FrequencyGridError, OptionError, OrderError
 from .subspace import default_q
 
 __all__ = ["max_order", "min_order", "order_supported", "MAX_ORDER_ALGORITHMS"]
@@ -21,7 +21,7 @@ MAX_ORDER_ALGORITHMS = ("auto", "subspace", "relocation", "mckelvey1", "mckelvey
 of ``sysid.identify`` on McKelvey's grid, whichever identification algorithm follows it)."""
 
 
-def _count(value: Any, name: str, error=ValueError) -> int:
+def _count(value: Any, name: str, error=OptionError) -> int:
     """``value`` as a positive int (NumPy integers accepted, bool refused), else ``error``."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
         raise error(f"{name} must be a positive integer, got {value!r}")
@@ -59,7 +59,7 @@ def max_order(M: int, algorithm: str = "auto", p: int = 2, m: int = 1, order: Op
         ``M`` not a positive integer.
     OrderError
         ``order`` not a positive integer.
-    ValueError
+    OptionError
         Unknown ``algorithm``; ``p`` or ``m`` not a positive integer.
     """
     M = _count(M, "M (number of grid intervals)", FrequencyGridError)
@@ -67,7 +67,7 @@ def max_order(M: int, algorithm: str = "auto", p: int = 2, m: int = 1, order: Op
     if order is not None:
         order = _count(order, "order", OrderError)
     if algorithm not in MAX_ORDER_ALGORITHMS:
-        raise ValueError(f"algorithm must be one of {MAX_ORDER_ALGORITHMS}, got {algorithm!r}")
+        raise OptionError(f"algorithm must be one of {MAX_ORDER_ALGORITHMS}, got {algorithm!r}")
     K = M + 1
     method = "mckelvey2" if algorithm == "mckelvey2" else "mckelvey1"
     n = order if order is not None else M  # large target: the sizes saturate
@@ -111,15 +111,15 @@ def min_order(p: int, m: int = 1, dc_gain: str = "none", algorithm: str = "subsp
 
     Raises
     ------
-    ValueError
+    OptionError
         ``p`` or ``m`` not a positive integer, unknown ``dc_gain`` or ``algorithm``.
     """
     p, m = _count(p, "p (outputs)"), _count(m, "m (inputs)")
     if dc_gain not in ("none", "match"):
-        raise ValueError(f"dc_gain must be 'none' or 'match', got {dc_gain!r}")
+        raise OptionError(f"dc_gain must be 'none' or 'match', got {dc_gain!r}")
     if algorithm not in ("subspace", "relocation"):
-        raise ValueError(f"algorithm must be 'subspace' or 'relocation' (sysid.identify.resolve_algorithm), "
-                         f"got {algorithm!r}")
+        raise OptionError(f"algorithm must be 'subspace' or 'relocation' (sysid.identify.resolve_algorithm), "
+                          f"got {algorithm!r}")
     if algorithm == "relocation":
         return max(1, min(p, m))
     return max(1, p) if dc_gain == "match" else 1

@@ -13,7 +13,7 @@ bases they span.
 
 import numpy as np
 
-from .errors import FrequencyDataError
+from .errors import FrequencyDataError, OptionError
 
 __all__ = ["stability_region", "resolution_floor", "floor_at", "pair_poles", "initial_poles", "pole_groups", "partial_fraction_basis",
            "modal_realisation", "pole_distance", "discrete_basis", "input_normal", "balanced_coordinates", "RESOLUTION",
@@ -42,7 +42,7 @@ def stability_region(T: float, rho: float) -> tuple[float, float]:
     (centre, radius) : (float, float)
     """
     if not 0.0 < rho < 1.0:
-        raise ValueError(f"rho must be in (0, 1); got {rho!r}")
+        raise OptionError(f"rho must be in (0, 1); got {rho!r}")
     g = 2.0 / float(T)
     return -g * (1 + rho * rho) / (1 - rho * rho), g * 2 * rho / (1 - rho * rho)
 
@@ -171,7 +171,7 @@ def initial_poles(omega: np.ndarray, n: int, spacing: str = "log") -> np.ndarray
     elif spacing == "lin":
         beta = np.linspace(lo, hi, npair) if npair > 1 else np.array([0.5 * (lo + hi)] * npair)
     else:
-        raise ValueError(f"spacing must be 'log' or 'lin'; got {spacing!r}")
+        raise OptionError(f"spacing must be 'log' or 'lin'; got {spacing!r}")
     out = [-np.sqrt(lo * hi)] * (n % 2)
     for b in beta:
         out += [complex(-b / 100, b), complex(-b / 100, -b)]

@@ -45,7 +45,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .data_checks import check_constraint, check_weights
-from .errors import ConstraintError, FrequencyDataError
+from .errors import ConstraintError, FrequencyDataError, OptionError
 from .refit_solvers import clear_refit_cache, null_space_solve, reduce_regression, solve_compiled  # noqa: F401
 from .state_space import evaluate_ss, modal_form, resolvent_C
 
@@ -315,7 +315,7 @@ def fit_bd(A, C, z, G, *, weights=None, dc_gain=None, feedthrough=None, solver: 
     t0 = time.perf_counter()
     A, C, z, G, weights, cons, n, p, m, K = _validate(A, C, z, G, weights, dc_gain, feedthrough)
     if solver not in ("clarabel", "numpy"):
-        raise ValueError(f"solver must be 'clarabel' or 'numpy'; got {solver!r}.")
+        raise OptionError(f"solver must be 'clarabel' or 'numpy'; got {solver!r}.")
     E, Fr = _constraint_rows(A, C, cons, eig[0] if eig else None)
     c = E.shape[0]
     N = n + p
@@ -463,7 +463,7 @@ def fit_alternating(A, C, z, G, *, iterations: int = 10, rtol: float = 1e-9, wei
     AlternatingFit
     """
     if isinstance(iterations, bool) or not isinstance(iterations, (int, np.integer)) or iterations < 1:
-        raise ValueError(f"iterations must be an integer >= 1; got {iterations!r}.")
+        raise OptionError(f"iterations must be an integer >= 1; got {iterations!r}.")
     history = []
     C = np.asarray(C, dtype=float)
     bd = cd = None

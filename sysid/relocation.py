@@ -71,7 +71,7 @@ import numpy as np
 from .candidates import (bound_candidate_gaps, candidate_eig, candidate_score, channel_errors, gap_excess,
                          pick_candidates, settle_equalities)
 from .data_checks import check_constraint, check_nonzero_outputs, check_weights
-from .errors import FrequencyDataError, OrderError
+from .errors import FrequencyDataError, OptionError, OrderError
 from .grids import check_continuous_frequencies, check_distinct, check_period
 from .pole_refinement import refine_poles
 from .poles import (RESOLUTION, discrete_basis, initial_poles, input_normal, modal_realisation,
@@ -416,9 +416,9 @@ def _fit_relocated(omega, z, G, T, order, *, dc_gain, feedthrough, weights, star
                                 start=r.start, residues=r.residues, refined=r.refined, candidates=r.candidates,
                                 iterations=r.iterations, seconds=time.perf_counter() - t0)
     if not 0.0 < margin < 1.0:
-        raise ValueError(f"margin must be in (0, 1); got {margin!r}")
+        raise OptionError(f"margin must be in (0, 1); got {margin!r}")
     if not (np.isfinite(resolution) and resolution >= 0):
-        raise ValueError(f"resolution must be a finite number >= 0 (sample spacings); got {resolution!r}")
+        raise OptionError(f"resolution must be a finite number >= 0 (sample spacings); got {resolution!r}")
     wfin = omega[np.isfinite(omega)]
     # poles far beyond the data band are not determined by the data: they drift to the edge of the stability
     # disc next to z = -1 with huge, cancelling residues (|C| ~ 1e10 seen on T4 at N_r = 25, which cost 8

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .errors import ModelError, TimeDataError
+from .errors import ModelError, OptionError, TimeDataError
 from .transforms import c2d_bilinear, c2d_zoh, d2c_bilinear
 
 __all__ = ["markov_parameters", "simulate_discrete", "rediscretise", "rom_simulation", "rom_response",
@@ -81,7 +81,7 @@ def simulate_discrete(A, B, C, D, u, method="auto"):
 
     Raises
     ------
-    ValueError
+    OptionError
         Unknown ``method``.
     """
     import control
@@ -91,7 +91,7 @@ def simulate_discrete(A, B, C, D, u, method="auto"):
     U = np.atleast_2d(np.asarray(u, dtype=float))
     N = U.shape[1]
     if method not in SIMULATION_METHODS:
-        raise ValueError(f"method must be 'auto', 'convolution' or 'control', got {method!r}")
+        raise OptionError(f"method must be 'auto', 'convolution' or 'control', got {method!r}")
     if method == "auto":
         rho = float(np.max(np.abs(np.linalg.eigvals(A)))) if A.size else 0.0
         method = "convolution" if rho < 1.0 else "control"
@@ -123,13 +123,13 @@ def rediscretise(model, dt: float, discretisation: str = "tustin"):
 
     Raises
     ------
-    ValueError
+    OptionError
         Unknown ``discretisation``.
     ModelError
         The continuous form has a pole at ``s = 2 / dt`` (Tustin cannot map it).
     """
     if discretisation not in DISCRETISATIONS:
-        raise ValueError(f"discretisation must be 'tustin' or 'zoh', got {discretisation!r}")
+        raise OptionError(f"discretisation must be 'tustin' or 'zoh', got {discretisation!r}")
     continuous = d2c_bilinear(model)
     try:
         return c2d_bilinear(continuous, dt) if discretisation == "tustin" else c2d_zoh(continuous, dt)
@@ -169,9 +169,9 @@ def rom_simulation(A, B, C, D, T, t, u, discretisation="tustin", method="auto"):
     ------
     TimeDataError
         ``t`` not equispaced (to ``1e-6`` of its step and size, beyond its rounding) or not increasing, or ``u`` of
-        another length.
-    ValueError
-        Fewer than two time points, or an unknown discretisation.
+        another length, or fewer than two time points.
+    OptionError
+        An unknown discretisation.
     ModelError
         The ROM cannot be re-discretised at that step.
     """
@@ -180,7 +180,7 @@ def rom_simulation(A, B, C, D, T, t, u, discretisation="tustin", method="auto"):
     t_in = np.asarray(t)
     t = t_in.astype(float).reshape(-1)
     if t.size < 2:
-        raise ValueError(f"need at least two time points, got {t.size}")
+        raise TimeDataError(f"need at least two time points, got {t.size}")
     dt = float(t[1] - t[0])
     steps = np.diff(t)
     if not (np.isfinite(dt) and dt > 0):
@@ -225,9 +225,9 @@ def rom_response(model, t, u, *, discretisation: str = "tustin", method: str = "
     ------
     TimeDataError
         ``t`` not equispaced (to ``1e-6`` of its step and size, beyond its rounding) or not increasing, or ``u`` of
-        another length.
-    ValueError
-        Fewer than two time points, or an unknown discretisation or method.
+        another length, or fewer than two time points.
+    OptionError
+        An unknown discretisation or method.
     ModelError
         The ROM cannot be re-discretised at that step.
     """

@@ -55,7 +55,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sla
 
-from .errors import FrequencyDataError, SolverError
+from .errors import FrequencyDataError, OptionError, SolverError
 from .metrics import spectral_radius
 
 __all__ = ["StabiliseResult", "stabilise", "spectral_radius", "is_stable"]
@@ -107,7 +107,7 @@ def _check(A, margin):
     if not np.all(np.isfinite(A)):
         raise FrequencyDataError("A contains NaN or inf.")
     if not (0.0 <= margin < 1.0):
-        raise ValueError(f"margin must lie in [0, 1); got {margin}.")
+        raise OptionError(f"margin must lie in [0, 1); got {margin}.")
     return A
 
 
@@ -250,7 +250,7 @@ def stabilise(A, *, method: str = "lmi", margin: float = 1e-3, gamma1=None, gamm
     t0 = time.perf_counter()
     A = _check(A, margin)
     if (gamma1 is None) != (gamma2 is None):
-        raise ValueError("give both gamma1 and gamma2, or neither.")
+        raise OptionError("give both gamma1 and gamma2, or neither.")
     rho = 1.0 - margin
     r0 = spectral_radius(A)
     nrm = max(np.linalg.norm(A), 1e-300)
@@ -262,7 +262,7 @@ def stabilise(A, *, method: str = "lmi", margin: float = 1e-3, gamma1=None, gamm
                                solve_time=time.perf_counter() - t0)
     if method == "reflect":
         if mode not in ("mirror", "circle"):
-            raise ValueError(f"mode must be 'mirror' or 'circle'; got {mode!r}.")
+            raise OptionError(f"mode must be 'mirror' or 'circle'; got {mode!r}.")
         A_new = _reflect(A, rho, mode)
         status = "reflected"
     elif method == "lmi":
@@ -270,7 +270,7 @@ def stabilise(A, *, method: str = "lmi", margin: float = 1e-3, gamma1=None, gamm
         opts.update(solver_opts or {})
         A_new, status = _lmi(A, rho, gamma1, gamma2, delta, opts, subspace)
     else:
-        raise ValueError(f"method must be 'lmi' or 'reflect'; got {method!r}.")
+        raise OptionError(f"method must be 'lmi' or 'reflect'; got {method!r}.")
     r1 = spectral_radius(A_new)
     if r1 >= rho:  # round-off at the boundary: shrink radially, by as little as possible
         A_new = A_new * (rho * (1.0 - 1e-9) / r1)

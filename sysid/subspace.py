@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from .errors import FrequencyDataError, FrequencyGridError, OrderError
+from .errors import FrequencyDataError, FrequencyGridError, OptionError, OrderError
 from .grids import check_discrete_frequencies
 from .state_space import evaluate_ss, lstsq_bd, lstsq_bd_phi, modal_form, resolvent_C  # noqa: F401
 
@@ -263,7 +263,7 @@ def _resolve_method(method: str, omega_d: np.ndarray) -> str:
     if method == "auto":
         return "mckelvey1" if _is_mckelvey_grid(omega_d) else "mckelvey2"
     if method not in ("mckelvey1", "mckelvey2"):
-        raise ValueError(f"method must be 'auto', 'mckelvey1' or 'mckelvey2', got {method!r}")
+        raise OptionError(f"method must be 'auto', 'mckelvey1' or 'mckelvey2', got {method!r}")
     if method == "mckelvey1" and not _is_mckelvey_grid(omega_d):
         raise FrequencyGridError(
             "Algorithm 1 (method='mckelvey1') needs the equispaced grid omega_d = pi k / M, k = 0..M "

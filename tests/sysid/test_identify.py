@@ -232,8 +232,25 @@ def test_stability_sdp_with_a_rank_deficient_objective():
 
 def test_refit_c_bad_value():
     frf, _ = data(seed=2)
-    with pytest.raises(ValueError, match="refit_c must be 'auto', True or False"):
+    with pytest.raises(sysid.OptionError, match="refit_c must be 'auto', True or False"):
         identify(frf, 6, refit_c="yes")
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(solver="mosek"), r"solver must be one of \('clarabel', 'numpy'\); got 'mosek'"),
+    # not needed on this path (stable=False), refused all the same: a typo must not wait for the day it matters
+    (dict(stabilise_method="LMI"), r"stabilise_method must be one of \('lmi', 'reflect'\); got 'LMI'"),
+    (dict(method="mckelvey3"), r"method must be one of \('auto', 'mckelvey1', 'mckelvey2'\)"),
+    (dict(algorithm=None), r"algorithm must be one of"),
+    (dict(margin="small"), r"margin must be a number in \[0, 1\), got 'small'"),
+    (dict(margin=True), r"margin must be a number in \[0, 1\), got True"),
+    (dict(margin=1.0), r"margin must be a number in \[0, 1\), got 1.0"),
+])
+def test_bad_options_are_option_errors_before_any_work(kwargs, match):
+    frf, _ = data(seed=2)
+    with pytest.raises(sysid.OptionError, match=match):
+        identify(frf, 6, **kwargs)
+    assert issubclass(sysid.OptionError, ValueError)   # callers catching ValueError keep working
 
 
 def test_stable_when_already_stable_changes_nothing():

@@ -5,6 +5,8 @@ import warnings
 import numpy as np
 import pytest
 
+import sysid
+
 from sysid.errors import ConstraintError, FrequencyDataError
 from sysid import refit, refit_solvers
 from sysid.refit import BDFit, fit_alternating, fit_bd, fit_cd, frequency_response
@@ -237,7 +239,7 @@ def test_no_frequencies_is_a_typed_error():
 @pytest.mark.parametrize("iterations", [2.5, 0, True, "3"])
 def test_fit_alternating_iterations_must_be_a_positive_integer(grid, iterations):
     A, B, C, D = random_system(4, 1, 1, seed=0)
-    with pytest.raises(ValueError, match="iterations must be an integer >= 1"):
+    with pytest.raises(sysid.OptionError, match="iterations must be an integer >= 1"):
         fit_alternating(A, C, grid, frequency_response(A, B, C, D, grid), iterations=iterations)
 
 

@@ -207,7 +207,7 @@ def test_minimax_then_least_squares_within_the_minimax_level(within):
 
 @pytest.mark.parametrize("bad", [-0.1, 0.0, float("nan"), "0.1"])
 def test_minimax_within_must_be_a_positive_fraction(bad):
-    with pytest.raises(ValueError, match="minimax_within must be a positive fraction"):
+    with pytest.raises(sysid.OptionError, match="minimax_within must be a positive fraction"):
         identify(noisy_frf(seed=5), 4, dc_gain="match", stable=True, minimax_within=bad)
 
 
@@ -500,14 +500,14 @@ def test_fit_relocated_zero_pair_of_a_two_input_fit():
 
 def test_bad_algorithm_and_margin():
     frf = noisy_frf()
-    with pytest.raises(ValueError, match="algorithm"):
+    with pytest.raises(sysid.OptionError, match="algorithm"):
         identify(frf, 4, algorithm="vf")
-    with pytest.raises(ValueError, match="margin"):
+    with pytest.raises(sysid.OptionError, match="margin"):
         fit_relocated(frf.omega, frf.z, np.asarray(frf.H), frf.T, 4, margin=0.0)
-    with pytest.raises(ValueError, match="rho"):
+    with pytest.raises(sysid.OptionError, match="rho"):
         stability_region(1.0, 1.0)
     for bad in (-0.5, np.nan, np.inf):
-        with pytest.raises(ValueError, match="resolution must be a finite number >= 0"):
+        with pytest.raises(sysid.OptionError, match="resolution must be a finite number >= 0"):
             fit_relocated(frf.omega, frf.z, np.asarray(frf.H), frf.T, 4, resolution=bad)
 
 
@@ -523,7 +523,7 @@ def test_weights_reach_the_relocation():
     assert weighted.algorithm == "relocation" and weighted.dc_error < 1e-10
     assert weighted.spectral_radius < 1 - 1e-3
     assert not np.allclose(weighted.evaluate(frf.omega_d), plain.evaluate(frf.omega_d), rtol=0, atol=1e-12)
-    with pytest.raises(ValueError, match="weights"):
+    with pytest.raises(sysid.FrequencyDataError, match="weights"):
         identify(frf, 6, dc_gain="match", stable=True, weights=-w)
 
 

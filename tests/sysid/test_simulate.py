@@ -43,16 +43,16 @@ def test_markov_parameters():
     G = markov_parameters(A, B, C, 5)
     expected = [np.linalg.matrix_power(A, k) @ B for k in range(5)]
     np.testing.assert_allclose(G[:, 0, :], np.hstack(expected), rtol=1e-15)
-    with pytest.raises(ValueError, match="method must be"):
+    with pytest.raises(sysid.OptionError, match="method must be"):
         simulate_discrete(A, B, C, np.zeros((2, 1)), np.ones(4), "rk4")
 
 
-@pytest.mark.parametrize("t, disc, match", [
-    (np.array([0.0]), "tustin", "at least two time points"),
-    (np.arange(3.0), "euler", "discretisation must be"),
+@pytest.mark.parametrize("t, disc, error, match", [
+    (np.array([0.0]), "tustin", sysid.TimeDataError, "at least two time points"),
+    (np.arange(3.0), "euler", sysid.OptionError, "discretisation must be"),
 ])
-def test_rom_simulation_bad_input(t, disc, match):
-    with pytest.raises(ValueError, match=match):
+def test_rom_simulation_bad_input(t, disc, error, match):
+    with pytest.raises(error, match=match):
         rom_simulation(np.eye(1) * 0.5, np.ones((1, 1)), np.ones((1, 1)), np.zeros((1, 1)), 1.0, t, t, disc)
 
 

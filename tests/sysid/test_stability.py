@@ -3,6 +3,8 @@
 import numpy as np
 import pytest
 
+import sysid
+
 from sysid.errors import FrequencyDataError
 from sysid.refit import fit_bd, frequency_response
 from sysid.stability import StabiliseResult, is_stable, spectral_radius, stabilise
@@ -169,11 +171,11 @@ def test_already_stable_is_returned_unchanged_and_errors():
     assert r.method == "none" and r.relative_change == 0.0 and np.array_equal(r.A, A)
     rf = stabilise(A, force=True)
     assert rf.spectral_radius_after < 1 - 1e-3
-    with pytest.raises(ValueError, match="method"):
+    with pytest.raises(sysid.OptionError, match="method"):
         stabilise(2 * A + np.eye(2), method="magic")
     with pytest.raises(FrequencyDataError, match=r"A must be a non-empty square matrix; got shape \(2, 3\)"):
         stabilise(np.ones((2, 3)))
-    with pytest.raises(ValueError, match="margin"):
+    with pytest.raises(sysid.OptionError, match="margin"):
         stabilise(A, margin=1.5)
     with pytest.raises(FrequencyDataError, match="gamma1"):
         stabilise(np.diag([1.5, 0.2]), gamma1=np.ones((4, 3)), gamma2=np.ones((4, 3)))
