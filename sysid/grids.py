@@ -87,9 +87,16 @@ def discrete_to_continuous(omega_d: np.ndarray, T: float) -> np.ndarray:
     omega : ndarray, shape (K,)
         Continuous frequencies (U_inf / c units). ``omega_d == pi`` maps to exactly ``np.inf`` (never the
         huge finite number ``tan(pi/2)`` gives in floating point).
+
+    Raises
+    ------
+    FrequencyGridError
+        ``T`` not positive and finite, or an ``omega_d`` outside ``[0, pi]`` (beyond ``pi`` the tangent wraps to
+        negative frequencies) or not finite.
     """
     T = check_period(T)
     wd = np.asarray(omega_d, dtype=float)
+    check_discrete_frequencies(wd)
     at_pi = np.isclose(wd, np.pi, rtol=0.0, atol=GRID_RTOL * np.pi)
     with np.errstate(over="ignore"):
         omega = (2.0 / T) * np.tan(np.where(at_pi, 0.0, wd) / 2.0)
@@ -104,15 +111,21 @@ def continuous_to_discrete(omega: np.ndarray, T: float) -> np.ndarray:
     omega : array_like, shape (K,)
         Continuous frequencies (U_inf / c units), nonnegative, ``inf`` allowed.
     T : float
-        Sampling period.
+        Sampling period (convective time units, chords / U_inf).
 
     Returns
     -------
     omega_d : ndarray, shape (K,)
         Discrete frequencies in ``[0, pi]``.
+
+    Raises
+    ------
+    FrequencyGridError
+        ``T`` not positive and finite, or an ``omega`` negative or NaN.
     """
     T = check_period(T)
     w = np.asarray(omega, dtype=float)
+    check_continuous_frequencies(w)
     return np.where(np.isinf(w), np.pi, 2.0 * np.arctan(np.where(np.isinf(w), 0.0, w) * T / 2.0))
 
 

@@ -54,6 +54,18 @@ def test_bilinear_maps_are_inverse():
     assert back[-1] == np.inf
 
 
+@pytest.mark.parametrize("call, match", [
+    # beyond pi the tangent wraps: 4.0 rad/sample used to map to omega = -4.37 without a word
+    (lambda: sysid.discrete_to_continuous([0.5, 4.0], 0.7), r"omega_d\[1\] = 4.0; .*\[0, pi\]"),
+    (lambda: sysid.discrete_to_continuous([np.nan], 0.7), r"omega_d\[0\] = nan"),
+    (lambda: sysid.continuous_to_discrete([1.0, -1.0], 0.7), r"omega\[1\] = -1.0; .*must be >= 0"),
+    (lambda: sysid.continuous_to_discrete([1.0], 0.0), r"sampling period T must be positive"),
+])
+def test_bilinear_maps_refuse_frequencies_outside_their_domain(call, match):
+    with pytest.raises(FrequencyGridError, match=match):
+        call()
+
+
 # ------------------------------------------------------------------------------------ construction
 def test_shapes_and_defaults():
     wd, _ = mckelvey_grid(8, 1.0)
