@@ -49,6 +49,7 @@ __all__ = [
     "SolverError",
     "ModelError",
     "TimeDataError",
+    "OptionError",
     # data
     "FrequencyResponse",
     "mckelvey_grid",

@@ -139,3 +139,20 @@ def test_no_private_names_across_modules(modules):
                 bad.append(f"{module}:{node.lineno} takes {aliases[node.value.id]}.{node.attr}")
     bad = [b for b in bad if not b.startswith(KNOWN)]
     assert not bad, "private names used across modules:\n" + "\n".join(sorted(set(bad)))
+
+
+@pytest.mark.parametrize("package", ["cfd", "sysid", "aeroelastic", "studies"])
+def test_each_package_lists_its_public_names(package):
+    """``__all__`` names exactly what the package's ``__init__`` exposes (``from cfd import *`` gets the whole
+    API, and nothing is public by accident)."""
+    import importlib
+    import types
+
+    module = importlib.import_module(package)
+    exposed = {name for name in vars(module) if not name.startswith("_") and name != "annotations"
+               and not isinstance(getattr(module, name), types.ModuleType)}
+    listed = set(module.__all__)
+    assert len(module.__all__) == len(listed), "a name listed twice"
+    assert exposed <= listed, f"exposed but not in __all__: {sorted(exposed - listed)}"
+    for name in listed:   # resolvable (studies imports its two entry points on first use)
+        assert getattr(module, name) is not None
