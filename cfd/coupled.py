@@ -65,7 +65,7 @@ class CoupledHistory:
     t : ndarray, shape (n + 1,)
         Convective time ``s = t U / c``, ``0, dt, ..., t_end``.
     u : ndarray, shape (n + 1,)
-        Gust input ``v_g(x_ref, s) / U`` (rad).
+        Gust input ``v_g(x_ref, s) / U`` (dimensionless: the tangent of the local gust angle).
     h : ndarray, shape (n + 1,)
         Plunge of the pivot, chords, up.
     alpha : ndarray, shape (n + 1,)

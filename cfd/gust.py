@@ -186,14 +186,18 @@ class SineGust(_Gust):
             object.__setattr__(self, "x0", _x0(self.x0))
 
     def profile(self, xi):
+        """Unit-amplitude profile ``f(xi)``, ``v_g / U = A f(xi)``, at ``xi = x - x0 - s`` (chords from the front,
+        ``x0 = 0`` for an endless train; the gust fills ``xi <= 0``), any shape."""
         ph = self.omega * xi
         return np.sin(ph) if self.x0 is None else np.where(xi <= 0.0, np.sin(ph), 0.0)
 
     def profile_derivative(self, xi):
+        """``df/dxi`` (per chord), shape of ``xi``."""
         d = self.omega * np.cos(self.omega * xi)
         return d if self.x0 is None else np.where(xi <= 0.0, d, 0.0)
 
     def antiderivative(self, xi):
+        """``F(xi)`` with ``F' = f`` (chords), shape of ``xi``: exact cell and face integrals of the gust."""
         if self.x0 is not None:
             xi = np.minimum(xi, 0.0)
         return -np.cos(self.omega * xi) / self.omega
@@ -227,14 +231,18 @@ class OneMinusCosine(_Gust):
         object.__setattr__(self, "x0", _x0(self.x0))
 
     def profile(self, xi):
+        """Unit-amplitude profile ``f(xi)``, ``v_g / U = A f(xi)``, at ``xi = x - x0 - s`` (chords from the front,
+        ``x0 = 0`` for an endless train; the gust fills ``xi <= 0``), any shape."""
         inside = (xi <= 0.0) & (xi >= -self.length)
         return np.where(inside, 0.5 * (1.0 - np.cos(2.0 * np.pi * xi / self.length)), 0.0)
 
     def profile_derivative(self, xi):
+        """``df/dxi`` (per chord), shape of ``xi``."""
         inside = (xi <= 0.0) & (xi >= -self.length)
         return np.where(inside, (np.pi / self.length) * np.sin(2.0 * np.pi * xi / self.length), 0.0)
 
     def antiderivative(self, xi):
+        """``F(xi)`` with ``F' = f`` (chords), shape of ``xi``: exact cell and face integrals of the gust."""
         L = self.length
         xc = np.clip(xi, -L, 0.0)
         return 0.5 * (xc + L) - (L / (4.0 * np.pi)) * np.sin(2.0 * np.pi * xc / L)
@@ -260,12 +268,16 @@ class SharpEdged(_Gust):
         object.__setattr__(self, "x0", _x0(self.x0))
 
     def profile(self, xi):
+        """Unit-amplitude profile ``f(xi)``, ``v_g / U = A f(xi)``, at ``xi = x - x0 - s`` (chords from the front,
+        ``x0 = 0`` for an endless train; the gust fills ``xi <= 0``), any shape."""
         return np.where(xi <= 0.0, 1.0, 0.0)
 
     def profile_derivative(self, xi):
+        """``df/dxi`` (per chord), shape of ``xi``."""
         return np.zeros(np.shape(xi))  # a delta at the front: use the cell integrals, never point values
 
     def antiderivative(self, xi):
+        """``F(xi)`` with ``F' = f`` (chords), shape of ``xi``: exact cell and face integrals of the gust."""
         return np.minimum(xi, 0.0)
 
 

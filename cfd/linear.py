@@ -216,6 +216,9 @@ class LinearSystem:
         ``d(Cl, Cm, Cd)/dq`` (rows in the order of ``OUTPUTS``).
     loads : ndarray, shape (3,)
         Steady ``(Cl, Cm, Cd)`` from ``wall_loads``.
+    D : ndarray, shape (3, 1)
+        Feedthrough of the gust: the response at ``omega = inf`` (the ``omega_d = pi`` sample of McKelvey's
+        grid, returned without a solve); zeros, as the discrete system has no direct gust-to-load path.
     vortex : tuple (u, v) of ndarray, shape (4N,), or None
         With the point-vortex far field (``scheme.vortex``) the residual depends on the state also through
         the circulation, which ``cfd.jacobian`` holds frozen: the full Jacobian is ``J + u v^T`` with

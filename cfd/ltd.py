@@ -65,7 +65,8 @@ class LTDHistory:
     t : ndarray, shape (n + 1,)
         Convective time ``s = t U / c``, from 0 to ``t_end``.
     u : ndarray, shape (n + 1,)
-        Gust input ``v_g(x_ref, s) / U`` (zeros without a gust).
+        Gust input ``v_g(x_ref, s) / U`` (dimensionless: the tangent of the local gust angle; zeros without a
+        gust).
     cl, cm, cd : ndarray, shape (n + 1,)
         Load coefficient perturbations (``cm`` about the quarter chord, nose up positive).
     method : str

@@ -283,6 +283,8 @@ def solve_steady(grid, mach, alpha_deg, *, gamma=1.4, tol=1e-10, scheme=None, q0
         Mach out of (0, 1), NaN or infinite input, or a non-physical ``q0``; a bad setting: ``tol`` not in
         (0, 1), ``cfl0`` not positive and finite, ``n_rk``, ``max_newton`` or ``max_chord`` not a whole number
         >= 0, ``scheme`` not a ``cfd.Scheme`` with finite non-negative constants, or an unknown ``strategy``.
+    MeshError
+        ``grid`` is not a :class:`cfd.Grid`.
     ConvergenceError
         If the iteration diverges (non-finite or non-physical state) or stalls before ``tol``; carries
         ``.history``.

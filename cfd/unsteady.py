@@ -88,7 +88,7 @@ class UnsteadyHistory(LTDHistory):
     t : ndarray, shape (n + 1,)
         Convective time ``s = t U / c``, from 0 (``n`` steps of ``dt``).
     u : ndarray, shape (n + 1,)
-        Gust input ``v_g(x_ref, s) / U`` (``tan`` of the gust angle).
+        Gust input ``v_g(x_ref, s) / U`` (dimensionless: the tangent of the local gust angle).
     cl, cm, cd : ndarray, shape (n + 1,)
         Load coefficient perturbations about the steady loads (``cm`` about the quarter chord, nose up
         positive; wind axes of the steady free stream), at the gust's amplitude, as the LTD's: compare
@@ -118,6 +118,8 @@ class UnsteadyHistory(LTDHistory):
         with ``cfd.export.write_vtk(grid, path, cfd.export.primitives(q, mach))``.
     complete : bool
         False for the partial history carried by an :class:`UnsteadyStepError`.
+    h, alpha, pivot : None
+        Inherited from :class:`cfd.ltd.LTDHistory`; None here: the nonlinear march prescribes no motion.
     info : dict
         ``wall_time``, ``t_jacobian``, ``t_factor``, ``t_solve``, ``t_residual`` (seconds), ``n_residual``,
         ``n_solve``, ``n_gmres``, ``steady_residual`` (``|R(q_bar)| / r_free``), ``steady_max_mach`` (peak local
