@@ -63,6 +63,12 @@ def change_axes(frf, *, pivot: float, moment_axis: float, new_axis: float):
     -------
     sysid.FrequencyResponse
         Same grid, names and order; ``metadata`` gains ``"axis": new_axis``.
+
+    Raises
+    ------
+    AeroModelError
+        ``frf`` not a :class:`sysid.FrequencyResponse`, missing ``"Cl"`` / ``"Cm"`` outputs, or an axis position
+        not a finite number.
     """
     import sysid
 
@@ -83,6 +89,33 @@ def change_axes(frf, *, pivot: float, moment_axis: float, new_axis: float):
 
 
 def to_elastic_axis(frf, section, *, pivot: float = 0.25, moment_axis: float = 0.25):
-    """:func:`change_axes` to ``section.elastic_axis`` (quarter-chord pivot and moment by default)."""
+    """:func:`change_axes` to ``section.elastic_axis`` (quarter-chord pivot and moment by default).
+
+    Parameters
+    ----------
+    frf : sysid.FrequencyResponse
+        Motion (and gust) data as for :func:`change_axes`: outputs containing ``"Cl"``, ``"Cm"``; inputs
+        ``"plunge"``, ``"pitch"``, optionally ``"gust"``.
+    section : TypicalSection
+        Gives the new axis, ``section.elastic_axis`` (chords from the leading edge).
+    pivot : float
+        Pitch pivot of the data, chords from the leading edge (default 0.25).
+    moment_axis : float
+        Moment reference of the data's ``Cm``, chords from the leading edge (default 0.25).
+
+    Returns
+    -------
+    sysid.FrequencyResponse
+        Same grid, names and order, pitch and ``Cm`` about the elastic axis; ``metadata`` gains
+        ``"axis": section.elastic_axis``.
+
+    Raises
+    ------
+    SectionError
+        ``section`` not a :class:`TypicalSection`.
+    AeroModelError
+        ``frf`` not a :class:`sysid.FrequencyResponse`, missing ``"Cl"`` / ``"Cm"`` outputs, or ``pivot`` /
+        ``moment_axis`` not a finite number.
+    """
     check_section(section)
     return change_axes(frf, pivot=pivot, moment_axis=moment_axis, new_axis=section.elastic_axis)

@@ -111,8 +111,9 @@ class MotionModel:
     max_error, rms_error : float
         Motion fit errors over the data: ``|fit - data| / max(|data|, 0.01 max|data_ij|)``, max and RMS over
         entries and frequencies (an entry that is zero throughout is measured against ``1e-12`` of the largest).
-    gust_max_error : float or None
-        Max error of the gust model over the data relative to the peak of each output (``nan`` without gust).
+    gust_max_error : float
+        Max error of the gust model over the data relative to the peak of each output (``nan`` without gust, the
+        default).
     omega : ndarray, shape (K,)
         Frequencies of the data fitted (U/c).
     gust_identification : sysid.IdentificationResult or None

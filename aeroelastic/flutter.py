@@ -2,11 +2,12 @@
 
 At each speed index ``V`` the coupled model (:func:`aeroelastic.coupled_model`) is one LTI system; its
 eigenvalues (computed from :func:`aeroelastic.coupling.state_matrix`, the same matrix in closed form, which is
-cheaper to build than through python-control in a sweep; a test checks that the two agree) ``lambda`` (units of ``omega_alpha``) give the root locus. The section is stable while every
-``Re lambda < 0``; flutter (``Im lambda != 0``) or divergence (a real root) is the first speed where the
-largest real part crosses zero. The crossing is bracketed on the speed grid and refined with
-:func:`scipy.optimize.brentq` on ``max Re lambda(V)`` -- no p-k iteration: the aerodynamic model is already a
-state-space model valid for any ``lambda``.
+cheaper to build than through python-control in a sweep; a test checks that the two agree) ``lambda`` (units of
+``omega_alpha``) give the root locus. The section is stable while every ``Re lambda < 0``; flutter
+(``Im lambda != 0``) or divergence (a real root) is the first speed where the largest real part crosses zero.
+The crossing is bracketed on the speed grid and refined with :func:`scipy.optimize.brentq` on
+``max Re lambda(V)`` -- no p-k iteration: the aerodynamic model is already a state-space model valid for any
+``lambda``.
 """
 
 from __future__ import annotations
@@ -128,15 +129,26 @@ def root_locus_response(aero: Any, section: TypicalSection, speeds: Any, *, orde
     aero : MotionModel or sysid.FrequencyResponse
     section : TypicalSection
     speeds : array_like, shape (N,)
-        Positive, increasing speed indices ``U / (b omega_alpha)``.
+        Positive, finite, strictly increasing speed indices ``U / (b omega_alpha)`` (at least 2; flattened).
     order : int
-        Lag roots of the fit when ``aero`` is data.
+        Lag roots of the fit when ``aero`` is data (default 4).
 
     Returns
     -------
     speeds : ndarray, shape (N,)
     eigenvalues : ndarray, complex, shape (N, n)
         Tracked along branches (see :attr:`FlutterResult.eigenvalues`).
+
+    Raises
+    ------
+    SpeedError
+        Unusable speed grid.
+    SectionError
+        ``section`` not a :class:`TypicalSection`.
+    AeroModelError
+        ``aero`` neither a model nor data.
+    FitError
+        Data that cannot be fitted (see :func:`fit_motion`).
     """
     check_section(section)
     model = as_motion_model(aero, order)
@@ -181,14 +193,19 @@ def flutter(aero: Any, section: TypicalSection, speeds: Any = None, *, order: in
         (``Cm`` about the elastic axis), continuous ``omega`` in ``U / c``; fitted with
         :func:`aeroelastic.fit_motion` (``order`` lag roots, ``fit_kw``) when data are given.
     section : TypicalSection
-    speeds : array_like, optional
-        Speed indices ``U / (b omega_alpha)`` of the root locus, increasing; default
-        ``np.linspace(0.02, 3, 301) * sqrt(mu)`` (flutter speed indices ``V_f`` up to 3).
+    speeds : array_like, shape (N,), optional
+        Speed indices ``U / (b omega_alpha)`` of the root locus (flattened), at least 2, positive, finite and
+        strictly increasing; default ``np.linspace(0.02, 3, 301) * sqrt(mu)`` (flutter speed indices ``V_f`` up
+        to 3, ``N = 301``).
     order : int
-        Number of lag roots of the fit.
+        Number of lag roots of the fit (default 4; used only when ``aero`` is data).
     tol : float
-        A root counts as unstable when ``Re lambda > tol`` (``omega_alpha`` units); conservative models
-        (no aerodynamic damping) keep ``Re lambda`` at round-off, not exactly 0.
+        A root counts as unstable when ``Re lambda > tol`` (``omega_alpha`` units, default 1e-9); conservative
+        models (no aerodynamic damping) keep ``Re lambda`` at round-off, not exactly 0.
+    **fit_kw
+        Options of :func:`aeroelastic.fit_motion` (``gust_order``, ``T``, ``optimise``, ``poles``: the names in
+        :data:`aeroelastic.coupling.FIT_OPTIONS`), used when ``aero`` is data; checked against those names even
+        when ``aero`` is a :class:`MotionModel` (then they are otherwise ignored).
 
     Returns
     -------
@@ -256,6 +273,30 @@ def divergence_speed(aero: Any, section: TypicalSection, *, order: int = 4) -> f
     Static equilibrium ``(Ks - V^2 diag(1, 2) / (pi mu) M0) q = 0``: ``V^2`` is an eigenvalue of the pencil
     ``(Ks, diag(1, 2) M0 / (pi mu))``; the smallest positive real one is returned (``inf`` if none). For a flat
     plate ``M0 = [[0, 2 pi], [0, pi (a + 1/2)]]`` and this is ``V_D = sqrt(mu r_alpha2 / (1 + 2 a))``.
+
+    Parameters
+    ----------
+    aero : sysid.FrequencyResponse or MotionModel
+        Aerodynamic model of the motion, as for :func:`flutter` (only its static matrix ``M0`` is used); data
+        are fitted with :func:`aeroelastic.fit_motion` (``order`` lag roots, default options).
+    section : TypicalSection
+    order : int
+        Number of lag roots of the fit when ``aero`` is data (default 4).
+
+    Returns
+    -------
+    float
+        Divergence speed index ``V_D = U / (b omega_alpha)``; ``inf`` when the pencil has no positive real
+        eigenvalue (no static divergence).
+
+    Raises
+    ------
+    SectionError
+        ``section`` not a :class:`TypicalSection`.
+    AeroModelError
+        ``aero`` neither a model nor data, or data missing channels (see :func:`fit_motion`).
+    FitError
+        Data that cannot be fitted (see :func:`fit_motion`).
     """
     from scipy.linalg import eigvals
 

@@ -83,7 +83,8 @@ def _gust_history(gust: Any, t: Any):
 
 
 def simulate(sys, section: TypicalSection, speed: float, t: np.ndarray, u: np.ndarray) -> GustResponse:
-    """Simulate a coupled model in ``tau`` (input ``gust``, outputs containing plunge, pitch, Cl, Cm) on convective ``t``.
+    """Simulate a coupled model in ``tau`` (input ``gust``, outputs containing plunge, pitch, Cl, Cm) on
+    convective ``t``.
 
     Zero initial state; the input is linear between samples (python-control's ``forced_response``).
     """
@@ -112,22 +113,30 @@ def gust_response(aero: Any, section: TypicalSection, speed: float, gust: Any, t
     speed : float
         Speed index ``U / (b omega_alpha)`` (below flutter for a bounded response).
     gust : (t, u), object with ``.t`` and ``.u``, or array ``u``
-        Gust angle ``u = v_g(x = 0) / U`` (rad) at convective times ``t`` (``s = t U / c``), increasing; the
-        section starts at rest in its steady state at ``t[0]``.
-    t : array_like, optional
-        Times when ``gust`` is the array ``u``.
+        Gust angle ``u = v_g(x = 0) / U`` (rad), 1-D of shape (N,), at convective times ``t`` (``s = t U / c``),
+        1-D of shape (N,), finite and strictly increasing, ``N >= 2``; the section starts at rest in its steady
+        state at ``t[0]``.
+    t : array_like, shape (N,), optional
+        Convective times (``s = t U / c``) when ``gust`` is the array ``u``; then required.
     order : int
-        Lag roots of the motion fit when ``aero`` is data.
+        Lag roots of the motion fit when ``aero`` is data (default 4).
+    **fit_kw
+        Options of :func:`aeroelastic.fit_motion` (``gust_order``, ``T``, ``optimise``, ``poles``: the names in
+        :data:`aeroelastic.coupling.FIT_OPTIONS`), used when ``aero`` is data; checked against those names even
+        when ``aero`` is a :class:`MotionModel` (then they are otherwise ignored).
 
     Returns
     -------
     GustResponse
+        Histories of shape (N,) on the times ``t``.
 
     Raises
     ------
     AeroModelError
-        The model has no gust input, the history is malformed, or a fit option is not in
-        :data:`aeroelastic.coupling.FIT_OPTIONS`.
+        ``aero`` neither a model nor data, the model has no gust input, the history is malformed, or a fit option
+        is not in :data:`aeroelastic.coupling.FIT_OPTIONS`.
+    FitError
+        Data that cannot be fitted (see :func:`aeroelastic.fit_motion`).
     SectionError
         ``section`` not a :class:`TypicalSection`.
     SpeedError

@@ -28,6 +28,20 @@ def root_locus_plot(result, ax: Any = None, *, show_lags: bool = True):
     (triangle); the other roots (the aerodynamic lag roots, real and stable, and a real root crossing to the right
     half plane at divergence) as grey points. The flutter
     point, when found, is marked with a star.
+
+    Parameters
+    ----------
+    result : FlutterResult
+        From :func:`aeroelastic.flutter` (uses ``eigenvalues``, ``modes``, ``speeds`` and the flutter point).
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; default a new figure of 6 x 4.5 inches.
+    show_lags : bool
+        Also draw the other roots (those on or above the real axis) as grey points (default True).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        ``ax``, or the new axes.
     """
     plt = _plt()
     if ax is None:
@@ -60,7 +74,17 @@ def root_locus_plot(result, ax: Any = None, *, show_lags: bool = True):
 def vg_plot(result, axs: Any = None):
     """V-g plot: damping ``g = 2 Re(lambda) / Im(lambda)`` and frequency ``Im(lambda) / omega_alpha`` against speed.
 
-    Returns the two axes ``(ax_g, ax_f)``.
+    Parameters
+    ----------
+    result : FlutterResult
+        From :func:`aeroelastic.flutter` (the two structural branches ``modes`` are drawn against ``speeds``).
+    axs : pair of matplotlib.axes.Axes, optional
+        ``(ax_g, ax_f)`` for the damping and the frequency; default a new figure with two stacked axes sharing x.
+
+    Returns
+    -------
+    tuple of matplotlib.axes.Axes
+        The two axes ``(ax_g, ax_f)``.
     """
     plt = _plt()
     if axs is None:
@@ -92,7 +116,20 @@ def vg_plot(result, axs: Any = None):
 
 
 def flutter_plot(result, fig: Any = None):
-    """Root locus (left) and V-g plot (right) in one figure; returns the figure."""
+    """Root locus (left) and V-g plot (right) in one figure.
+
+    Parameters
+    ----------
+    result : FlutterResult
+        From :func:`aeroelastic.flutter`.
+    fig : matplotlib.figure.Figure, optional
+        Figure to draw in (three subplots are added to it); default a new figure of 12 x 5.5 inches.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        ``fig``, or the new figure (after ``tight_layout``).
+    """
     plt = _plt()
     if fig is None:
         fig = plt.figure(figsize=(12.0, 5.5))
@@ -110,7 +147,21 @@ def gust_response_plot(response, reference: Any = None, axs: Any = None, *, labe
                        reference_label: str = "reference"):
     """Gust angle, plunge, pitch, Cl and Cm against convective time; optional reference histories (dashed).
 
-    Returns the five axes.
+    Parameters
+    ----------
+    response : GustResponse
+        From :func:`aeroelastic.gust_response` (uses ``t``, ``u``, ``plunge``, ``pitch``, ``Cl``, ``Cm``, ``speed``).
+    reference : object with ``t``, ``plunge``, ``pitch``, ``Cl``, ``Cm``, optional
+        Reference histories (e.g. another :class:`GustResponse`), drawn dashed on all rows but the gust angle.
+    axs : sequence of 5 matplotlib.axes.Axes, optional
+        One per row (gust angle, plunge, pitch, Cl, Cm); default a new figure with five stacked axes sharing x.
+    label, reference_label : str
+        Legend labels of ``response`` and ``reference`` (defaults ``"coupled ROM"``, ``"reference"``).
+
+    Returns
+    -------
+    sequence of matplotlib.axes.Axes
+        ``axs``, or the new ndarray of five axes, shape (5,).
     """
     plt = _plt()
     if axs is None:

@@ -71,13 +71,18 @@ def theodorsen_function(k: Any) -> np.ndarray:
 
     Parameters
     ----------
-    k : array_like, shape (K,)
-        Reduced frequency ``k = omega b / U >= 0`` (``= omega / 2`` with ``omega`` in ``U / c``).
+    k : array_like, shape (...)
+        Reduced frequency ``k = omega b / U >= 0`` (``= omega / 2`` with ``omega`` in ``U / c``), finite; any shape.
 
     Returns
     -------
-    C : ndarray, complex, shape (K,)
-        ``C(0) = 1`` (the limit), ``C -> 1/2`` as ``k -> inf``; ``Im C < 0`` for ``k > 0``.
+    C : ndarray, complex, shape (...)
+        The shape of ``k``. ``C(0) = 1`` (the limit), ``C -> 1/2`` as ``k -> inf``; ``Im C < 0`` for ``k > 0``.
+
+    Raises
+    ------
+    SpeedError
+        A ``k`` that is negative, not finite or not numeric.
     """
     kk = _as_k(k)
     out = np.ones(kk.shape, dtype=complex)
@@ -96,16 +101,23 @@ def sears_function(k: Any, reference: str = "midchord") -> np.ndarray:
 
     Parameters
     ----------
-    k : array_like, shape (K,)
-        Reduced frequency ``omega b / U``.
+    k : array_like, shape (...)
+        Reduced frequency ``omega b / U >= 0``, finite; any shape.
     reference : {"midchord", "leading_edge"}
         Where the gust is measured. The project's gust input is at the leading edge (``x_ref = 0``); the
         gust reaches mid-chord ``b / U`` later, so ``S_le = S exp(-i k)``.
 
     Returns
     -------
-    S : ndarray, complex, shape (K,)
-        ``S(0) = 1``.
+    S : ndarray, complex, shape (...)
+        The shape of ``k``; ``S(0) = 1``.
+
+    Raises
+    ------
+    SpeedError
+        A ``k`` that is negative, not finite or not numeric.
+    AeroModelError
+        ``reference`` not ``"midchord"`` or ``"leading_edge"``.
     """
     kk = _as_k(k)
     S = (special.j0(kk) - 1j * special.j1(kk)) * theodorsen_function(kk) + 1j * special.j1(kk)
@@ -198,10 +210,24 @@ def theodorsen_gust(omega: Any, a: float) -> np.ndarray:
     ``Cl = 2 pi S(k) exp(-i k)``; the gust lift of a flat plate acts at the quarter chord, so
     ``Cm_ea = Cl (a + 1/2) / 2`` (the elastic axis is ``(a + 1/2) / 2`` chords aft of it).
 
+    Parameters
+    ----------
+    omega : array_like, shape (K,)
+        Frequencies in ``U / c`` (finite, ``>= 0``, at least one; flattened), so ``k = omega / 2``.
+    a : float
+        Elastic axis aft of mid-chord, semichords (the moment axis of ``Cm``).
+
     Returns
     -------
     H : ndarray, complex, shape (2, 1, K)
-        Outputs ``[Cl, Cm]``, input ``[gust]``.
+        Outputs ``[Cl, Cm]``, input ``[gust]`` (per unit gust angle, rad).
+
+    Raises
+    ------
+    AeroModelError
+        ``omega`` empty, not finite or negative.
+    SectionError
+        ``a`` not a finite number.
     """
     a = _check_a(a)
     w = _as_omega(omega)
@@ -369,6 +395,21 @@ def theodorsen_jones(k: Any) -> np.ndarray:
     """Theodorsen's function as implied by Jones' Wagner approximation: ``1 - sum A_i i k / (i k + b_i)``.
 
     Differs from :func:`theodorsen_function` by up to about 2.3 % in magnitude for ``k`` in ``0.05 .. 1``.
+
+    Parameters
+    ----------
+    k : array_like, shape (...)
+        Reduced frequency ``k = omega b / U >= 0`` (``= omega / 2`` with ``omega`` in ``U / c``), finite; any shape.
+
+    Returns
+    -------
+    ndarray, complex, shape (...)
+        The shape of ``k``; 1 at ``k = 0``. ``(A_i, b_i)`` from :data:`WAGNER_JONES`.
+
+    Raises
+    ------
+    SpeedError
+        A ``k`` that is negative, not finite or not numeric.
     """
     p = 1j * _as_k(k)
     return 1.0 - sum(A * p / (p + b) for A, b in WAGNER_JONES)
@@ -377,7 +418,23 @@ def theodorsen_jones(k: Any) -> np.ndarray:
 def sears_jones(k: Any) -> np.ndarray:
     """Sears' function (gust at the leading edge) as implied by Jones' Kussner approximation.
 
-    ``S_le(k) ~= 1 - sum G_i i k / (i k + g_i)`` (the Laplace transform of ``d psi / d tau`` plus ``psi(0)``).
+    ``S_le(k) ~= 1 - sum G_i i k / (i k + g_i)`` (the Laplace transform of ``d psi / d tau`` plus ``psi(0)``),
+    ``(G_i, g_i)`` from :data:`KUSSNER_JONES`.
+
+    Parameters
+    ----------
+    k : array_like, shape (...)
+        Reduced frequency ``k = omega b / U >= 0`` (``= omega / 2`` with ``omega`` in ``U / c``), finite; any shape.
+
+    Returns
+    -------
+    ndarray, complex, shape (...)
+        The shape of ``k``; 1 at ``k = 0``.
+
+    Raises
+    ------
+    SpeedError
+        A ``k`` that is negative, not finite or not numeric.
     """
     p = 1j * _as_k(k)
     return 1.0 - sum(G * p / (p + g) for G, g in KUSSNER_JONES)
@@ -389,6 +446,30 @@ def jones_frf(omega: Any, a: float, T: float | None = None):
     The exact frequency-domain image of :func:`jones_section_model`'s aerodynamics: :func:`theodorsen_motion`
     with :func:`theodorsen_jones` and the gust column ``2 pi sears_jones(k)`` (``Cm = Cl (a + 1/2) / 2``).
     Fitting these data and coupling them must reproduce :func:`jones_section_model` up to the fit error.
+
+    Parameters
+    ----------
+    omega : array_like, shape (K,)
+        Frequencies in ``U / c`` (finite, ``>= 0``, at least one; flattened).
+    a : float
+        Elastic axis aft of mid-chord, semichords; ``Cm`` and pitch are about it.
+    T : float, optional
+        Sampling period (convective time c / U) passed to :meth:`sysid.FrequencyResponse.from_continuous`.
+
+    Returns
+    -------
+    sysid.FrequencyResponse
+        ``H`` of shape ``(2, 3, K)``: outputs ``["Cl", "Cm"]``, inputs ``["gust", "plunge", "pitch"]`` (gust angle
+        at the leading edge in rad, ``h / c`` up, rad nose up); metadata ``source`` and ``a``.
+
+    Raises
+    ------
+    AeroModelError
+        ``omega`` empty, not finite or negative.
+    SectionError
+        ``a`` not a finite number.
+    sysid.FrequencyGridError
+        ``T`` given but not positive and finite.
     """
     import sysid
 
@@ -407,6 +488,16 @@ def wagner_jones(tau: Any) -> np.ndarray:
 
     ``phi(tau) = 1 - 0.165 exp(-0.0455 tau) - 0.335 exp(-0.3 tau)``, ``tau = U t / b`` (semichords travelled);
     ``phi = 0`` for ``tau < 0`` (before the step), as :func:`cfd.wagner`.
+
+    Parameters
+    ----------
+    tau : array_like, shape (...)
+        Time since the step, in semichords travelled ``U t / b`` (twice the convective time ``t U / c``); any shape.
+
+    Returns
+    -------
+    ndarray, shape (...)
+        ``phi`` (fraction of the steady lift), of the shape of ``tau`` (a NumPy float for a scalar ``tau``).
     """
     t = np.asarray(tau, dtype=float)
     with np.errstate(over="ignore"):                     # exp of a large negative tau: masked below
@@ -420,6 +511,17 @@ def kussner_jones(tau: Any) -> np.ndarray:
     ``psi(tau) = 1 - 0.236 exp(-0.058 tau) - 0.513 exp(-0.364 tau) - 0.171 exp(-2.42 tau)``, ``tau = U t / b``
     measured from the gust front reaching the leading edge; ``psi = 0`` for ``tau < 0`` (before it), as
     :func:`cfd.kussner`.
+
+    Parameters
+    ----------
+    tau : array_like, shape (...)
+        Time since the gust front reached the leading edge, in semichords travelled ``U t / b`` (twice the
+        convective time ``t U / c``); any shape.
+
+    Returns
+    -------
+    ndarray, shape (...)
+        ``psi`` (fraction of the steady gust lift), of the shape of ``tau`` (a NumPy float for a scalar ``tau``).
     """
     t = np.asarray(tau, dtype=float)
     with np.errstate(over="ignore"):                     # exp of a large negative tau: masked below

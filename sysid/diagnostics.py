@@ -359,6 +359,14 @@ def diagnose(
     DataDiagnostics
         Per-channel numbers, flags, plain-language ``warnings`` and :meth:`DataDiagnostics.summary`.
 
+    Raises
+    ------
+    TypeError
+        ``frf`` is not a :class:`FrequencyResponse`.
+    FrequencyGridError
+        A frequency appears twice; or, for data on continuous frequencies only, ``T`` not positive and finite,
+        or no ``T`` given and no positive finite frequency to choose the default from.
+
     Notes
     -----
     The formulas, the tolerances' meaning and the discretisation error are in the module docstring of

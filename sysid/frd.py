@@ -269,14 +269,30 @@ class FrequencyResponse:
         Parameters
         ----------
         H : array_like, complex, shape (p, m, K)
-            Response samples.
+            Response samples (``(K,)`` is read as SISO, ``(p, K)`` as single-input).
         omega : array_like, shape (K,)
             Continuous frequencies (U_inf / c units), ``>= 0``; ``np.inf`` allowed (its value is the
             feedthrough).
         T : float, optional
-            Sampling period. When given, ``omega_d = 2 arctan(omega T / 2)`` (``inf -> pi``); otherwise
-            ``omega_d`` and ``T`` are ``None`` (the data cannot be identified until a ``T`` is chosen:
-            see :meth:`with_T`).
+            Sampling period (convective time units, c / U_inf). When given, ``omega_d = 2 arctan(omega T / 2)``
+            (``inf -> pi``); otherwise ``omega_d`` and ``T`` are ``None`` (the data cannot be identified until a
+            ``T`` is chosen: see :meth:`with_T`).
+        inputs, outputs : list of str, optional
+            Channel names (lengths ``m`` and ``p``); default ``u[i]`` and ``y[i]``.
+        metadata : dict, optional
+            Free-form JSON-serialisable information, stored as a read-only copy.
+
+        Returns
+        -------
+        FrequencyResponse
+            With ``omega`` as given and, when ``T`` is given, ``omega_d`` in ``[0, pi]`` (rad/sample).
+
+        Raises
+        ------
+        FrequencyDataError
+            NaN/inf in ``H``, ``omega`` of another length than ``K``, wrong number of names.
+        FrequencyGridError
+            Negative or NaN ``omega``, ``T <= 0`` or not finite.
         """
         return cls(H, None, T, inputs=inputs, outputs=outputs, metadata=metadata, omega=omega)
 
@@ -292,14 +308,26 @@ class FrequencyResponse:
             at ``s = 1j omega`` with ``omega = (2/T) tan(omega_d / 2)`` (``omega = inf`` gives ``D``), so
             the samples equal those of its Tustin discretisation.
         omega_d : array_like, shape (K,)
-            Discrete frequencies in ``[0, pi]``.
+            Discrete frequencies in ``[0, pi]`` (rad/sample).
         T : float, optional
-            Sampling period; defaults to ``model.dt`` for a discrete model, required for a continuous one.
+            Sampling period (convective time units, c / U_inf); defaults to ``model.dt`` for a discrete model,
+            required for a continuous one.
+        metadata : dict, optional
+            Free-form JSON-serialisable information, stored as a read-only copy.
+
+        Returns
+        -------
+        FrequencyResponse
+            Samples of shape ``(p, m, K)`` on ``omega_d`` with period ``T`` (so ``omega`` by Eq. 28), channel
+            names from ``model.input_labels`` and ``model.output_labels``.
 
         Raises
         ------
         FrequencyDataError
             When a sampled point is a pole of the model (an infinite response).
+        FrequencyGridError
+            A continuous model without ``T``, ``T <= 0`` or not finite, ``omega_d`` not 1-D, NaN or outside
+            ``[0, pi]``.
         """
         A, B, C, D = (np.asarray(x, dtype=float) for x in (model.A, model.B, model.C, model.D))
         wd = _as_freq(omega_d, "omega_d", np.size(omega_d))
@@ -328,7 +356,23 @@ class FrequencyResponse:
         return cls(H, wd, T, inputs=list(model.input_labels), outputs=list(model.output_labels), metadata=metadata)
 
     def with_T(self, T: float) -> "FrequencyResponse":
-        """Return a copy with sampling period ``T``, mapping the continuous frequencies to ``omega_d``."""
+        """Return a copy with sampling period ``T``, mapping the continuous frequencies to ``omega_d``.
+
+        Parameters
+        ----------
+        T : float
+            Sampling period (convective time units, c / U_inf); replaces any previous ``T``.
+
+        Returns
+        -------
+        FrequencyResponse
+            The same ``H``, ``omega``, names and metadata, with ``omega_d = 2 arctan(omega T / 2)`` (``inf -> pi``).
+
+        Raises
+        ------
+        FrequencyGridError
+            No continuous frequencies ``omega`` (discrete data without ``T``), or ``T <= 0`` or not finite.
+        """
         if self.omega is None:
             raise FrequencyGridError("this response has no continuous frequencies to map; it already has omega_d")
         return FrequencyResponse.from_continuous(
@@ -336,7 +380,27 @@ class FrequencyResponse:
         )
 
     def replace(self, **changes: Any) -> "FrequencyResponse":
-        """Return a copy with some of ``H``, ``inputs``, ``outputs``, ``metadata`` replaced."""
+        """Return a copy with some of ``H``, ``inputs``, ``outputs``, ``metadata`` replaced.
+
+        Parameters
+        ----------
+        **changes
+            Keyword arguments among ``H`` (array_like, complex, shape (p, m, K) with the same ``K``),
+            ``inputs``, ``outputs`` (list of str) and ``metadata`` (dict); the others, the frequencies and ``T``
+            are kept.
+
+        Returns
+        -------
+        FrequencyResponse
+
+        Raises
+        ------
+        TypeError
+            A keyword other than ``H``, ``inputs``, ``outputs``, ``metadata``.
+        FrequencyDataError
+            As in the constructor: e.g. a new ``H`` with another ``K``, or names that no longer match its
+            ``p``, ``m``.
+        """
         allowed = {"H", "inputs", "outputs", "metadata"}
         unknown = set(changes) - allowed
         if unknown:
@@ -436,6 +500,16 @@ class FrequencyResponse:
     def subsample(self, M_new: int) -> "FrequencyResponse":
         """Coarser equispaced grid: keep every ``M / M_new``-th sample (e.g. M = 256 -> 128, 64, 32).
 
+        Parameters
+        ----------
+        M_new : int
+            Number of intervals of the coarse grid, a positive divisor of ``M``.
+
+        Returns
+        -------
+        FrequencyResponse
+            ``M_new + 1`` samples at ``omega_d = pi k / M_new``, ``k = 0..M_new`` (same ``T``, names, metadata).
+
         Raises
         ------
         FrequencyGridError
@@ -456,7 +530,19 @@ class FrequencyResponse:
         return self.take(np.arange(0, M + 1, M // M_new))
 
     def take(self, indices: Any) -> "FrequencyResponse":
-        """Return the samples at the given frequency indices (order kept as given)."""
+        """Return the samples at the given frequency indices (order kept as given).
+
+        Parameters
+        ----------
+        indices : array_like of int, shape (K_new,)
+            Frequency indices into ``0..K-1`` (flattened).
+
+        Returns
+        -------
+        FrequencyResponse
+            ``H[:, :, indices]`` of shape ``(p, m, K_new)`` with the matching ``omega_d`` and ``omega`` (same
+            ``T``, names, metadata).
+        """
         idx = np.asarray(indices, dtype=int).reshape(-1)
         return FrequencyResponse(
             self.H[:, :, idx],
@@ -472,7 +558,20 @@ class FrequencyResponse:
     def save(self, path: str | Path) -> Path:
         """Write to a ``.npz`` file (arrays) with names and metadata stored as JSON (:func:`sysid.frd_io.save_frf`).
 
-        Returns the path written (``.npz`` appended when missing). Metadata must be JSON-serialisable.
+        Parameters
+        ----------
+        path : str or Path
+            File to write; ``.npz`` is appended when missing.
+
+        Returns
+        -------
+        Path
+            The path written.
+
+        Raises
+        ------
+        FrequencyDataError
+            The metadata are not JSON-serialisable.
         """
         from .frd_io import save_frf
 
@@ -480,7 +579,24 @@ class FrequencyResponse:
 
     @classmethod
     def load(cls, path: str | Path) -> "FrequencyResponse":
-        """Read a file written by :meth:`save` (:func:`sysid.frd_io.load_frf`)."""
+        """Read a file written by :meth:`save` (:func:`sysid.frd_io.load_frf`).
+
+        Parameters
+        ----------
+        path : str or Path
+            The ``.npz`` file.
+
+        Returns
+        -------
+        FrequencyResponse
+            An instance of ``cls`` with the stored ``H``, frequencies, ``T``, names and metadata.
+
+        Raises
+        ------
+        FrequencyDataError
+            The file lacks the ``header``, ``H`` or ``metadata`` entries :meth:`save` writes, or they are not
+            what it writes; otherwise as in the constructor.
+        """
         from .frd_io import load_frf
 
         return load_frf(cls, path)
@@ -510,9 +626,23 @@ class FrequencyResponse:
         frd : control.FrequencyResponseData
             Continuous-time FRD (``omega`` in the project's U_inf / c units).
         T : float, optional
-            Sampling period for the discrete frequencies.
+            Sampling period (convective time units, c / U_inf) for the discrete frequencies.
         feedthrough : array_like (p, m), optional
-            Value at ``omega = inf`` to append (what :meth:`to_control` dropped).
+            Value at ``omega = inf`` to append (what :meth:`to_control` dropped); a scalar for SISO.
+        metadata : dict, optional
+            Free-form JSON-serialisable information, stored as a read-only copy.
+
+        Returns
+        -------
+        FrequencyResponse
+            Samples sorted by increasing ``omega`` (the ``omega = inf`` one last), names from the FRD's labels.
+
+        Raises
+        ------
+        FrequencyGridError
+            A discrete-time FRD (``dt`` not 0 or None); otherwise as in :meth:`from_continuous`.
+        FrequencyDataError
+            ``feedthrough`` not of shape ``(p, m)``; otherwise as in :meth:`from_continuous`.
         """
         from .frd_io import frf_from_control
 

@@ -61,8 +61,9 @@ class IdentificationResult:
     order : int
     method : str
         ``"mckelvey1"`` or ``"mckelvey2"``.
-    hankel_sv : ndarray
-        Singular values of the subspace step (guide for the order).
+    hankel_sv : ndarray, shape (k,)
+        Singular values of the subspace step (guide for the order), decreasing
+        (:attr:`sysid.subspace.HankelSVD.sv`: ``k = min(q p, r m)`` for Algorithm 1, ``q p`` for Algorithm 2).
     errors : FitErrors
         FRF errors over the data (see :mod:`sysid.metrics`).
     max_error, rms_error : float

@@ -56,7 +56,25 @@ class FitErrors:
 
 
 def max_relative_error(H_model, H_data, *, per_output: bool = False):
-    """Peak-normalised max error (see module docstring); shape (p,) with ``per_output=True``."""
+    """Peak-normalised max error (see module docstring).
+
+    Parameters
+    ----------
+    H_model, H_data : array_like, complex, shape (p, m, K)
+        Model and data responses at the same ``K`` frequencies (``(K,)`` accepted for SISO); same shape.
+    per_output : bool
+        Return the error of each output instead of the largest one (default False).
+
+    Returns
+    -------
+    float or ndarray, shape (p,)
+        ``per_output=False``: the scalar ``max_i max_rel[i]``; ``per_output=True``: ``max_rel[i]`` per output.
+
+    Raises
+    ------
+    FrequencyDataError
+        ``H_model`` and ``H_data`` differ in shape.
+    """
     Hm, Hd = _pair(H_model, H_data)
     err = np.abs(Hm - Hd).max(axis=(1, 2))
     scale = np.maximum(np.abs(Hd).max(axis=(1, 2)), _TINY)
@@ -65,7 +83,26 @@ def max_relative_error(H_model, H_data, *, per_output: bool = False):
 
 
 def rms_relative_error(H_model, H_data, *, per_output: bool = False):
-    """Energy-normalised RMS error (see module docstring); shape (p,) with ``per_output=True``."""
+    """Energy-normalised RMS error (see module docstring).
+
+    Parameters
+    ----------
+    H_model, H_data : array_like, complex, shape (p, m, K)
+        Model and data responses at the same ``K`` frequencies (``(K,)`` accepted for SISO); same shape.
+    per_output : bool
+        Return the error of each output instead of the overall one (default False).
+
+    Returns
+    -------
+    float or ndarray, shape (p,)
+        ``per_output=False``: the scalar ``||H_model - H_data||_F / ||H_data||_F`` over all samples (not the
+        largest per-output value); ``per_output=True``: ``rms_rel[i]`` per output.
+
+    Raises
+    ------
+    FrequencyDataError
+        ``H_model`` and ``H_data`` differ in shape.
+    """
     Hm, Hd = _pair(H_model, H_data)
     if per_output:
         num = np.sqrt(np.mean(np.abs(Hm - Hd) ** 2, axis=(1, 2)))
@@ -75,7 +112,24 @@ def rms_relative_error(H_model, H_data, *, per_output: bool = False):
 
 
 def frf_errors(H_model, H_data) -> FitErrors:
-    """All FRF error metrics at once. Arrays of shape (p, m, K) (or (K,) for SISO)."""
+    """All FRF error metrics at once.
+
+    Parameters
+    ----------
+    H_model, H_data : array_like, complex, shape (p, m, K)
+        Model and data responses at the same ``K`` frequencies (``(K,)`` accepted for SISO); same shape.
+
+    Returns
+    -------
+    FitErrors
+        Overall :func:`max_relative_error` and :func:`rms_relative_error` (floats) and their per-output
+        values (shape (p,)).
+
+    Raises
+    ------
+    FrequencyDataError
+        ``H_model`` and ``H_data`` differ in shape.
+    """
     return FitErrors(
         max_rel=max_relative_error(H_model, H_data),
         rms_rel=rms_relative_error(H_model, H_data),
@@ -90,8 +144,20 @@ def dc_error(dc_model, dc_data, *, relative: bool = True) -> float:
     Parameters
     ----------
     dc_model, dc_data : array_like, shape (p, m)
+        DC gains of the model (``z = 1``) and of the data (``omega = 0``); same shape.
     relative : bool
-        Divide by ``max |dc_data|`` (when it is nonzero).
+        Divide by ``max |dc_data|`` (when it is nonzero; default True).
+
+    Returns
+    -------
+    float
+        The max abs error, relative to ``max |dc_data|`` when ``relative`` and that is nonzero, else absolute;
+        0.0 for empty arrays.
+
+    Raises
+    ------
+    FrequencyDataError
+        ``dc_model`` and ``dc_data`` differ in shape.
     """
     a = np.asarray(dc_model)
     b = np.asarray(dc_data)
@@ -105,7 +171,18 @@ def dc_error(dc_model, dc_data, *, relative: bool = True) -> float:
 
 
 def spectral_radius(A) -> float:
-    """Largest eigenvalue modulus of ``A`` (shape (n, n)); 0 for an empty matrix."""
+    """Largest eigenvalue modulus of ``A``.
+
+    Parameters
+    ----------
+    A : array_like, shape (n, n)
+        State matrix (discrete: the model is stable when the result is ``< 1``).
+
+    Returns
+    -------
+    float
+        ``max |eig(A)|``; 0.0 for an empty matrix.
+    """
     A = np.asarray(A)
     return float(np.max(np.abs(np.linalg.eigvals(A)))) if A.size else 0.0
 
@@ -119,8 +196,8 @@ def rom_metrics(frf_rom, H, fit_index, outputs, dc_model, spectral_radius: float
         ROM on the base grid (``K = M_base + 1``).
     H : array_like, complex, shape (p, 1, K)
         Reference response on the base grid (``H[:, :, 0]`` at ``omega = 0``).
-    fit_index : array_like of int
-        Indices of the ``M + 1`` points identified from.
+    fit_index : array_like of int, shape (M + 1,)
+        Indices into the ``K`` base-grid points (each in ``[0, K)``) of the ``M + 1`` points identified from.
     outputs : sequence of str
         Names of the ``p`` outputs.
     dc_model : array_like, shape (p, 1)

@@ -44,8 +44,9 @@ class OrderSweep:
     Attributes
     ----------
     orders : ndarray of int, shape (N,)
-    singular_values : ndarray
-        All singular values of the full-data SVD, decreasing.
+    singular_values : ndarray, shape (k,)
+        All singular values of the full-data SVD, decreasing (:attr:`sysid.subspace.HankelSVD.sv`:
+        ``k = min(q p, r m)`` for Algorithm 1, ``q p`` for Algorithm 2; not limited to ``N``).
     max_error, rms_error : ndarray, shape (N,)
         Relative FRF errors of each order fitted to all data (definitions in :mod:`sysid.metrics`).
     holdout_error : ndarray, shape (N,) or None

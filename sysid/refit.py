@@ -311,6 +311,8 @@ def fit_bd(A, C, z, G, *, weights=None, dc_gain=None, feedthrough=None, solver: 
         Clarabel failed.
     FrequencyDataError
         Malformed arrays.
+    OptionError
+        ``solver`` is not ``"clarabel"`` or ``"numpy"``.
     """
     t0 = time.perf_counter()
     A, C, z, G, weights, cons, n, p, m, K = _validate(A, C, z, G, weights, dc_gain, feedthrough)
@@ -406,14 +408,45 @@ def fit_cd(A, B, z, G, *, weights=None, dc_gain=None, feedthrough=None, solver: 
            eig=None) -> CDFit:
     """Fit ``C`` and ``D`` of ``G(z) = C (zI - A)^-1 B + D`` given ``A`` (n, n) and ``B`` (n, m).
 
-    Same data, weights, constraints and solvers as :func:`fit_bd`; solved as the B/D refit of the
-    transposed system ``G(z)^T = B^T (zI - A^T)^-1 C^T + D^T``. ``eig``: :func:`sysid.state_space.eigen_parts`
-    of ``A`` (optional, as in :func:`fit_bd`).
+    Solved as the B/D refit (:func:`fit_bd`) of the transposed system
+    ``G(z)^T = B^T (zI - A^T)^-1 C^T + D^T``.
+
+    Parameters
+    ----------
+    A : ndarray, shape (n, n), real
+        Discrete state matrix (kept fixed).
+    B : ndarray, shape (n, m), real
+        Input matrix (kept fixed).
+    z : ndarray, shape (K,), complex
+        Sample points, ``z = exp(1j omega_d)`` with ``omega_d`` in rad/sample.
+    G : ndarray, shape (p, m, K), complex
+        Frequency-response samples (``(K,)`` accepted when ``B`` has one column and there is one output).
+    weights : ndarray, shape (K,) or (p, m, K), nonnegative, optional
+        Weights of the squared residuals, as in :func:`fit_bd`.
+    dc_gain : ndarray, shape (p, m), real, optional
+        Imposes ``C (I - A)^-1 B + D = dc_gain`` exactly (to ``tol``).
+    feedthrough : ndarray, shape (p, m), real, optional
+        Imposes ``C (-I - A)^-1 B + D = feedthrough`` exactly (the ``omega_d = pi`` sample).
+    solver : {"clarabel", "numpy"}
+        As in :func:`fit_bd`.
+    tol : float
+        Accepted max abs constraint violation, as in :func:`fit_bd` (default 1e-10).
+    eig : tuple, optional
+        :func:`sysid.state_space.eigen_parts` of ``A`` (as in :func:`fit_bd`).
 
     Returns
     -------
     CDFit
-        ``C`` (p, n) and ``D`` (p, m), real.
+        ``C`` (p, n) and ``D`` (p, m), real; the other fields are those of the transposed B/D fit.
+
+    Raises
+    ------
+    OptionError
+        ``solver`` is not ``"clarabel"`` or ``"numpy"``.
+    ConstraintError, SolverError
+        As in :func:`fit_bd`.
+    FrequencyDataError
+        Malformed arrays (e.g. ``G`` not of shape (p, m, K), ``B`` without ``n`` rows).
     """
     A = _as_real_matrix(A, "A")
     B = _as_real_matrix(B, "B", (A.shape[0], None))
@@ -453,14 +486,31 @@ def fit_alternating(A, C, z, G, *, iterations: int = 10, rtol: float = 1e-9, wei
 
     Parameters
     ----------
-    A : ndarray, shape (n, n); C : ndarray, shape (p, n) -- starting output matrix
-    z, G, weights, dc_gain, feedthrough, solver, tol : as in :func:`fit_bd`
+    A : ndarray, shape (n, n), real
+        Discrete state matrix (kept fixed).
+    C : ndarray, shape (p, n), real
+        Starting output matrix (refitted in the C/D half steps).
+    z, G, weights, dc_gain, feedthrough, solver, tol
+        As in :func:`fit_bd`: ``z`` shape (K,), ``G`` shape (p, m, K), ``weights`` shape (K,) or (p, m, K),
+        ``dc_gain`` and ``feedthrough`` shape (p, m); each half step imposes the same constraints.
     iterations : int
-        Maximum number of full (B/D then C/D) steps, >= 1.
+        Maximum number of full (B/D then C/D) steps, >= 1 (default 10).
+    rtol : float
+        Relative tolerance of the stopping test (default 1e-9): from the second full step on, the iteration
+        stops when the cost decreased by at most ``rtol`` times the cost after the previous full step.
 
     Returns
     -------
-    AlternatingFit
+    sysid.refit.AlternatingFit
+        ``B`` (n, m), ``C`` (p, n), ``D`` (p, m) of the last C/D half step (``B`` from the B/D half step
+        before it), the final cost and the cost history.
+
+    Raises
+    ------
+    OptionError
+        ``iterations`` is not an integer >= 1, or ``solver`` is not ``"clarabel"`` or ``"numpy"``.
+    ConstraintError, SolverError, FrequencyDataError
+        As raised by :func:`fit_bd` and :func:`fit_cd`.
     """
     if isinstance(iterations, bool) or not isinstance(iterations, (int, np.integer)) or iterations < 1:
         raise OptionError(f"iterations must be an integer >= 1; got {iterations!r}.")

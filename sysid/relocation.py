@@ -296,7 +296,7 @@ def fit_relocated(omega, z, G, T, order, *, dc_gain=None, feedthrough=None, weig
     G : ndarray, shape (p, m, K), complex
         Data.
     T : float
-        Sampling period of the discrete model (bilinear map).
+        Sampling period of the discrete model (bilinear map), in convective time units (c / U_inf).
     order : int
         Number of states. With ``m > 1`` inputs (and ``p > 1`` outputs) the states are split between the
         input columns (``order // m``, the first ``order % m`` columns one more), each column with its own

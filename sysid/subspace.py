@@ -66,7 +66,7 @@ class HankelSVD:
     U : ndarray, shape (q p, k)
         Left singular vectors (columns), ``k = min`` of the matrix dimensions.
     sv : ndarray, shape (k,)
-        Singular values, decreasing.
+        Singular values, decreasing; ``k = min(q p, r m)`` (Algorithm 1) or ``q p`` (Algorithm 2).
     p, m : int
         Outputs and inputs.
     q : int
@@ -99,8 +99,9 @@ class SubspaceResult:
         Discrete state matrix from the shift equation ``Gamma1 A = Gamma2`` (least squares).
     C : ndarray, shape (p, n)
         Output matrix (first ``p`` rows of ``U_s``).
-    singular_values : ndarray
-        All singular values of the Hankel matrix (Alg. 1) or of ``R22`` (Alg. 2), decreasing.
+    singular_values : ndarray, shape (k,)
+        All singular values of the Hankel matrix (Alg. 1) or of ``R22`` (Alg. 2), decreasing (the
+        :attr:`HankelSVD.sv` of the SVD step): ``k = min(q p, r m)`` for Algorithm 1, ``k = q p`` for Algorithm 2.
     gamma1, gamma2 : ndarray, shape ((q - 1) p, n)
         ``J1 U_s`` and ``J2 U_s``; the stability module fits ``A`` to ``gamma1 A ~= gamma2``.
     q, r : int, int or None
@@ -307,7 +308,40 @@ def hankel_svd(data: Any, omega_d: Any = None, *, method: str = "auto", q: int |
 
 def hankel_singular_values(data: Any, omega_d: Any = None, *, method: str = "auto", q: int | None = None,
                            r: int | None = None) -> np.ndarray:
-    """Singular values that guide the order choice (same arguments as :func:`hankel_svd`), decreasing."""
+    """Singular values that guide the order choice, decreasing.
+
+    The SVD step of :func:`hankel_svd` without a target order, so with the order-free default Hankel sizes of
+    :func:`default_q`: ``q = r = M`` for Algorithm 1, ``q = min(q_max, max(2, K // 2))`` for Algorithm 2.
+
+    Parameters
+    ----------
+    data : FrequencyResponse or array_like, complex, shape (p, m, K)
+        Frequency response (``(K,)`` accepted for SISO). Plain arrays without ``omega_d`` are taken to lie on
+        McKelvey's grid ``omega_d = pi k / M``, ``k = 0..M`` (``K = M + 1``).
+    omega_d : array_like, shape (K,), optional
+        Discrete frequencies in ``[0, pi]`` (rad/sample), when ``data`` is an array.
+    method : {"auto", "mckelvey1", "mckelvey2"}
+        ``"auto"`` picks Algorithm 1 on the equispaced grid and Algorithm 2 otherwise.
+    q, r : int, optional
+        Hankel block rows and columns (``r``: Algorithm 1 only; ``r = 2M - q`` when only ``q`` is given).
+
+    Returns
+    -------
+    ndarray, shape (k,)
+        Singular values, decreasing; ``k = min(q p, r m)`` (Algorithm 1) or ``q p`` (Algorithm 2).
+
+    Raises
+    ------
+    OptionError
+        Unknown ``method``.
+    FrequencyGridError
+        No ``omega_d`` (a FrequencyResponse without ``T``), ``omega_d`` outside ``[0, pi]`` or not finite, fewer
+        than 2 frequencies, or ``method="mckelvey1"`` off the equispaced grid.
+    FrequencyDataError
+        ``G`` not of shape (p, m, K), NaN or inf in it, or ``omega_d`` of another length than ``K``.
+    OrderError
+        Invalid Hankel sizes ``q``, ``r`` (or ``r`` given for Algorithm 2).
+    """
     return hankel_svd(data, omega_d, method=method, q=q, r=r).sv
 
 
@@ -387,12 +421,20 @@ def mckelvey1(G: Any, order: int, *, q: int | None = None, r: int | None = None)
         Hankel block rows / columns, ``q + r <= 2M``; default ``q = min(M, 2n + 2)``, ``r = 2M - q``
         (:func:`default_q`).
 
+    Returns
+    -------
+    SubspaceResult
+        ``A`` (n, n) and ``C`` (p, n) of order ``n``, with the singular values and shift matrices.
+
     Raises
     ------
     FrequencyGridError
-        A FrequencyResponse whose frequencies are not equispaced (use :func:`mckelvey2`).
+        A FrequencyResponse whose frequencies are not equispaced (use :func:`mckelvey2`) or without ``T``, or
+        fewer than 2 frequencies.
+    FrequencyDataError
+        ``G`` not of shape (p, m, M + 1), or NaN or inf in it.
     OrderError
-        ``order >= q`` or beyond the Hankel rank limit.
+        ``order`` not a positive integer, ``order >= q`` or beyond the Hankel rank limit, or invalid ``q``, ``r``.
     """
     svd = hankel_svd(G, None, method="mckelvey1", q=q, r=r, order=order_hint(order))
     return from_basis(svd, order)
@@ -404,12 +446,30 @@ def mckelvey2(G: Any, omega_d: Any, order: int, *, q: int | None = None) -> Subs
     Parameters
     ----------
     G : array_like, complex, shape (p, m, K), or FrequencyResponse (then ``omega_d`` may be None)
+        Frequency-response samples (``(K,)`` accepted for SISO).
     omega_d : array_like, shape (K,)
-        Discrete frequencies in ``[0, pi]`` (distinct).
+        Discrete frequencies in ``[0, pi]`` (rad/sample, distinct). ``None`` with a plain array assumes
+        McKelvey's grid ``pi k / (K - 1)``.
     order : int
         Model order ``n < q``.
     q : int, optional
         Block rows; default in :func:`default_q`.
+
+    Returns
+    -------
+    SubspaceResult
+        ``A`` (n, n) and ``C`` (p, n) of order ``n``, with the singular values and shift matrices (``r = None``).
+
+    Raises
+    ------
+    FrequencyGridError
+        ``omega_d`` outside ``[0, pi]`` or not finite, a FrequencyResponse without ``T``, or (``omega_d=None``)
+        fewer than 2 frequencies.
+    FrequencyDataError
+        ``G`` not of shape (p, m, K), NaN or inf in it, or ``omega_d`` of another length than ``K``.
+    OrderError
+        ``order`` not a positive integer or beyond what ``q`` supports, or ``q`` outside
+        ``2 <= q <= 2 K m / (m + p)``.
     """
     svd = hankel_svd(G, omega_d, method="mckelvey2", q=q, order=order_hint(order))
     return from_basis(svd, order)
@@ -417,7 +477,39 @@ def mckelvey2(G: Any, omega_d: Any, order: int, *, q: int | None = None) -> Subs
 
 def subspace_identify(data: Any, order: int, *, omega_d: Any = None, method: str = "auto",
                       q: int | None = None, r: int | None = None) -> SubspaceResult:
-    """``A`` and ``C`` by Algorithm 1 or 2 (``method="auto"``: 1 on the equispaced grid, else 2)."""
+    """``A`` and ``C`` by Algorithm 1 or 2 (``method="auto"``: 1 on the equispaced grid, else 2).
+
+    Parameters
+    ----------
+    data : FrequencyResponse or array_like, complex, shape (p, m, K)
+        Frequency response (``(K,)`` accepted for SISO). Plain arrays without ``omega_d`` are taken to lie on
+        McKelvey's grid ``omega_d = pi k / M``, ``k = 0..M`` (``K = M + 1``).
+    order : int
+        Model order ``n``, ``1 <= n`` and within what the Hankel sizes support.
+    omega_d : array_like, shape (K,), optional
+        Discrete frequencies in ``[0, pi]`` (rad/sample), when ``data`` is an array.
+    method : {"auto", "mckelvey1", "mckelvey2"}
+        ``"auto"`` picks Algorithm 1 on the equispaced grid and Algorithm 2 otherwise.
+    q, r : int, optional
+        Hankel block rows and columns (``r``: Algorithm 1 only); defaults in :func:`default_q` for this order.
+
+    Returns
+    -------
+    SubspaceResult
+        ``A`` (n, n) and ``C`` (p, n), with the singular values and shift matrices.
+
+    Raises
+    ------
+    OptionError
+        Unknown ``method``.
+    FrequencyGridError
+        No ``omega_d`` (a FrequencyResponse without ``T``), ``omega_d`` outside ``[0, pi]`` or not finite, fewer
+        than 2 frequencies, or ``method="mckelvey1"`` off the equispaced grid.
+    FrequencyDataError
+        ``G`` not of shape (p, m, K), NaN or inf in it, or ``omega_d`` of another length than ``K``.
+    OrderError
+        ``order`` not a positive integer or beyond what the data support, or invalid ``q``, ``r``.
+    """
     return from_basis(hankel_svd(data, omega_d, method=method, q=q, r=r, order=order_hint(order)), order)
 
 

@@ -117,6 +117,8 @@ def d2c_bilinear(model):
 
     Raises
     ------
+    TypeError
+        ``model`` is not a python-control LTI model.
     ModelError
         Continuous model given, or ``I + Ahat`` singular (a pole at ``z = -1``, which maps to ``s = inf``).
         A merely ill-conditioned ``I + Ahat`` (reciprocal condition number below 1e-8) gives a
@@ -158,7 +160,8 @@ def c2d_bilinear(model, T: float):
     model : control.StateSpace
         Continuous model (``dt = 0``).
     T : float
-        Sampling period, ``> 0``.
+        Sampling period, ``> 0``, in the time units of the continuous model (convective time c / U_inf for the
+        project's aerodynamic models).
 
     Returns
     -------
@@ -167,6 +170,8 @@ def c2d_bilinear(model, T: float):
 
     Raises
     ------
+    TypeError
+        ``model`` is not a python-control LTI model.
     ModelError
         Discrete model given, or ``2/T I - A`` singular (a continuous pole at ``s = 2/T``, which maps to
         ``z = inf``); change ``T``.
@@ -205,12 +210,22 @@ def c2d_zoh(model, T: float):
     model : control.StateSpace
         Continuous model (``dt = 0``).
     T : float
-        Sampling period, ``> 0``.
+        Sampling period, ``> 0``, in the time units of the continuous model (convective time c / U_inf for the
+        project's aerodynamic models).
 
     Returns
     -------
     control.StateSpace
         Discrete model with ``dt = T``.
+
+    Raises
+    ------
+    TypeError
+        ``model`` is not a python-control LTI model.
+    ModelError
+        Discrete model given.
+    FrequencyGridError
+        ``T <= 0`` or not finite.
     """
     model = _check_model(model, discrete=False, func="c2d_zoh")
     T = check_period(T)
