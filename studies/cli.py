@@ -28,16 +28,34 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+EXIT_BROKEN_PIPE = 141
+"""Exit status when the reader of the output went away (``lfdrom cases | head``): 128 + SIGPIPE, as a shell
+tool killed by the signal."""
+
+
 def main(argv=None) -> int:
-    """Entry point of the ``lfdrom`` console script; returns the exit status (130 after Ctrl-C, with one line)."""
+    """Entry point of the ``lfdrom`` console script; returns the exit status (130 after Ctrl-C, with one line;
+    :data:`EXIT_BROKEN_PIPE`, silently, when the output's reader closed the pipe)."""
+    import os
     import sys
 
     try:
-        return _main(argv)
+        status = _main(argv)
+        sys.stdout.flush()   # here, where a closed pipe is caught, not at interpreter exit
+        return status
     except KeyboardInterrupt:
         print("lfdrom: interrupted; whatever was stored is kept, and the same command resumes from it",
               file=sys.stderr)
         return 130
+    except BrokenPipeError:
+        # the reader closed the pipe (``| head``): no traceback, and no second error when Python flushes stdout
+        # at exit (the recipe of the Python documentation, "Note on SIGPIPE")
+        try:
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+        except (OSError, ValueError):   # stdout without a file descriptor (captured): nothing to redirect
+            pass
+        return EXIT_BROKEN_PIPE
 
 
 def _main(argv=None) -> int:

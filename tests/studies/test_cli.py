@@ -52,6 +52,17 @@ def test_console_entry_in_a_subprocess():
     assert r.returncode == 2 and "not a paper case" in r.stderr
 
 
+@pytest.mark.parametrize("argv", [["cases", "--format", "json"], ["run", "studies/paper.toml", "--dry-run"]])
+def test_a_closed_output_pipe_ends_quietly(argv):
+    # `lfdrom cases | head`: the reader is gone before anything is written; no traceback, the SIGPIPE status
+    proc = subprocess.Popen([sys.executable, "-c", f"from studies.cli import main; raise SystemExit(main({argv!r}))"],
+                            cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    proc.stdout.close()
+    err = proc.stderr.read()
+    assert proc.wait(timeout=120) == cli.EXIT_BROKEN_PIPE, err
+    assert "Traceback" not in err and "BrokenPipeError" not in err
+
+
 def test_dry_run_checks_the_scheduler(capsys):
     # the scheduler's form is checked with the rest before anything runs, --dry-run included (exit 2)
     assert cli.main(["run", str(ROOT / "studies" / "demo.toml"), "--scheduler", "bogus", "--dry-run"]) == 2
