@@ -250,7 +250,9 @@ def make_report(study_or_path, output_dir=None, *, store_dir=None, page=None, pr
     studies.config.StudyConfigError
         The study file is invalid.
     ReportError
-        The results cannot be read, the prose is unusable, or the page is not a report page.
+        The results cannot be read, the prose is unusable, the page is not a report page, or the page exists and
+        the store holds no result of the study at all (a report of nothing would replace it; ``force_page``
+        allows it).
     OSError
         A file cannot be written (the files already there are left whole).
     """
@@ -273,6 +275,14 @@ def make_report(study_or_path, output_dir=None, *, store_dir=None, page=None, pr
 
         results = load_results(config)
     page, folder = report_paths(results.config, folder, page)
+    nothing = not (results.steady or results.frf or results.ltd or results.roms or results.sims or results.failed)
+    if nothing and Path(page).exists() and not force_page:
+        # e.g. make_report("studies/paper.toml") on a checkout without the paper's store: the committed page
+        # would become "0 of 33 identifications done"
+        raise ReportError(f"{page}: exists, and the store {results.config.store_dir} holds no result of this study "
+                          "(nothing computed, nothing failed), so the page is left as it is; run the study first "
+                          "(lfdrom run STUDY.toml), give --store DIR where its results are, or write the empty "
+                          "report over the page with --force-page (make_report(..., force_page=True))")
     report_settings = getattr(results.config, "report", None)
     if report_settings is not None:
         if prose is None:

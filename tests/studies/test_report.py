@@ -196,6 +196,19 @@ def test_make_report_from_a_study_file_with_an_empty_store(tmp_path):
     assert "_(no ROM identified yet)_" in text
 
 
+def test_an_empty_store_does_not_replace_an_existing_page(tmp_path):
+    # make_report("studies/paper.toml") on a checkout without the paper's store used to turn the committed page
+    # into "0 of 33 identifications done"
+    study = tmp_path / "s.toml"
+    study.write_text(STUDY.format(out=(tmp_path / "out").as_posix()))
+    page = make_report(study)                         # a first report of nothing: there was no page
+    page.write_text(page.read_text() + "\nresults of an earlier run\n")
+    with pytest.raises(ReportError, match=r"holds no result of this study .*lfdrom run STUDY.toml.*--force-page"):
+        make_report(study)
+    assert page.read_text().endswith("results of an earlier run\n")
+    assert make_report(study, force_page=True) == page and "earlier run" not in page.read_text()
+
+
 def test_paper_prose_fills_every_slot():
     from studies.config import load_study
 
