@@ -56,6 +56,7 @@ from typing import Sequence
 
 import numpy as np
 
+from .arrays import freeze_array_fields
 from .errors import FrequencyGridError
 from .frd import FrequencyResponse, continuous_to_discrete
 
@@ -234,6 +235,9 @@ class DataDiagnostics:
     flagged: np.ndarray = field(repr=False)
     warnings: tuple = ()
     thresholds: dict = field(default_factory=dict, repr=False)
+
+    def __post_init__(self):
+        freeze_array_fields(self)   # the arrays of a frozen result are read-only too
 
     @property
     def ok(self) -> bool:
@@ -445,10 +449,10 @@ def diagnose(
         msgs.append("no omega = 0 sample: the DC gain cannot be matched (dc_gain='match' needs it); add the steady "
                     "response or pass the DC gain as an array")
     return DataDiagnostics(
-        outputs=tuple(frf.outputs), inputs=tuple(frf.inputs), negative_time_energy=_ro(neg), rms_floor=_ro(floor),
-        kk_residual=_ro(kk_res), kk_discretisation=_ro(kk_disc), dc_imag=_ro(dc_imag), has_dc=has_dc,
-        has_inf=has_inf, feedthrough=_ro(ft), T=float(T_used), T_is_default=T_is_default, equispaced=equi,
-        flagged=_ro(flagged), warnings=tuple(msgs),
+        outputs=tuple(frf.outputs), inputs=tuple(frf.inputs), negative_time_energy=neg, rms_floor=floor,
+        kk_residual=kk_res, kk_discretisation=kk_disc, dc_imag=dc_imag, has_dc=has_dc,
+        has_inf=has_inf, feedthrough=ft, T=float(T_used), T_is_default=T_is_default, equispaced=equi,
+        flagged=flagged, warnings=tuple(msgs),
         thresholds={"neg_time": neg_time_tol, "kk": kk_tol, "dc_imag": dc_imag_tol},
     )
 
@@ -477,11 +481,3 @@ def delayed(frf: FrequencyResponse, d: float) -> FrequencyResponse:
     fin = np.isfinite(w)
     factor = np.where(fin, np.exp(-1j * np.where(fin, w, 0.0) * float(d)), 1.0)
     return frf.replace(H=np.asarray(frf.H) * factor)
-
-
-def _ro(a):
-    if a is None:
-        return None
-    a = np.array(a, copy=True)
-    a.setflags(write=False)
-    return a

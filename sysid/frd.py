@@ -26,6 +26,7 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
+from .arrays import read_only
 from .errors import FrequencyDataError, FrequencyGridError
 from .grids import GRID_RTOL, check_period, continuous_to_discrete, discrete_to_continuous, mckelvey_grid
 from .state_space import shifted_solve
@@ -98,12 +99,6 @@ def _check_names(names: Any, n: int, what: str, default_prefix: str) -> tuple[st
     return tuple(names)
 
 
-def _frozen(a: np.ndarray | None) -> np.ndarray | None:
-    if a is None:
-        return None
-    a = np.array(a, copy=True)
-    a.setflags(write=False)
-    return a
 
 
 # --------------------------------------------------------------------------------------------------
@@ -205,9 +200,9 @@ class FrequencyResponse:
 
         md = {} if metadata is None else copy.deepcopy(dict(metadata))
         sa = object.__setattr__
-        sa(self, "H", _frozen(Harr))
-        sa(self, "omega_d", _frozen(wd))
-        sa(self, "omega", _frozen(w))
+        sa(self, "H", read_only(Harr))
+        sa(self, "omega_d", read_only(wd))
+        sa(self, "omega", read_only(w))
         sa(self, "T", Tf)
         sa(self, "outputs", _check_names(outputs, p, "outputs", "y"))
         sa(self, "inputs", _check_names(inputs, m, "inputs", "u"))

@@ -9,6 +9,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
+from .arrays import freeze_array_fields
 from .frd import FrequencyResponse
 from .metrics import FitErrors
 from .state_space import evaluate_ss
@@ -118,6 +119,9 @@ class IdentificationResult:
     data: FrequencyResponse | None = field(default=None, repr=False)
     algorithm: str = "subspace"
     relocation: Any = field(default=None, repr=False)
+
+    def __post_init__(self):
+        freeze_array_fields(self)   # the arrays of a frozen result are read-only too
 
     def __reduce__(self):
         # control.StateSpace (0.10) cannot be pickled; ship its matrices and rebuild it (process pools)

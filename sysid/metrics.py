@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .arrays import freeze_array_fields
 from .errors import FrequencyDataError
 
 __all__ = ["FitErrors", "frf_errors", "max_relative_error", "rms_relative_error", "dc_error", "spectral_radius",
@@ -53,6 +54,9 @@ class FitErrors:
     rms_rel: float
     max_rel_per_output: np.ndarray
     rms_rel_per_output: np.ndarray
+
+    def __post_init__(self):
+        freeze_array_fields(self)   # the arrays of a frozen result are read-only too
 
 
 def max_relative_error(H_model, H_data, *, per_output: bool = False):

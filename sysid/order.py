@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 import scipy.linalg
 
+from .arrays import freeze_array_fields
 from .errors import OrderError
 from .state_space import lstsq_bd_phi, modal_form, resolvent_C
 from .subspace import HankelSVD, hankel_svd
@@ -76,6 +77,9 @@ class OrderSweep:
     q: int
     r: int | None
     elapsed: float
+
+    def __post_init__(self):
+        freeze_array_fields(self)   # the arrays of a frozen result are read-only too
 
     def table(self) -> str:
         """Plain-text table: order, singular value, max/RMS error, hold-out error, spectral radius."""

@@ -44,6 +44,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .arrays import freeze_array_fields
 from .data_checks import check_constraint, check_weights
 from .errors import ConstraintError, FrequencyDataError, OptionError
 from .refit_solvers import clear_refit_cache, null_space_solve, reduce_regression, solve_compiled  # noqa: F401
@@ -102,6 +103,9 @@ class BDFit:
     reused_problem: bool = False
     solve_time: float = 0.0
 
+    def __post_init__(self):
+        freeze_array_fields(self)   # the arrays of a frozen result are read-only too
+
 
 @dataclass(frozen=True)
 class CDFit:
@@ -117,6 +121,9 @@ class CDFit:
     polished: bool = False
     reused_problem: bool = False
     solve_time: float = 0.0
+
+    def __post_init__(self):
+        freeze_array_fields(self)   # the arrays of a frozen result are read-only too
 
 
 @dataclass(frozen=True)
@@ -146,6 +153,9 @@ class AlternatingFit:
     iterations: int = 0
     status: str = "optimal"
     constraint_residual: float = 0.0
+
+    def __post_init__(self):
+        freeze_array_fields(self)   # the arrays of a frozen result are read-only too
 
 
 # --------------------------------------------------------------------------------------------- helpers

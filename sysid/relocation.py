@@ -68,6 +68,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .arrays import freeze_array_fields
 from .candidates import (bound_candidate_gaps, candidate_eig, candidate_score, channel_errors, gap_excess,
                          pick_candidates, settle_equalities)
 from .data_checks import check_constraint, check_nonzero_outputs, check_weights
@@ -152,6 +153,9 @@ class RelocationResult:
     candidates: tuple = field(default=(), repr=False)
     iterations: int = 0
     seconds: float = 0.0
+
+    def __post_init__(self):
+        freeze_array_fields(self)   # the arrays of a frozen result are read-only too
 
     @property
     def max_error(self) -> float:

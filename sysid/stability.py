@@ -55,6 +55,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sla
 
+from .arrays import freeze_array_fields
 from .errors import FrequencyDataError, OptionError, SolverError
 from .metrics import spectral_radius
 
@@ -90,6 +91,9 @@ class StabiliseResult:
     status: str = ""
     objective: float = float("nan")
     solve_time: float = 0.0
+
+    def __post_init__(self):
+        freeze_array_fields(self)   # the arrays of a frozen result are read-only too
 
 
 def is_stable(A, margin: float = 0.0) -> bool:

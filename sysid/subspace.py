@@ -31,6 +31,7 @@ from typing import Any
 
 import numpy as np
 
+from .arrays import freeze_array_fields
 from .errors import FrequencyDataError, FrequencyGridError, OptionError, OrderError
 from .grids import check_discrete_frequencies
 from .state_space import evaluate_ss, lstsq_bd, lstsq_bd_phi, modal_form, resolvent_C  # noqa: F401
@@ -88,6 +89,9 @@ class HankelSVD:
     method: str
     max_order: int
 
+    def __post_init__(self):
+        freeze_array_fields(self)   # the arrays of a frozen result are read-only too
+
 
 @dataclass(frozen=True)
 class SubspaceResult:
@@ -119,6 +123,9 @@ class SubspaceResult:
     r: int | None
     order: int
     method: str
+
+    def __post_init__(self):
+        freeze_array_fields(self)   # the arrays of a frozen result are read-only too
 
     @property
     def spectral_radius(self) -> float:
@@ -230,7 +237,7 @@ def _svd1(G: np.ndarray, q: int | None, r: int | None, order: int | None) -> Han
     Hk = _block_hankel(h, q, r)
     U, s, _ = np.linalg.svd(Hk, full_matrices=False)
     max_order = min(q - 1, (q - 1) * p, r * m, s.size)
-    return HankelSVD(U=_ro(U), sv=_ro(s), p=p, m=m, q=q, r=r, method="mckelvey1", max_order=max_order)
+    return HankelSVD(U=U, sv=s, p=p, m=m, q=q, r=r, method="mckelvey1", max_order=max_order)
 
 
 def _svd2(G: np.ndarray, omega_d: np.ndarray, q: int | None, order: int | None) -> HankelSVD:
@@ -257,7 +264,7 @@ def _svd2(G: np.ndarray, omega_d: np.ndarray, q: int | None, order: int | None) 
     L22 = R[q * m:, q * m:].T  # (q p, q p): the part of G orthogonal to the rows of U
     U, s, _ = np.linalg.svd(L22, full_matrices=False)
     max_order = min(q - 1, (q - 1) * p, s.size)
-    return HankelSVD(U=_ro(U), sv=_ro(s), p=p, m=m, q=q, r=None, method="mckelvey2", max_order=max_order)
+    return HankelSVD(U=U, sv=s, p=p, m=m, q=q, r=None, method="mckelvey2", max_order=max_order)
 
 
 def _resolve_method(method: str, omega_d: np.ndarray) -> str:
@@ -397,15 +404,10 @@ def from_basis(svd: HankelSVD, order: int, *, warn: bool = True) -> SubspaceResu
     gamma2 = Us[p:]
     A = np.linalg.lstsq(gamma1, gamma2, rcond=None)[0]
     C = np.array(Us[:p])
-    return SubspaceResult(A=_ro(A), C=_ro(C), singular_values=s, gamma1=_ro(gamma1), gamma2=_ro(gamma2),
+    return SubspaceResult(A=A, C=C, singular_values=s, gamma1=gamma1, gamma2=gamma2,
                           q=svd.q, r=svd.r, order=n, method=svd.method)
 
 
-def _ro(a: np.ndarray) -> np.ndarray:
-    """A read-only copy (results are immutable)."""
-    a = np.array(a, copy=True)
-    a.setflags(write=False)
-    return a
 
 
 def mckelvey1(G: Any, order: int, *, q: int | None = None, r: int | None = None) -> SubspaceResult:
