@@ -27,6 +27,7 @@ import argparse
 import csv
 import io
 import time
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -212,7 +213,9 @@ def run_demo(out, *, M: int = 256, T: float = T_DEMO, noise: float = 2e-3, order
     for n in orders:
         for variant, kw in VARIANTS.items():
             t0 = time.perf_counter()
-            res = sysid.identify(frf, n, **kw)
+            with warnings.catch_warnings(record=True) as caught:   # printed with the row, not as tracebacks
+                warnings.simplefilter("always")
+                res = sysid.identify(frf, n, **kw)
             dt = time.perf_counter() - t0
             Hm = res.evaluate(frf.omega_d)
             results[n, variant] = (res, Hm)
@@ -225,6 +228,8 @@ def run_demo(out, *, M: int = 256, T: float = T_DEMO, noise: float = 2e-3, order
             rows.append(row)
             say(f"  order {n:3d} {variant:10s} max err {row['max_rel_err']:.3e}  DC err {row['dc_rel_err']:.1e}  "
                 f"rho {row['spectral_radius']:.5f}  ({row['time_ms']:.0f} ms)")
+            for w in caught:
+                say(f"      {w.category.__name__}: {w.message}")
     md = _table_md(rows)
     table_md = out / "table.md"
     atomic_write_text(

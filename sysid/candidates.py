@@ -8,7 +8,7 @@ import numpy as np
 
 from .errors import SolverError
 from .poles import balanced_coordinates
-from .residues import minimax_cd
+from .residues import bounds_at, minimax_cd, resonance_points
 from .state_space import eigen_parts, evaluate_ss
 
 __all__ = ["EQ_TOL", "channel_errors", "candidate_score", "bound_candidate_gaps", "pick_candidates", "gap_excess",
@@ -51,8 +51,10 @@ def candidate_score(err):
 def bound_candidate_gaps(c, z, G, dc, ft, weights, zb, ub, peak, rounds: int = 4, within=None):
     """Minimax residues of candidate ``c`` under the :func:`gap_bounds` (cutting planes: the bounds enter the
     cone programme where the gain is within 10 % of them, then where a solution came within 5 % of them or
-    broke them); updates ``c`` when a solution meets every bound."""
+    broke them); updates ``c`` when a solution meets every bound (checked at the candidate's resonances too)."""
     eig = candidate_eig(c)
+    zb_all, ub_all = zb, ub
+    zb, ub = with_resonances(c, zb, ub)
 
     def ratio(C, D):
         with np.errstate(all="ignore"):
@@ -71,7 +73,7 @@ def bound_candidate_gaps(c, z, G, dc, ft, weights, zb, ub, peak, rounds: int = 4
         if r.max() <= 1.0 + 1e-6:
             c.update(C=C, D=D, err=channel_errors(c["A"], c["B"], C, D, z, G, eig), residues="bounded minimax",
                      gap=float(r.max()))
-            settle_equalities(c, z, G, dc, ft, peak, zb, ub)
+            settle_equalities(c, z, G, dc, ft, peak, zb_all, ub_all)
             return
         active |= r > 0.95
 
@@ -104,8 +106,24 @@ def _equalities_hold(c) -> bool:
     return c["eq"] <= EQ_TOL and c.get("eq_roundoff", 0.0) <= ROUNDOFF_TOL
 
 
+def with_resonances(c, zb, ub):
+    """The :func:`gap_bounds` points ``zb`` and bounds ``ub`` with the peaks of the candidate's own resonances
+    added (:func:`sysid.residues.resonance_points`): a resonance narrower than the fixed points' spacing would
+    pass between them."""
+    if not zb.size:
+        return zb, ub
+    eig = candidate_eig(c)
+    lam = eig[0] if eig else np.linalg.eigvals(c["A"])
+    zr = resonance_points(lam)
+    if not zr.size:
+        return zb, ub
+    return np.concatenate([zb, zr]), np.concatenate([ub, bounds_at(zr, zb, ub)], axis=2)
+
+
 def gap_excess(c, zb, ub) -> float:
-    """Largest ratio of a candidate's gain to the :func:`gap_bounds` between the samples (<= 1: within)."""
+    """Largest ratio of a candidate's gain to the :func:`gap_bounds` between the samples (<= 1: within), at the
+    bounds' points and at the peaks of the candidate's resonances."""
+    zb, ub = with_resonances(c, zb, ub)
     with np.errstate(all="ignore"):
         Gb = evaluate_ss(c["A"], c["B"], c["C"], c["D"], zb, candidate_eig(c))
     r = float(np.max(np.abs(Gb) / ub)) if zb.size else 0.0

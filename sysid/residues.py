@@ -7,11 +7,16 @@ import numpy as np
 from .errors import SolverError
 from .state_space import shifted_solve
 
-__all__ = ["socp_minimax", "gap_bounds", "minimax_cd", "GAP_REFINE", "GAP_SLACK", "GAP_FLOOR"]
+__all__ = ["socp_minimax", "gap_bounds", "minimax_cd", "resonance_points", "bounds_at", "GAP_REFINE", "GAP_SLACK",
+           "GAP_FLOOR", "RESONANCE_OFFSETS"]
 
 #: Points per data interval, slack over the larger neighbouring sample and floor (fraction of the peak) of
 #: the gain bound between samples (:func:`gap_bounds`).
 GAP_REFINE, GAP_SLACK, GAP_FLOOR = 8, 1.25, 0.05
+
+#: Where a pole's resonance is looked for (:func:`resonance_points`): offsets from the pole's angle, in units of
+#: its distance ``|1 - r|`` from the unit circle (the half width of the resonance peak).
+RESONANCE_OFFSETS = np.array([-2.0, -1.0, -0.5, 0.0, 0.5, 1.0, 2.0])
 
 
 # --------------------------------------------------------------------------------------------- minimax
@@ -141,6 +146,57 @@ def gap_bounds(z: np.ndarray, G: np.ndarray, refine: int = GAP_REFINE, slack: fl
     pts = pts[wide].reshape(-1)
     u = np.repeat(env[:, :, wide], refine - 1, axis=2)
     return np.exp(1j * pts), slack * u + floor * peak
+
+
+def resonance_points(lam, offsets=RESONANCE_OFFSETS) -> np.ndarray:
+    """Points of the unit circle where the resonances of the discrete poles ``lam`` peak.
+
+    A fixed grid between the samples misses a resonance narrower than its spacing (a pole at radius
+    ``1 - 1e-3`` peaks over ``1e-3`` rad of ``omega_d``; eight points per interval of McKelvey's 64-interval grid
+    are ``6e-3`` apart). For each pole ``r exp(i theta)`` with ``|1 - r| < 0.5`` these are the angles
+    ``theta + k |1 - r|`` for ``k`` in ``offsets``, clipped to ``[0, pi]`` (the peak and its flanks).
+
+    Parameters
+    ----------
+    lam : array_like, shape (n,), complex
+        Discrete poles (eigenvalues of ``A``).
+    offsets : array_like, shape (k,)
+
+    Returns
+    -------
+    ndarray, shape (J,), complex
+        ``exp(1j omega_d)`` at the distinct angles, ``0 <= omega_d <= pi`` (empty when no pole is near the
+        circle).
+    """
+    lam = np.asarray(lam, dtype=complex).reshape(-1)
+    near = np.isfinite(lam) & (np.abs(1.0 - np.abs(lam)) < 0.5)
+    r, theta = np.abs(lam[near]), np.abs(np.angle(lam[near]))
+    wd = np.clip(theta[:, None] + np.abs(1.0 - r)[:, None] * np.asarray(offsets)[None, :], 0.0, np.pi)
+    return np.exp(1j * np.unique(wd))
+
+
+def bounds_at(z, zb, ub) -> np.ndarray:
+    """The :func:`gap_bounds` at other points ``z`` of the circle: each takes the bound of the nearest point of
+    ``zb`` (in ``omega_d``; the bounds are constant across each data interval).
+
+    Parameters
+    ----------
+    z : ndarray, shape (J,), complex
+    zb : ndarray, shape (L,), complex; ub : ndarray, shape (p, m, L)
+        From :func:`gap_bounds` (``L >= 1``).
+
+    Returns
+    -------
+    ndarray, shape (p, m, J)
+    """
+    wb = np.abs(np.angle(zb))
+    order = np.argsort(wb)
+    wb = wb[order]
+    w = np.abs(np.angle(np.asarray(z, dtype=complex)))
+    i = np.clip(np.searchsorted(wb, w), 1, max(wb.size - 1, 1)) if wb.size > 1 else np.zeros(w.size, int)
+    if wb.size > 1:
+        i = np.where(np.abs(w - wb[i - 1]) <= np.abs(wb[i] - w), i - 1, i)
+    return np.asarray(ub)[:, :, order[i]]
 
 
 def basis_response(A, B, z, eig=None):

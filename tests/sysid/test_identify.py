@@ -86,6 +86,7 @@ def test_dc_match_and_feedthrough_exact_on_noisy_data():
     assert res.rms_error < 0.05
 
 
+@pytest.mark.filterwarnings("ignore:the order-.* model has a resonance")   # the imposed DC needs a pole at z ~ 1
 def test_dc_gain_array_and_zero_feedthrough():
     A, B, C, D, _ = random_system(5, 1, 1, 11)
     wd, _ = mckelvey_grid(32, 1.0)
@@ -431,3 +432,48 @@ def test_repeated_frequency(kw):
     frf = FrequencyResponse(np.r_[h, 5.0].reshape(1, 1, -1), np.r_[wd, wd[5]], 1.0)
     with pytest.raises(FrequencyGridError, match=r"omega_d\[5\] and omega_d\[33\] are the same frequency"):
         identify(frf, 2, **kw)
+
+
+def _noisy_order_8_fit():
+    """1 % noise on an order-4 system (McKelvey M = 64, T = 1), fitted at order 8 with DC and stability: the
+    fit puts a pole pair of half-width 1e-3 at omega = 0.44, a fiftieth of the spacing there."""
+    wd, w = mckelvey_grid(64, 1.0)
+    s = 1j * np.where(np.isinf(w), 0.0, w)
+    H = np.where(np.isinf(w), 0.0, 2 * np.pi * (0.13 / (s + 0.26) + 1 / (s + 2)) + 1.8 / (s**2 + 0.6 * s + 9))
+    rng = np.random.default_rng(3)
+    H = H + 0.01 * np.abs(H).max() * (rng.standard_normal(65) + 1j * rng.standard_normal(65)) / np.sqrt(2)
+    H[0], H[-1] = H[0].real, 0.0
+    return FrequencyResponse(H, wd, 1.0), H, s
+
+
+def test_a_resonance_the_samples_cannot_see_is_reported():
+    from sysid.identify import UNRESOLVED_WIDTH, unresolved_resonances
+
+    frf, H, s = _noisy_order_8_fit()
+    with pytest.warns(RuntimeWarning, match=r"resonance at omega = 0\.44.* invisible at the samples"):
+        res = identify(frf, 8, dc_gain="match", stable=True)
+    narrow = unresolved_resonances(res.model, frf)
+    assert narrow.shape[1] == 3 and np.all(narrow[:, 1] < UNRESOLVED_WIDTH * narrow[:, 2])
+    # what the warning is about: between the samples the model is far from the system the data came from
+    wd = np.linspace(0.0, np.pi, 20001)[:-1]
+    w = 2.0 * np.tan(wd / 2.0)
+    sd = 1j * w
+    truth = 2 * np.pi * (0.13 / (sd + 0.26) + 1 / (sd + 2)) + 1.8 / (sd**2 + 0.6 * sd + 9)
+    between = np.abs(res.evaluate(wd)[0, 0] - truth).max() / np.abs(H).max()
+    assert res.max_error < 0.03 and between > 10 * res.max_error
+
+
+def test_resonances_of_a_noise_free_fit_are_not_reported():
+    # a resonance of damping ratio 1e-4 halfway between two samples, sampled without noise: the paper's method
+    # fits it to round-off, so the samples determine it although it is far narrower than their spacing
+    from sysid.identify import unresolved_resonances
+
+    wd, w = mckelvey_grid(64, 1.0)
+    wn = 2.0 * np.tan(np.pi * 10.5 / 128)
+    s = 1j * np.where(np.isinf(w), 0.0, w)
+    H = np.where(np.isinf(w), 0.0, wn**2 / (s**2 + 2e-4 * wn * s + wn**2) + 1.0 / (s + 1.0))
+    frf = FrequencyResponse(H, wd, 1.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        res = identify(frf, 3)
+    assert res.max_error < 1e-9 and len(unresolved_resonances(res.model, frf)) == 1
