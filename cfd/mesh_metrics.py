@@ -115,6 +115,15 @@ def _check_wake(x, y, n_wake):
     )
 
 
+def inverted_cells(x, y) -> np.ndarray:
+    """Indices ``(i, j)`` of the cells of the node arrays ``x, y`` (shape (ni, nj)) whose signed area is not
+    positive (inverted or degenerate), shape (k, 2), in row-major order."""
+    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+    area = 0.5 * ((x[1:, 1:] - x[:-1, :-1]) * (y[:-1, 1:] - y[1:, :-1])
+                  - (x[:-1, 1:] - x[1:, :-1]) * (y[1:, 1:] - y[:-1, :-1]))
+    return np.argwhere(area <= 0.0)
+
+
 def grid_from_nodes(x, y, n_wake):
     """Build a ``Grid`` (metrics included) from node coordinates.
 
@@ -158,9 +167,9 @@ def grid_from_nodes(x, y, n_wake):
     y1, y2, y3, y4 = y[:-1, :-1], y[1:, :-1], y[1:, 1:], y[:-1, 1:]
     area = 0.5 * ((x3 - x1) * (y4 - y2) - (x4 - x2) * (y3 - y1))
     if np.any(area <= 0.0):
-        bad = np.argwhere(area <= 0.0)
+        bad = inverted_cells(x, y)
         raise MeshError(
-            f"{len(bad)} inverted or degenerate cells (area <= 0), first at cell {tuple(bad[0])}; "
+            f"{len(bad)} inverted or degenerate cells (area <= 0), first at cell {tuple(int(k) for k in bad[0])}; "
             "check the node ordering (right-handed i, j) or smooth the grid"
         )
     # Centroid of a quadrilateral from its two triangles (1, 2, 3) and (1, 3, 4).
