@@ -526,7 +526,8 @@ class _March:
                            "outside its range: reduce dt or the amplitude)")
             if n_refactor >= self.max_refactor:
                 self._fail(UnsteadyStepError, k, s, norms,
-                           f"stalled after {n_refactor} refactorisations (|F| ratio above {self.stall_ratio:.2g})")
+                           f"stalled after {n_refactor} refactorisations (|F| ratio above {self.stall_ratio:.2g}; "
+                           "reduce dt or the amplitude, or allow more with max_refactor)")
             n_refactor += 1
             self.refactored.append(k)
             self._factorise(x, forcing)

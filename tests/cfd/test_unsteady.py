@@ -9,8 +9,8 @@ import pytest
 from flowgrids import parabolic_c_grid
 
 import cfd
-from cfd import (LocalMachError, NonPhysicalStateError, OneMinusCosine, UnsteadyError, UnsteadyStepError,
-                 linearise, ltd_response, solve_steady, unsteady_response)
+from cfd import (LocalMachError, NonPhysicalStateError, OneMinusCosine, SharpEdged, UnsteadyError,
+                 UnsteadyStepError, linearise, ltd_response, solve_steady, unsteady_response)
 from cfd.unsteady import _source_jacobian
 from cfd.gust import cell_x_gradient, face_gust, svm_source
 
@@ -192,3 +192,11 @@ def test_linearity_refuses_bad_input_before_the_ltd(coarse, monkeypatch, amplitu
     monkeypatch.setattr("cfd.ltd.ltd_response", no_march)
     with pytest.raises(UnsteadyError, match=match):
         cfd.linearity(coarse, gust(1.0), amplitudes, 0.1, 3.0, lin=object(), **kwargs)
+
+
+def test_a_stalled_step_says_what_to_change(coarse):
+    # a strong sharp-edged gust and no refactorisation allowed: the chord-Newton step stalls at once
+    with pytest.raises(UnsteadyStepError, match=r"stalled after 0 refactorisations .*reduce dt or the amplitude, "
+                                                r"or allow more with max_refactor") as info:
+        unsteady_response(coarse, SharpEdged(angle_deg=20.0, x0=-1.0), 0.2, 3.0, max_refactor=0, max_phase_error=1.0)
+    assert info.value.partial is not None
