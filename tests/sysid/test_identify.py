@@ -477,3 +477,14 @@ def test_resonances_of_a_noise_free_fit_are_not_reported():
         warnings.simplefilter("error", RuntimeWarning)
         res = identify(frf, 3)
     assert res.max_error < 1e-9 and len(unresolved_resonances(res.model, frf)) == 1
+
+
+@pytest.mark.parametrize("scale", [1e-9, 1e12])
+def test_the_convex_refit_does_not_depend_on_the_data_units(scale):
+    # an exact order-4 system in other units: the constrained B/D refit is homogeneous in the data, so the fit is
+    # at round-off whatever the scale (Clarabel's absolute tolerances failed at 1e12 and stopped at 5e-9 at 1e-9)
+    A, B, C, D, _ = random_system(4, 1, 1, 5, rho=0.9)
+    wd, _ = mckelvey_grid(64, 1.0)
+    frf = FrequencyResponse(scale * freqresp(A, B, C, D, np.exp(1j * wd)), wd, 1.0)
+    res = identify(frf, 4, dc_gain="match", stable=True, algorithm="subspace")
+    assert res.max_error < 1e-10 and res.dc_error < 1e-10
