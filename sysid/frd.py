@@ -457,6 +457,27 @@ class FrequencyResponse:
                 idx = np.flatnonzero(np.isinf(self.omega))
         return int(idx[0]) if idx.size else None
 
+    def with_real_ends(self) -> "FrequencyResponse":
+        """The data with the samples at ``omega = 0`` and ``omega = inf`` (``omega_d = 0, pi``) replaced by their
+        real parts, where an imaginary part is above ``1e-6`` of the peak (the threshold of :attr:`dc_gain`'s
+        warning); ``self`` when nothing changes.
+
+        A real system's response is real there, so no real model can follow such an imaginary part, and a fit
+        that keeps it spends the model on it (:func:`sysid.identify` and :func:`sysid.order_sweep` fit this).
+
+        Returns
+        -------
+        FrequencyResponse
+        """
+        scale = max(float(np.abs(self.H).max()), np.finfo(float).tiny)
+        ends = [k for k in (self._index_of("dc"), self._index_of("inf")) if k is not None]
+        ends = [k for k in ends if np.abs(self.H[:, :, k].imag).max() > 1e-6 * scale]
+        if not ends:
+            return self
+        H = np.array(self.H, dtype=complex)
+        H[:, :, ends] = H[:, :, ends].real
+        return self.replace(H=H)
+
     def _real_value(self, k: int | None, what: str) -> np.ndarray | None:
         if k is None:
             return None

@@ -219,6 +219,13 @@ def identify(
     check_distinct(frf.omega_d, "omega_d")
     check_nonzero_outputs(frf.H, frf.outputs)
     weights = check_weights(weights, *frf.shape)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        dc_data = frf.dc_gain
+        ft_data = frf.feedthrough
+    for w in caught:  # report each once, from here
+        warnings.warn(str(w.message), w.category, stacklevel=2)
+    frf = frf.with_real_ends()   # an imaginary part at omega = 0 or inf (warned just above) is not fitted
     T = frf.T
     G = np.asarray(frf.H)
     z = frf.z
@@ -234,12 +241,6 @@ def identify(
     else:
         svd = hankel_svd(frf, method=method, q=q, r=r, order=order_hint(order))
         sub = from_basis(svd, order)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        dc_data = frf.dc_gain
-        ft_data = frf.feedthrough
-    for w in caught:  # report each once, from here
-        warnings.warn(str(w.message), w.category, stacklevel=2)
     dc = _resolve_dc(dc_gain, frf, dc_data)
     ft = ft_data if fix_feedthrough else None
     if ft is not None:

@@ -178,6 +178,7 @@ def order_sweep(
         max_order = min(40, hankel_svd(frf, method=method, q=q, r=r).max_order)
     if isinstance(max_order, bool) or not isinstance(max_order, (int, np.integer)) or max_order < 1:
         raise OrderError(f"max_order must be a positive integer, got {max_order!r}")
+    frf = frf.with_real_ends()   # as identify fits it (a real model cannot follow an imaginary part there)
     svd = hankel_svd(frf, method=method, q=q, r=r, order=int(max_order))
     G = np.asarray(frf.H)
     z = np.exp(1j * np.asarray(frf.omega_d))
