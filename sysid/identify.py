@@ -54,7 +54,8 @@ from .state_space import evaluate_ss
 from .subspace import from_basis, hankel_svd, order_hint
 
 __all__ = ["identify", "IdentificationResult", "StabilisationReport", "unobserved_gain", "UNOBSERVED_GAIN_LIMIT",
-           "resolve_algorithm", "unresolved_resonances", "UNRESOLVED_WIDTH", "UNRESOLVED_MIN_ERROR"]
+           "resolve_algorithm", "unresolved_resonances", "UNRESOLVED_WIDTH", "UNRESOLVED_MIN_ERROR", "data_use",
+           "INTERPOLATION_RATIO"]
 
 
 def _resolve_dc(dc_gain: Any, frf: FrequencyResponse, dc_data: np.ndarray | None) -> np.ndarray | None:
@@ -470,9 +471,47 @@ def unresolved_resonances(model, frf: FrequencyResponse, width: float = UNRESOLV
     return np.column_stack([s.imag[narrow], -s.real[narrow], spacing[narrow]])
 
 
+INTERPOLATION_RATIO = 0.5
+"""Share of the data's real values that a model's parameters may reach before :func:`identify` warns that it
+nearly interpolates them (then its errors on the samples say nothing of the response between them: five samples
+fitted at order 3, 7 parameters for 10 values, reported 1e-3 and were 25 % off between the samples, measured).
+The paper's fits stay below a quarter: N_r = 55 on 257 frequencies 0.16, N_r = 9 on 33 frequencies 0.23."""
+
+
+def data_use(order: int, frf: FrequencyResponse) -> float:
+    """Parameters of an order-``order`` model over the real values of the data.
+
+    Parameters
+    ----------
+    order : int
+    frf : FrequencyResponse
+
+    Returns
+    -------
+    float
+        ``(order (p + m) + p m) / (2 K p m - k_real p m)``: the dimension of the order-``order`` ``p x m`` systems
+        over the real values of ``K`` complex samples, of which ``k_real`` (the samples at ``omega = 0`` and
+        ``inf``) are real.
+    """
+    p, m, K = frf.shape
+    wd = np.asarray(frf.omega_d)
+    k_real = int(np.count_nonzero((wd == 0.0) | np.isclose(wd, np.pi, rtol=0.0, atol=1e-12)))
+    return (order * (p + m) + p * m) / max(2 * K * p * m - k_real * p * m, 1)
+
+
 def _reported(res: IdentificationResult) -> IdentificationResult:
-    """Warn when the model has a resonance the data cannot resolve (:data:`UNRESOLVED_WIDTH`); return ``res``."""
-    if res.data is None or not np.isfinite(res.max_error) or res.max_error <= UNRESOLVED_MIN_ERROR:
+    """Warn when the model nearly interpolates the data (:data:`INTERPOLATION_RATIO`) or has a resonance the data
+    cannot resolve (:data:`UNRESOLVED_WIDTH`); return ``res``."""
+    if res.data is None:
+        return res
+    use = data_use(res.order, res.data)
+    if use > INTERPOLATION_RATIO:
+        warnings.warn(
+            f"the order-{res.order} model has {use:.0%} as many parameters as the data have real values: it nearly "
+            "interpolates them, so its errors on the samples say little about its response between them; lower "
+            "the order, add frequencies, or choose the order on held-out samples (sysid.order_sweep, lfdrom fit "
+            "--order auto)", RuntimeWarning, stacklevel=3)
+    if not np.isfinite(res.max_error) or res.max_error <= UNRESOLVED_MIN_ERROR:
         return res
     narrow = unresolved_resonances(res.model, res.data)
     if narrow.size:

@@ -503,3 +503,17 @@ def test_an_imaginary_part_at_dc_is_dropped_before_the_fit():
     truth = freqresp(A, B, C, D, np.exp(1j * dense))
     assert np.abs(res.evaluate(dense) - truth).max() < 1e-9 * np.abs(truth).max()
     assert np.all(np.asarray(res.data.H)[:, :, 0].imag == 0.0)
+
+
+def test_a_model_that_nearly_interpolates_the_data_is_reported():
+    # five samples of a smooth order-4 response fitted at order 3 (the largest the grid supports): 7 parameters
+    # for 8 real values; the fit matches the samples and is far off between them
+    from sysid.identify import INTERPOLATION_RATIO, data_use
+
+    w = np.array([0.0, 4.147, 5.0, 6.473, np.inf])
+    s = 1j * np.where(np.isinf(w), 0.0, w)
+    H = np.where(np.isinf(w), 0.0, 2 * np.pi * (0.13 / (s + 0.26) + 1 / (s + 2)) + 1.8 / (s**2 + 0.6 * s + 9))
+    frf = FrequencyResponse.from_continuous(H, w, 0.386)
+    assert data_use(3, frf) == pytest.approx(7 / 8) and data_use(3, frf) > INTERPOLATION_RATIO
+    with pytest.warns(RuntimeWarning, match=r"order-3 model has 88% as many parameters as the data have real values"):
+        identify(frf, 3, dc_gain="match", stable=True)
