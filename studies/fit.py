@@ -368,8 +368,8 @@ def print_summary(out: FitOutcome, file=None) -> None:
     print(f"{out.T_rule}", file=file)
     print(f"order {res.order} ({why})", file=file)
     per = ", ".join(f"{o} {e:.2e}" for o, e in zip(out.data.outputs, res.errors.max_rel_per_output))
-    print(f"max error / peak: {per}; DC error {res.dc_error if res.dc_error is not None else float('nan'):.1e}; "
-          f"spectral radius {res.spectral_radius:.6f}", file=file)
+    dc = f"DC error {res.dc_error:.1e}" if res.dc_error is not None else "no omega = 0 sample (DC not checked)"
+    print(f"max error / peak: {per}; {dc}; spectral radius {res.spectral_radius:.6f}", file=file)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -378,3 +378,11 @@ def test_order_auto_skips_orders_below_what_the_data_need(files, monkeypatch):
     monkeypatch.setattr(sysid, "identify", identify)
     out = fit_data(load_data(files["csv"]), order="auto", max_order=6)
     assert np.isnan(out.selection.errors[:2]).all() and out.selection.chosen == 4
+
+
+def test_data_without_a_dc_sample_say_so_instead_of_a_nan(tmp_path, capsys):
+    k = np.geomspace(0.01, 5.0, 40)   # no omega = 0 sample: the DC gain is neither imposed nor checked
+    csv = write_csv(tmp_path / "nodc.csv", k, known(2 * k))
+    assert cli.main(["fit", str(csv), "--order", "4", "--dc-gain", "none", "--out", str(tmp_path / "o")]) == 0
+    out = capsys.readouterr().out
+    assert "no omega = 0 sample (DC not checked)" in out and "nan" not in out
