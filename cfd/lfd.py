@@ -15,6 +15,9 @@ with ``b = b0 + i omega b1`` and the output adds the explicit ``d`` (the wind ax
 ``y = C q + d``. ``omega = 0`` is the steady derivative (pitch: the lift and moment slopes; plunge: 0).
 ``omega = inf`` has no finite value: the loads of a moving section grow with the frequency (piston theory,
 apparent mass), so a grid holding ``inf`` is refused for motion inputs (:class:`~cfd.linear.LinearError`).
+The discrete system follows that growth only while the grid resolves the motion's waves: far beyond it the
+motion loads level off at grid-dependent constants (a coarse 81 x 16 grid: plunge Cl about -2.0e3 at both
+omega = 1e3 and 1e6), which are artefacts of the grid, not the section's response.
 """
 
 import numpy as np
