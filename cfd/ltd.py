@@ -171,6 +171,12 @@ def _check_initial(lin, initial, scheme):
     return tuple(out)
 
 
+MAX_STEPS = 1_000_000
+"""Most time steps one march takes (``round(t_end / dt)``): the paper's march is 2000 steps (dt 0.02, t_end 40);
+a million steps of the paper grid is about a day of BDF2. Longer histories are marched in pieces, each from the
+last state of the one before (``initial=``)."""
+
+
 def _check_times(dt, t_end):
     try:
         dt = float(dt)
@@ -181,6 +187,10 @@ def _check_times(dt, t_end):
         raise LinearError(f"dt = {dt} must be positive and finite (convective time, e.g. 0.02)")
     if not (math.isfinite(t_end) and t_end >= dt):
         raise LinearError(f"t_end = {t_end} must be finite and at least one time step (dt = {dt})")
+    if round(t_end / dt) > MAX_STEPS:
+        raise LinearError(f"t_end / dt = {t_end:g} / {dt:g} = {t_end / dt:.3g} steps, more than cfd.ltd.MAX_STEPS = "
+                          f"{MAX_STEPS:.0e}: check dt (convective time, c / U; the paper's step is 0.02), or march a "
+                          "longer history in pieces, each from the state the last one ended in (initial=)")
     return dt, t_end
 
 

@@ -151,6 +151,9 @@ def test_bad_input_and_phase_warning(lin):
         ltd_response(lin, g, 0.0, 1.0)
     with pytest.raises(LinearError, match="t_end"):
         ltd_response(lin, g, 0.1, 0.01)
+    # a step given in other units (1e-6 for 0.02): five million steps, refused before any work
+    with pytest.raises(LinearError, match=r"t_end / dt = 5 / 1e-06 = 5e\+06 steps, more than cfd.ltd.MAX_STEPS"):
+        ltd_response(lin, g, 1e-6, 5.0)
     with pytest.raises(LinearError, match="method"):
         ltd_response(lin, g, 0.1, 1.0, method="fbc")
     with pytest.raises(LinearError, match="gust"):
