@@ -116,7 +116,8 @@ def _split(frf) -> tuple[np.ndarray, np.ndarray]:
     return fit_idx, held
 
 
-def holdout_order(frf, *, max_order: int = 30, dc_gain=None, stable: bool = True) -> HoldoutSelection:
+def holdout_order(frf, *, max_order: int = 30, dc_gain=None, stable: bool = True,
+                  algorithm: str = "auto") -> HoldoutSelection:
     """Choose the order by hold-out (rule in the module docstring).
 
     Parameters
@@ -125,7 +126,7 @@ def holdout_order(frf, *, max_order: int = 30, dc_gain=None, stable: bool = True
         Data with ``T``.
     max_order : int
         Largest order tried (fewer when the fitting half cannot support it).
-    dc_gain, stable
+    dc_gain, stable, algorithm
         As for :func:`sysid.identify` (``dc_gain`` is None or a (p, m) array; ``"match"`` is resolved by the
         caller so that the held-out half keeps the full data's DC value).
 
@@ -149,7 +150,7 @@ def holdout_order(frf, *, max_order: int = 30, dc_gain=None, stable: bool = True
 
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", RuntimeWarning)
-                res = sysid.identify(part, int(n), dc_gain=dc_gain, stable=stable)
+                res = sysid.identify(part, int(n), dc_gain=dc_gain, stable=stable, algorithm=algorithm)
             Hm = res.evaluate(val.omega_d)
         except sysid.OrderError:
             if np.isfinite(errs[:i]).any():
@@ -185,7 +186,7 @@ class FitOutcome:
 
 
 def fit_data(frf, *, order: int | str = "auto", dc_gain: str = "auto", stable: bool = True, T: float | None = None,
-             max_order: int = 30) -> FitOutcome:
+             max_order: int = 30, algorithm: str = "auto") -> FitOutcome:
     """Diagnose, choose the order and identify a ROM.
 
     Parameters
@@ -200,6 +201,8 @@ def fit_data(frf, *, order: int | str = "auto", dc_gain: str = "auto", stable: b
         Overrides the data's sampling period; default the data's, else :func:`sysid.diagnostics.default_T`.
     max_order : int
         For ``order="auto"``.
+    algorithm : {"auto", "relocation", "subspace"}
+        :func:`sysid.identify`'s (``"subspace"`` with ``--dc-gain none --no-stable`` is the paper's method).
 
     Returns
     -------
@@ -243,15 +246,16 @@ def fit_data(frf, *, order: int | str = "auto", dc_gain: str = "auto", stable: b
     check_nonzero_outputs(frf.H, frf.outputs)  # before the hold-out fits, which would skip every order for it
     selection = None
     if order == "auto":
-        selection = holdout_order(frf, max_order=max_order, dc_gain=dc, stable=stable)
+        selection = holdout_order(frf, max_order=max_order, dc_gain=dc, stable=stable, algorithm=algorithm)
         n = selection.chosen
     else:
         n = int(order)
     try:
-        res = sysid.identify(frf, n, dc_gain=dc, stable=stable)
+        res = sysid.identify(frf, n, dc_gain=dc, stable=stable, algorithm=algorithm)
     except sysid.OrderError as e:
         raise FitInputError(src, "--order", str(e)) from None
-    options = {"order": order, "dc_gain": dc_gain, "stable": bool(stable), "max_order": max_order}
+    options = {"order": order, "dc_gain": dc_gain, "stable": bool(stable), "max_order": max_order,
+               "algorithm": res.algorithm}
     return FitOutcome(data=frf, diagnostics=diag, result=res, selection=selection, T_rule=T_rule, options=options,
                       elapsed=time.perf_counter() - t0)
 
@@ -304,7 +308,8 @@ def summary_markdown(out: FitOutcome, data_path, command: str | None = None) -> 
         lines += [f"| {n} | {e:.3e} |" for n, e in zip(sel.orders[fin_e], sel.errors[fin_e])]
     lines += ["", "## Fit (`sysid.identify`)", ""]
     enf = ", ".join(k for k, v in res.enforced.items() if v) or "none"
-    lines += [f"- options: dc_gain={out.options['dc_gain']}, stable={out.options['stable']}; enforced: {enf}",
+    lines += [f"- options: dc_gain={out.options['dc_gain']}, stable={out.options['stable']}; algorithm "
+              f"{out.options.get('algorithm', res.algorithm)}; enforced: {enf}",
               f"- spectral radius {res.spectral_radius:.6f} ({'stable' if res.spectral_radius < 1 else 'UNSTABLE'})",
               f"- continuous poles (s in U/c, by the inverse bilinear map s = (2/T)(z - 1)/(z + 1)): "
               f"{_continuous_poles(res)}",
@@ -391,6 +396,10 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="match the omega = 0 sample exactly (default: match when the data have it)")
     p.add_argument("--stable", action=argparse.BooleanOptionalAction, default=True,
                    help="enforce a stable model (default --stable)")
+    p.add_argument("--algorithm", choices=("auto", "relocation", "subspace"), default="auto",
+                   help="sysid.identify's algorithm: relocation (pole relocation, the default for one input or "
+                        "output with --stable or a DC gain), subspace (McKelvey + convex refits; with --dc-gain none "
+                        "--no-stable the paper's method); default auto")
     p.add_argument("--T", default=None, metavar="T",
                    help="sampling period of the bilinear map (convective units; e.g. 70/(2*pi)); default the file's, "
                         "else 2/sqrt(omega_lo omega_hi)")
@@ -453,7 +462,7 @@ def cmd_fit(args) -> int:
         return EXIT_NOT_WRITTEN
     try:
         out = fit_data(frf, order=order, dc_gain=args.dc_gain or "auto", stable=args.stable, T=T,
-                       max_order=args.max_order)
+                       max_order=args.max_order, algorithm=args.algorithm)
     except FitInputError as e:
         err(str(e))
         return EXIT_BAD_INPUT

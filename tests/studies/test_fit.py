@@ -386,3 +386,16 @@ def test_data_without_a_dc_sample_say_so_instead_of_a_nan(tmp_path, capsys):
     assert cli.main(["fit", str(csv), "--order", "4", "--dc-gain", "none", "--out", str(tmp_path / "o")]) == 0
     out = capsys.readouterr().out
     assert "no omega = 0 sample (DC not checked)" in out and "nan" not in out
+
+
+def test_the_algorithm_can_be_chosen(files, tmp_path, capsys):
+    # the paper's method on the command line: subspace, no constraints; and the default path for comparison
+    out = tmp_path / "paper"
+    assert cli.main(["fit", str(files["csv"]), "--order", "4", "--algorithm", "subspace", "--dc-gain", "none",
+                     "--no-stable", "--out", str(out)]) == 0
+    assert "algorithm subspace" in (out / "summary.md").read_text()
+    assert cli.main(["fit", str(files["csv"]), "--order", "4", "--out", str(tmp_path / "default")]) == 0
+    assert "algorithm relocation" in (tmp_path / "default" / "summary.md").read_text()
+    with pytest.raises(SystemExit):
+        cli.main(["fit", str(files["csv"]), "--algorithm", "vf"])
+    assert "invalid choice: 'vf'" in capsys.readouterr().err
