@@ -360,19 +360,34 @@ def fit_motion(frf, order: int = 4, *, gust_order: int = 8, T: float | None = No
         if T is None:
             mid = np.sqrt(wpos.min() * wpos.max()) if wpos.size else 1.0
             T = 2.0 / mid
-        gfrf = sysid.FrequencyResponse.from_continuous(Hg, omega, T, inputs=["gust"], outputs=list(LOAD_OUTPUTS))
+        # an output the gust does not reach (Cm about the quarter chord of a flat plate: a = -1/2) is a zero row
+        # of the model, not data to identify
+        live = np.abs(Hg).max(axis=(1, 2)) > 0.0
+        if not live.any():
+            raise FitError("the gust data are zero for Cl and Cm at every frequency: nothing to fit; drop the gust "
+                           "column (flutter needs the motion columns only) or check the data")
+        names = [o for o, keep in zip(LOAD_OUTPUTS, live) if keep]
         has_dc = bool(np.any(omega == 0.0))
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)
-            ident = sysid.identify(gfrf, gust_order, dc_gain="match" if has_dc else None, stable=True,
-                                   solver="numpy")
+        try:
+            gfrf = sysid.FrequencyResponse.from_continuous(Hg[live], omega, T, inputs=["gust"], outputs=names)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)
+                ident = sysid.identify(gfrf, gust_order, dc_gain="match" if has_dc else None, stable=True,
+                                       solver="numpy")
+        except (sysid.OrderError, sysid.FrequencyGridError, sysid.FrequencyDataError, sysid.ConstraintError,
+                sysid.OptionError, sysid.SolverError) as e:
+            raise FitError(f"the gust column cannot be fitted with gust_order = {gust_order!r} (T = {T!r}): {e}; "
+                           "choose another gust_order (fewer states for fewer frequencies) or T") from None
         gc = ident.continuous()
         import control
 
-        gc = control.ss(gc.A, gc.B, gc.C, gc.D, inputs=["gust"], outputs=list(LOAD_OUTPUTS))
+        C = np.zeros((len(LOAD_OUTPUTS), gc.A.shape[0]))
+        D = np.zeros((len(LOAD_OUTPUTS), 1))
+        C[live], D[live] = np.asarray(gc.C), np.asarray(gc.D)
+        gc = control.ss(gc.A, gc.B, C, D, inputs=["gust"], outputs=list(LOAD_OUTPUTS))
         object.__setattr__(model, "gust", gc)
         object.__setattr__(model, "gust_identification", ident)
         Hgf = model.evaluate_gust(w)
-        gpk = np.abs(Hg[:, :, finite]).max(axis=2, keepdims=True)
+        gpk = np.maximum(np.abs(Hg[:, :, finite]).max(axis=2, keepdims=True), np.finfo(float).tiny)
         object.__setattr__(model, "gust_max_error", float((np.abs(Hgf - Hg[:, :, finite]) / gpk).max()))
     return model

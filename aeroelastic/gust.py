@@ -79,6 +79,12 @@ def _gust_history(gust: Any, t: Any):
         raise AeroModelError(f"t and u must be 1-D of the same length >= 2, got {t.size} and {u.size}")
     if np.any(~np.isfinite(t)) or np.any(~np.isfinite(u)) or np.any(np.diff(t) <= 0):
         raise AeroModelError("t must be finite and strictly increasing, u finite")
+    steps = np.diff(t)
+    off = np.flatnonzero(np.abs(steps - steps[0]) > 1e-6 * (steps[0] + np.abs(t).max()))
+    if off.size:   # python-control's forced_response integrates on one step
+        k = int(off[0])
+        raise AeroModelError(f"t must be equispaced: t[{k + 1}] - t[{k}] = {steps[k]:.6g} but t[1] - t[0] = "
+                             f"{steps[0]:.6g}; resample the gust on an equispaced grid (np.interp)")
     return t, u
 
 
@@ -114,8 +120,8 @@ def gust_response(aero: Any, section: TypicalSection, speed: float, gust: Any, t
         Speed index ``U / (b omega_alpha)`` (below flutter for a bounded response).
     gust : (t, u), object with ``.t`` and ``.u``, or array ``u``
         Gust angle ``u = v_g(x = 0) / U`` (rad), 1-D of shape (N,), at convective times ``t`` (``s = t U / c``),
-        1-D of shape (N,), finite and strictly increasing, ``N >= 2``; the section starts at rest in its steady
-        state at ``t[0]``.
+        1-D of shape (N,), finite, increasing and equispaced, ``N >= 2``; the section starts at rest in its
+        steady state at ``t[0]``.
     t : array_like, shape (N,), optional
         Convective times (``s = t U / c``) when ``gust`` is the array ``u``; then required.
     order : int

@@ -14,6 +14,9 @@ they read, for ``q = [h, alpha]`` (``'`` = d/d tau)::
     Ms = [[2, -x_alpha], [-2 x_alpha, r_alpha2]],   Ks = diag(2 omega_ratio^2, r_alpha2)
 
 (the first row divided by ``m b omega_alpha^2``, the second by ``m b^2 omega_alpha^2``).
+
+The structure is undamped (no structural damping term, as in the classical flutter examples this package is
+checked against): every flutter speed is that of the undamped section, a conservative bound for a damped one.
 """
 
 from __future__ import annotations

@@ -104,3 +104,30 @@ def test_motion_model_keeps_its_arrays_frozen_even_from_lists():
     m = ae.MotionModel(M0=[[1.0, 0.0], [0.0, 1.0]], M1=np.zeros((2, 2)), M2=np.zeros((2, 2)), poles=[0.3],
                        residues=np.zeros((1, 2, 2)))
     assert m.n_lags == 1 and isinstance(m.poles, np.ndarray) and not m.M0.flags.writeable
+
+
+OMEGA = np.r_[0.0, np.geomspace(0.01, 4.0, 100)]
+
+
+def test_a_gust_output_that_is_zero_everywhere_is_a_zero_row():
+    # about the quarter chord (a = -1/2) the flat plate's gust moment is identically zero: valid data, not a
+    # fitting failure; Lee, Price & Wong's section (mu 100, a -1/2, x_alpha 1/4, r_alpha^2 1/4, omega ratio 0.2)
+    frf = th.theodorsen_frf(OMEGA, -0.5, gust=True)
+    assert np.all(np.asarray(frf.H)[1, frf.inputs.index("gust")] == 0.0)
+    model = ae.fit_motion(frf, 4)
+    assert np.all(np.asarray(model.gust.C)[1] == 0.0) and np.all(np.asarray(model.gust.D)[1] == 0.0)
+    assert model.gust_max_error < 1e-3
+    section = ae.TypicalSection(100, -0.5, 0.25, 0.25, 0.2)
+    res = ae.flutter(frf, section)   # failed with sysid's "output 'Cm' is zero at every frequency"
+    motion_only = ae.flutter(th.theodorsen_frf(OMEGA, -0.5), section)   # the gust column plays no part in flutter
+    assert res.kind == "flutter" and res.speed_index == pytest.approx(motion_only.speed_index, rel=1e-12)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(gust_order=0), r"gust column cannot be fitted with gust_order = 0"),
+    (dict(gust_order=100), r"gust column cannot be fitted with gust_order = 100 .*choose another gust_order"),
+    (dict(T=-1.0), r"gust column cannot be fitted .*T = -1.0.*sampling period T must be positive"),
+])
+def test_a_gust_fit_that_sysid_refuses_is_a_fit_error(kwargs, match):
+    with pytest.raises(ae.FitError, match=match):
+        ae.fit_motion(th.theodorsen_frf(OMEGA, -0.2, gust=True), 4, **kwargs)

@@ -96,6 +96,8 @@ def test_input_forms_and_errors(theo):
     ((T, U.astype(complex)), "u must be an array of real numbers"),
     ((T, ["a"] * T.size), "u must be an array of real numbers"),
     ((np.float64(1.0), np.float64(0.0)), r"t must be 1-D .*got shape \(\)"),
+    # python-control's bare ValueError before: the times must be equispaced
+    ((np.array([0.0, 5.0, 30.0, 60.0, 100.0]), np.zeros(5)), r"t must be equispaced: t\[2\] - t\[1\] = 25"),
 ])
 def test_gust_history_must_be_one_dimensional_and_real(theo, history, match):
     with pytest.raises(ae.AeroModelError, match=match):
