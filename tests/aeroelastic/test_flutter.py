@@ -138,3 +138,19 @@ def test_root_locus_is_tracked_and_frozen(result):
 def test_flutter_fits_data_itself(theo):
     r = ae.flutter(th.theodorsen_frf(W, HP.a), HP, SPEEDS, order=4)
     assert r.speed_index == pytest.approx(ae.flutter(theo, HP, SPEEDS).speed_index, rel=1e-10)
+
+
+def test_a_flutter_frequency_outside_the_data_is_reported():
+    # Hodges & Pierce's section flutters at k = 0.31 (omega = 0.62 U/c); data from omega = 2 to 4 miss it and the
+    # extrapolated model puts the speed 8.5 % low
+    section = ae.TypicalSection(20, -0.2, 0.1, 0.24, 0.4)
+    with pytest.warns(RuntimeWarning, match=r"flutter frequency omega = 0.6\d* .*outside the data's frequencies"):
+        res = ae.flutter(th.theodorsen_frf(np.r_[0.0, np.geomspace(2.0, 4.0, 30)], -0.2), section)
+    assert abs(res.speed_index / 2.18432 - 1) > 0.05
+
+
+def test_a_poor_motion_fit_is_reported():
+    # no lag roots for Theodorsen's function: 0.43 off the data, the flutter speed 19 % low
+    section = ae.TypicalSection(20, -0.2, 0.1, 0.24, 0.4)
+    with pytest.warns(RuntimeWarning, match=r"the motion fit is 0.4\d off its data"):
+        ae.flutter(th.theodorsen_frf(np.r_[0.0, np.geomspace(0.01, 4.0, 100)], -0.2), section, order=0)
