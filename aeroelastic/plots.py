@@ -9,10 +9,22 @@ from typing import Any
 
 import numpy as np
 
+from .errors import AeroModelError
+
 __all__ = ["root_locus_plot", "vg_plot", "flutter_plot", "gust_response_plot"]
 
 _MODE_COLOURS = ("tab:blue", "tab:red")
 _MODE_NAMES = ("plunge branch", "pitch branch")
+
+
+def _check_result(value, needs, what):
+    """Raise :class:`AeroModelError` unless ``value`` has the attributes ``needs`` (a result of ``what``)."""
+    missing = [name for name in needs if not hasattr(value, name)]
+    if missing:
+        raise AeroModelError(f"expected the result of {what}, got {type(value).__name__} (no {', '.join(missing)})")
+
+
+_FLUTTER_FIELDS = ("eigenvalues", "modes", "speeds", "g", "found", "speed_index", "frequency_ratio", "kind")
 
 
 def _plt():
@@ -43,6 +55,7 @@ def root_locus_plot(result, ax: Any = None, *, show_lags: bool = True):
     matplotlib.axes.Axes
         ``ax``, or the new axes.
     """
+    _check_result(result, _FLUTTER_FIELDS, "aeroelastic.flutter")
     plt = _plt()
     if ax is None:
         _, ax = plt.subplots(figsize=(6.0, 4.5))
@@ -86,6 +99,7 @@ def vg_plot(result, axs: Any = None):
     tuple of matplotlib.axes.Axes
         The two axes ``(ax_g, ax_f)``.
     """
+    _check_result(result, _FLUTTER_FIELDS, "aeroelastic.flutter")
     plt = _plt()
     if axs is None:
         _, axs = plt.subplots(2, 1, sharex=True, figsize=(6.0, 5.5))
@@ -130,6 +144,7 @@ def flutter_plot(result, fig: Any = None):
     matplotlib.figure.Figure
         ``fig``, or the new figure (after ``tight_layout``).
     """
+    _check_result(result, _FLUTTER_FIELDS, "aeroelastic.flutter")
     plt = _plt()
     if fig is None:
         fig = plt.figure(figsize=(12.0, 5.5))
@@ -163,6 +178,7 @@ def gust_response_plot(response, reference: Any = None, axs: Any = None, *, labe
     sequence of matplotlib.axes.Axes
         ``axs``, or the new ndarray of five axes, shape (5,).
     """
+    _check_result(response, ("t", "u", "plunge", "pitch", "Cl", "Cm"), "aeroelastic.gust_response")
     plt = _plt()
     if axs is None:
         _, axs = plt.subplots(5, 1, sharex=True, figsize=(7.0, 9.0))

@@ -1,5 +1,7 @@
 """Gust response of the flexible section: the fitted coupled model against Jones' time-domain model."""
 
+import warnings
+
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
@@ -113,3 +115,18 @@ def test_above_the_flutter_speed_the_response_warns(theo):
         ae.gust_response(theo, HP, 1.5, U, t=T)
     with pytest.warns(RuntimeWarning, match="unstable at speed 2.6"):
         ae.gust_response(theo, HP, 2.6, U, t=T)
+
+
+def test_a_step_too_coarse_for_the_section_is_reported(theo):
+    # a 10-chord 1-cosine gust at V = 1.2 sampled every 2.5 chords: fewer than ten samples per period of the
+    # fastest mode, and the pitch peak is off (compare a fine step)
+    def history(step):
+        t = np.arange(0.0, 60.0 + step / 2, step)
+        return t, np.where(t <= 10.0, 0.5 * (1.0 - np.cos(2.0 * np.pi * t / 10.0)), 0.0)
+
+    with pytest.warns(RuntimeWarning, match=r"the time step 2.5 .*samples the section's fastest oscillation"):
+        coarse = ae.gust_response(theo, HP, 1.2, history(2.5))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        fine = ae.gust_response(theo, HP, 1.2, history(0.05))
+    assert abs(np.abs(coarse.pitch).max() / np.abs(fine.pitch).max() - 1.0) > 0.05

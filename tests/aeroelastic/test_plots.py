@@ -5,6 +5,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+import pytest  # noqa: E402
 
 import aeroelastic as ae  # noqa: E402
 from aeroelastic import theodorsen as th  # noqa: E402
@@ -26,3 +27,12 @@ def test_plots_return_axes():
     axs = ae.gust_response_plot(g, reference=g)
     assert len(axs) == 5
     plt.close("all")
+
+
+@pytest.mark.parametrize("plot, what", [(ae.root_locus_plot, "aeroelastic.flutter"),
+                                        (ae.vg_plot, "aeroelastic.flutter"), (ae.flutter_plot, "aeroelastic.flutter"),
+                                        (ae.gust_response_plot, "aeroelastic.gust_response")])
+@pytest.mark.parametrize("bad", [None, 3, "result"])
+def test_plots_name_what_they_expected(plot, what, bad):
+    with pytest.raises(ae.AeroModelError, match=rf"expected the result of {what}, got {type(bad).__name__}"):
+        plot(bad)
