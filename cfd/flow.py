@@ -68,7 +68,7 @@ class FlowCondition:
         if not 0.0 < self.mach < 1.0:
             raise FlowConditionError(
                 f"mach = {self.mach} is out of range: the solver handles subsonic free streams, "
-                "0 < mach < 1"
+                f"{MIN_MACH} <= mach < 1"
             )
         if self.mach < MIN_MACH:
             raise FlowConditionError(

@@ -10,6 +10,11 @@ from typing import Optional
 from .case_fields import CaseError, check_name, check_real, naca_code
 from .grid_spec import GridSpec
 
+MIN_MACH = 0.01
+"""The solver's lowest free-stream Mach number, ``cfd.flow.MIN_MACH`` (restated, not imported: importing cfd would
+make ``lfdrom cases`` load SciPy; a test checks the two agree), so that a study file is refused when it is read,
+not when its steady piece runs."""
+
 __all__ = ["FlowCase", "GustCase", "GUST_KINDS", "to_gust"]
 
 GUST_KINDS = ("one_minus_cosine", "sharp_edged")
@@ -26,7 +31,7 @@ class FlowCase:
     naca : str
         NACA 4-digit code (``"0010"``, ``"NACA2410"`` or an int); stored as the four digits.
     mach : float
-        Free-stream Mach number, ``0 < mach < 1``.
+        Free-stream Mach number, ``0.01 <= mach < 1`` (:data:`MIN_MACH`).
     alpha_deg : float
         Incidence (degrees), finite, ``|alpha_deg| < 90``.
     grid : GridSpec
@@ -48,8 +53,9 @@ class FlowCase:
         owner = f"case {name!r}"
         object.__setattr__(self, "naca", naca_code(owner, self.naca))
         mach = check_real(owner, "mach", self.mach)
-        if not 0.0 < mach < 1.0:
-            raise CaseError(f"{owner}: mach = {mach} is out of range; the solver handles 0 < mach < 1")
+        if not MIN_MACH <= mach < 1.0:
+            raise CaseError(f"{owner}: mach = {mach} is out of range; the solver handles {MIN_MACH} <= mach < 1 "
+                            "(below 0.01 its low-Mach dissipation spoils the pressure field, docs/validation.md)")
         object.__setattr__(self, "mach", mach)
         alpha = check_real(owner, "alpha_deg", self.alpha_deg)
         if abs(alpha) >= 90.0:

@@ -152,7 +152,7 @@ def user_case(naca, mach, alpha_deg: float = 0.0, name: Optional[str] = None,
     naca : str or int
         NACA 4-digit code.
     mach : float
-        ``0 < mach < 1``.
+        ``0.01 <= mach < 1`` (the solver's floor, ``cfd.flow.MIN_MACH``).
     alpha_deg : float
         Incidence (degrees).
     name : str, optional

@@ -6,6 +6,7 @@ from __future__ import annotations
 from dataclasses import replace
 from pathlib import Path
 
+from .case_types import MIN_MACH
 from .cases import TEST_CASES, CaseError, FlowCase, GridSpec, flow_case, naca_code
 from .config_reader import CASE_KEYS, GRID_KEYS, REPORT_KEYS, ConfigReader, grid_config_error
 from .schema import CaseSweep, ReportOptions
@@ -66,8 +67,9 @@ def parse_case_entry(P: ConfigReader, entry, key, base_grid, g_orders, g_T, g_M,
         except CaseError as e:
             raise P.err(f"{key}.naca", str(e)) from None
         mach = P.number(entry["mach"], f"{key}.mach")
-        if not 0.0 < mach < 1.0:
-            raise P.err(f"{key}.mach", f"mach = {mach} is out of range; use 0 < mach < 1 (subsonic free stream)")
+        if not MIN_MACH <= mach < 1.0:
+            raise P.err(f"{key}.mach", f"mach = {mach} is out of range; use {MIN_MACH} <= mach < 1 (subsonic free "
+                                       "stream; below 0.01 the solver's low-Mach dissipation spoils the flow)")
         alpha = P.number(entry.get("alpha_deg", 0.0), f"{key}.alpha_deg")
         if abs(alpha) >= 90.0:
             raise P.err(f"{key}.alpha_deg", f"alpha_deg = {alpha} is not an incidence; use |alpha_deg| < 90")

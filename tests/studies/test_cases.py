@@ -76,8 +76,9 @@ def test_user_case_and_default_name():
     (dict(naca="0a12", mach=0.5), "non-digit"),
     (dict(naca="0000", mach=0.5), "zero thickness"),
     (dict(naca="12345", mach=0.5), "not 4"),
-    (dict(naca="0012", mach=1.0), "0 < mach < 1"),
-    (dict(naca="0012", mach=0.0), "0 < mach < 1"),
+    (dict(naca="0012", mach=1.0), "0.01 <= mach < 1"),
+    (dict(naca="0012", mach=0.0), "0.01 <= mach < 1"),
+    (dict(naca="0012", mach=0.005), "0.01 <= mach < 1"),   # the solver's floor, refused when the study is read
     (dict(naca="0012", mach="fast"), "real number"),
     (dict(naca="0012", mach=0.5, alpha_deg=math.nan), "finite"),
     (dict(naca="0012", mach=0.5, alpha_deg=math.inf), "finite"),
@@ -121,3 +122,11 @@ def test_frozen_and_table():
     flows, gusts = case_table()
     assert [r["name"] for r in flows] == list(PAPER_T) and [r["name"] for r in gusts] == list(PAPER_G)
     assert FlowCase("x", "2410", 0.3).naca == "2410"
+
+
+def test_the_study_mach_floor_is_the_solvers():
+    from cfd.flow import MIN_MACH
+
+    from studies.case_types import MIN_MACH as STUDY_MIN_MACH
+
+    assert STUDY_MIN_MACH == MIN_MACH
