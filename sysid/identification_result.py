@@ -141,11 +141,14 @@ class IdentificationResult:
         """Model response at continuous frequencies ``omega`` (U_inf / c units, ``inf`` allowed), shape (p, m, K).
 
         Uses the bilinear map ``omega_d = 2 arctan(omega T / 2)``, so it equals the continuous model
-        :meth:`continuous` at ``s = 1j omega``.
+        :meth:`continuous` at ``s = 1j omega``; a negative ``omega`` gives the complex conjugate of the response
+        at ``-omega`` (a real system's).
         """
         from .frd import continuous_to_discrete
 
-        return self.evaluate(continuous_to_discrete(np.asarray(omega, dtype=float).reshape(-1), self.T))
+        w = np.asarray(omega, dtype=float).reshape(-1)
+        G = self.evaluate(continuous_to_discrete(np.abs(w), self.T))
+        return np.where(w < 0, np.conj(G), G)
 
     @property
     def diagnostics(self):

@@ -176,8 +176,12 @@ def resonance_points(lam, offsets=RESONANCE_OFFSETS) -> np.ndarray:
 
 
 def bounds_at(z, zb, ub) -> np.ndarray:
-    """The :func:`gap_bounds` at other points ``z`` of the circle: each takes the bound of the nearest point of
-    ``zb`` (in ``omega_d``; the bounds are constant across each data interval).
+    """The :func:`gap_bounds` at other points ``z`` of the circle: the larger bound of the two points of ``zb``
+    on either side of each (in ``omega_d``).
+
+    The bounds are constant across each data interval, and the two neighbouring points belong to the interval
+    that holds ``z`` or to the one next to it (when a sample lies between them), so the larger one is never tighter
+    than the bound of ``z``'s own interval; a point beyond the first or last point of ``zb`` takes that point's.
 
     Parameters
     ----------
@@ -191,12 +195,11 @@ def bounds_at(z, zb, ub) -> np.ndarray:
     """
     wb = np.abs(np.angle(zb))
     order = np.argsort(wb)
-    wb = wb[order]
+    wb, ub = wb[order], np.asarray(ub)[:, :, order]
     w = np.abs(np.angle(np.asarray(z, dtype=complex)))
-    i = np.clip(np.searchsorted(wb, w), 1, max(wb.size - 1, 1)) if wb.size > 1 else np.zeros(w.size, int)
-    if wb.size > 1:
-        i = np.where(np.abs(w - wb[i - 1]) <= np.abs(wb[i] - w), i - 1, i)
-    return np.asarray(ub)[:, :, order[i]]
+    i = np.searchsorted(wb, w)
+    left, right = np.clip(i - 1, 0, wb.size - 1), np.clip(i, 0, wb.size - 1)
+    return np.maximum(ub[:, :, left], ub[:, :, right])
 
 
 def basis_response(A, B, z, eig=None):

@@ -1,0 +1,41 @@
+"""The gain bounds between the samples and the points where a model's resonances peak (sysid.residues)."""
+
+import control
+import numpy as np
+import pytest
+
+from sysid import FrequencyResponse, mckelvey_grid
+from sysid.identify import unobserved_gain
+from sysid.residues import bounds_at, gap_bounds, resonance_points
+
+
+def test_bounds_at_takes_the_bound_of_the_interval_that_holds_the_point():
+    # unequal spacing: samples at 0, 0.01 and 1 rad/sample with |G| 1, 1, 10; gap_bounds gives each interval
+    # 1.25 max(neighbours) + 0.05 peak: 1.75 on [0, 0.01], 13 on [0.01, 1] and on [1, pi]
+    wd = np.array([0.0, 0.01, 1.0])
+    zb, ub = gap_bounds(np.exp(1j * wd), np.array([1.0, 1.0, 10.0])[None, None, :] + 0j)
+    got = bounds_at(np.exp(1j * np.array([0.005, 0.05, 0.5, 2.0])), zb, ub)[0, 0]
+    # 0.05 lies just above the sample at 0.01: its nearest bound point is in the interval below (1.75), which would
+    # refuse a model that stays within its own interval's bound
+    np.testing.assert_allclose(got, [1.75, 13.0, 13.0, 13.0])
+
+
+def test_resonance_points_sit_on_each_pole_and_its_flanks():
+    r, theta = 1 - 1e-3, 0.4
+    pts = np.angle(resonance_points(np.array([r * np.exp(1j * theta), r * np.exp(-1j * theta), 0.2])))
+    np.testing.assert_allclose(np.sort(pts), theta + 1e-3 * np.array([-2, -1, -0.5, 0, 0.5, 1, 2]), atol=1e-15)
+    assert resonance_points(np.array([0.1, -0.3])).size == 0   # poles far from the circle: no narrow peak
+
+
+def test_unobserved_gain_sees_a_resonance_between_its_check_points():
+    # a pole pair of radius 1 - 1e-4 at 0.3 of an interval of McKelvey's M = 64 grid: its peak (about 1) lies
+    # 2.5e-3 rad from the nearest of the eight check points per interval, where the gain is 0.04
+    wd, _ = mckelvey_grid(64, 1.0)
+    theta = np.pi * (10 + 0.3) / 64
+    p = (1 - 1e-4) * np.exp(1j * theta)
+    A = np.array([[2 * p.real, -abs(p) ** 2], [1.0, 0.0]])   # poles p and conj(p)
+    model = control.ss(A, [[1.0], [0.0]], [[0.0, 1e-4]], [[0.0]], 1.0)
+    data = FrequencyResponse(np.ones((1, 1, wd.size)) + 0j, wd, 1.0)   # unit data: gain in units of the peak
+    dense = np.abs(model(np.exp(1j * np.linspace(theta - 1e-3, theta + 1e-3, 20001)))).max()
+    assert dense > 0.5   # the true peak, 1e-4 / (2 sin(theta) (1 - r)) = 1.03
+    assert unobserved_gain(model, data)[0] == pytest.approx(dense, rel=1e-3)
