@@ -30,6 +30,11 @@ __all__ = ["c_grid"]
 #   The j-spacing is geometric along every i-line, from the first-cell height to the far field.
 
 
+MIN_FARFIELD = 3.0
+"""Smallest far-field distance (chords from mid-chord) of a C-grid: the characteristic far-field condition takes
+the free stream there (:func:`c_grid` refuses less; :func:`cfd.solve_steady` warns for a grid of other origin)."""
+
+
 def _check_sizes(ni, nj, n_surface, farfield):
     for name, v in (("ni", ni), ("nj", nj), ("n_surface", n_surface)):
         if not isinstance(v, (int, np.integer)) or isinstance(v, bool):
@@ -53,8 +58,8 @@ def _check_sizes(ni, nj, n_surface, farfield):
         )
     if not isinstance(farfield, (int, float, np.integer, np.floating)) or not np.isfinite(farfield):
         raise MeshError(f"farfield = {farfield!r} must be a finite number of chords, e.g. 25 (the default)")
-    if farfield < 3.0:
-        raise MeshError(f"farfield = {farfield} chords is too close; use at least 3 (default 25)")
+    if farfield < MIN_FARFIELD:
+        raise MeshError(f"farfield = {farfield} chords is too close; use at least {MIN_FARFIELD:g} (default 25)")
     return n_wake2 // 2
 
 

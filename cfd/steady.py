@@ -55,6 +55,7 @@ from .flow import LOW_MACH, FlowCondition, primitive
 from .jacobian import jacobian
 from .loads import force_coefficients, wall_cp
 from .mesh import Grid
+from .mesh_generation import MIN_FARFIELD
 from .ordering import nested_dissection, unknown_permutation
 
 __all__ = ["SteadySolution", "solve_steady", "factorise"]
@@ -311,6 +312,12 @@ def solve_steady(grid, mach, alpha_deg, *, gamma=1.4, tol=1e-10, scheme=None, q0
         growth = _NEW["growth"] if chord else 2.0
     if not isinstance(grid, Grid):
         raise MeshError(not_a_grid(grid))
+    reach = float(np.hypot(grid.x[:, -1] - 0.5, grid.y[:, -1]).min())   # the outer j-line from mid-chord
+    if reach < MIN_FARFIELD:
+        warnings.warn(f"the grid's far-field boundary comes within {reach:.3g} chords of mid-chord; the far-field "
+                      f"condition takes the free stream there, so the loads will be off: use at least "
+                      f"{MIN_FARFIELD:g} chords (c_grid's minimum; the paper's grid has 25)", RuntimeWarning,
+                      stacklevel=2)
     t_start = time.perf_counter()
     area = grid.area[..., None]
     if q0 is None:

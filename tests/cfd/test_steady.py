@@ -227,3 +227,12 @@ def test_a_low_mach_solve_warns_and_its_lift_follows_prandtl_glauert(grid0012):
     # = 1.047 the two solutions reproduce to the scheme's low-Mach error (about 1 % at M = 0.05)
     ratio = mid.cl / low.cl
     assert ratio == pytest.approx(np.sqrt((1 - 0.05**2) / (1 - 0.3**2)), rel=0.02)
+
+
+def test_a_far_field_close_to_the_section_is_reported(grid0012):
+    # the first five j-lines of a grid as a grid of their own: its outer boundary is a few hundredths of a chord
+    # from the wall, where the far-field condition would impose the free stream (Cp_max 1.96, Cd 0.15, silently)
+    near = cfd.grid_from_nodes(grid0012.x[:, :5], grid0012.y[:, :5], grid0012.n_wake)
+    with pytest.warns(RuntimeWarning, match=r"far-field boundary comes within 0\.\d+ chords of mid-chord"):
+        with pytest.raises(ConvergenceError):
+            cfd.solve_steady(near, 0.5, 2.0, max_newton=0, n_rk=0)
