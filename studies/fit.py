@@ -183,6 +183,7 @@ class FitOutcome:
     T_rule: str
     options: dict
     elapsed: float
+    warnings: tuple = ()   # what sysid.identify warned about the final fit (messages), printed and in summary.md
 
 
 def fit_data(frf, *, order: int | str = "auto", dc_gain: str = "auto", stable: bool = True, T: float | None = None,
@@ -250,14 +251,22 @@ def fit_data(frf, *, order: int | str = "auto", dc_gain: str = "auto", stable: b
         n = selection.chosen
     else:
         n = int(order)
+    import warnings
+
     try:
-        res = sysid.identify(frf, n, dc_gain=dc, stable=stable, algorithm=algorithm)
+        with warnings.catch_warnings(record=True) as caught:   # reported with the fit, not as Python warnings
+            warnings.simplefilter("always")
+            res = sysid.identify(frf, n, dc_gain=dc, stable=stable, algorithm=algorithm)
     except sysid.OrderError as e:
         raise FitInputError(src, "--order", str(e)) from None
+    notes = tuple(dict.fromkeys(str(w.message) for w in caught if issubclass(w.category, RuntimeWarning)))
+    for w in caught:   # anything else (a library's deprecation, ...) goes on as it came
+        if not issubclass(w.category, RuntimeWarning):
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     options = {"order": order, "dc_gain": dc_gain, "stable": bool(stable), "max_order": max_order,
                "algorithm": res.algorithm}
     return FitOutcome(data=frf, diagnostics=diag, result=res, selection=selection, T_rule=T_rule, options=options,
-                      elapsed=time.perf_counter() - t0)
+                      elapsed=time.perf_counter() - t0, warnings=notes)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -329,8 +338,10 @@ def summary_markdown(out: FitOutcome, data_path, command: str | None = None) -> 
         lines.append(f"| {o} | {res.errors.max_rel_per_output[i]:.3e} | {res.errors.rms_rel_per_output[i]:.3e} "
                      f"| {dce} |")
     lines += ["", "Errors are over all data frequencies: max |model - data| over the output's peak |data|, RMS "
-              "error over the RMS of the data (`sysid.metrics`); DC error relative to |H(0)|.", "",
-              "## Files", "",
+              "error over the RMS of the data (`sysid.metrics`); DC error relative to |H(0)|.", ""]
+    if out.warnings:
+        lines += ["**Warnings of the fit** (`sysid.identify`):", ""] + [f"- {note}" for note in out.warnings] + [""]
+    lines += ["## Files", "",
               "- `rom.npz`, `rom.mat`: discrete model `A, B, C, D, T` (sampling period T, bilinear map; in MATLAB "
               "`r = load('rom.mat'); sys = ss(r.A, r.B, r.C, r.D, r.T)`; `d2c(sys, 'tustin')` gives the continuous "
               "model)",
@@ -375,6 +386,8 @@ def print_summary(out: FitOutcome, file=None) -> None:
     per = ", ".join(f"{o} {e:.2e}" for o, e in zip(out.data.outputs, res.errors.max_rel_per_output))
     dc = f"DC error {res.dc_error:.1e}" if res.dc_error is not None else "no omega = 0 sample (DC not checked)"
     print(f"max error / peak: {per}; {dc}; spectral radius {res.spectral_radius:.6f}", file=file)
+    for note in out.warnings:
+        print(f"warning: {note}", file=file)
 
 
 # ---------------------------------------------------------------------------------------------
