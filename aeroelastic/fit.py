@@ -41,6 +41,8 @@ from typing import Any
 import numpy as np
 from scipy import optimize
 
+from sysid.arrays import read_only
+
 from .errors import AeroModelError, FitError
 
 __all__ = ["MotionModel", "fit_motion", "channel_indices", "real_array", "MOTION_INPUTS", "LOAD_OUTPUTS", "ROOT_BAND"]
@@ -50,11 +52,6 @@ ROOT_BAND = (0.1, 2.0)
 """Optimised lag roots stay within ``[0.1 min(omega > 0), 2 max(omega)]`` of the data."""
 LOAD_OUTPUTS = ("Cl", "Cm")
 
-
-def _frozen(a):
-    a = np.array(a, copy=True)
-    a.setflags(write=False)
-    return a
 
 
 def real_array(name, a):
@@ -137,13 +134,13 @@ class MotionModel:
         """Shapes and values checked once (a model built by hand reaches flutter and gust solvers unchecked
         otherwise): :class:`AeroModelError` naming the attribute."""
         for name in ("M0", "M1", "M2"):
-            object.__setattr__(self, name, _frozen(_check_real(name, getattr(self, name), (2, 2))))
+            object.__setattr__(self, name, read_only(_check_real(name, getattr(self, name), (2, 2))))
         poles = _check_real("poles", self.poles, None)
         if poles.ndim != 1 or np.any(poles <= 0):
             raise AeroModelError(f"poles must be a 1-D array of positive lag roots beta_j (poles s = -beta_j); got "
                                  f"{np.array2string(poles, precision=4)}")
-        object.__setattr__(self, "poles", _frozen(poles))
-        object.__setattr__(self, "residues", _frozen(_check_real("residues", self.residues, (poles.size, 2, 2))))
+        object.__setattr__(self, "poles", read_only(poles))
+        object.__setattr__(self, "residues", read_only(_check_real("residues", self.residues, (poles.size, 2, 2))))
 
     @property
     def n_lags(self) -> int:
@@ -348,8 +345,8 @@ def fit_motion(frf, order: int = 4, *, gust_order: int = 8, T: float | None = No
     M1 = coef[:, :, k0]
     M2 = coef[:, :, k0 + 1]
     res = np.moveaxis(coef[:, :, k0 + 2:], 2, 0) if order else np.zeros((0, 2, 2))
-    model = MotionModel(_frozen(M0), _frozen(M1), _frozen(M2), _frozen(beta), _frozen(res),
-                        static_exact=bool(at0.size), omega=_frozen(w))
+    model = MotionModel(read_only(M0), read_only(M1), read_only(M2), read_only(beta), read_only(res),
+                        static_exact=bool(at0.size), omega=read_only(w))
     err = np.abs(model.evaluate(w) - Hm) * W
     object.__setattr__(model, "max_error", float(err.max()))
     object.__setattr__(model, "rms_error", float(np.sqrt(np.mean(err**2))))

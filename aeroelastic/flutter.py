@@ -20,6 +20,8 @@ from typing import Any
 import numpy as np
 from scipy import optimize
 
+from sysid.arrays import read_only
+
 from .coupling import as_motion_model, state_matrix
 from .errors import SpeedError
 from .fit import MotionModel
@@ -95,11 +97,6 @@ class FlutterResult:
         return (f"{self.kind} at U/(b w_alpha) = {self.speed_index:.5f} (V_f = {self.flutter_speed_index:.5f}), "
                 f"w/w_alpha = {self.frequency_ratio:.5f}, k = {self.reduced_frequency:.5f}")
 
-
-def _ro(a: np.ndarray) -> np.ndarray:
-    a = np.array(a, copy=True)
-    a.setflags(write=False)
-    return a
 
 
 def _eigs(model: MotionModel, section: TypicalSection, V: float) -> np.ndarray:
@@ -248,7 +245,8 @@ def flutter(aero: Any, section: TypicalSection, speeds: Any = None, *, order: in
         why = ("the section is stable over the whole grid; extend speeds" if unstable.size == 0 else
                "the section is already unstable at the first speed; start speeds lower")
         warnings.warn(f"no stability crossing found: {why}", RuntimeWarning, stacklevel=2)
-        return FlutterResult(nan, nan, nan, "none", False, nan, _ro(V), _ro(E), _ro(modes), section, model)
+        return FlutterResult(nan, nan, nan, "none", False, nan, read_only(V), read_only(E), read_only(modes), section,
+                             model)
     i = unstable[0]
 
     def f(v):
@@ -265,7 +263,7 @@ def flutter(aero: Any, section: TypicalSection, speeds: Any = None, *, order: in
         fr = 0.0
     _warn_extrapolation(model, 2.0 * fr / Vf if kind == "flutter" else None)
     return FlutterResult(float(Vf), float(Vf / math.sqrt(section.mu)), float(fr), kind, True, float(fr / Vf),
-                         _ro(V), _ro(E), _ro(modes), section, model)
+                         read_only(V), read_only(E), read_only(modes), section, model)
 
 
 FIT_ERROR_WARNING = 0.1

@@ -8,6 +8,9 @@ from typing import Any
 
 import numpy as np
 
+from sysid.arrays import read_only
+from sysid.simulate import first_uneven_step
+
 from .coupling import check_speed, as_motion_model, coupled_model
 from .errors import AeroModelError
 from .fit import real_array
@@ -48,11 +51,6 @@ class GustResponse:
     speed: float = float("nan")
 
 
-def _ro(a):
-    a = np.array(a, dtype=float, copy=True)
-    a.setflags(write=False)
-    return a
-
 
 def _gust_history(gust: Any, t: Any):
     if t is None:
@@ -79,10 +77,9 @@ def _gust_history(gust: Any, t: Any):
         raise AeroModelError(f"t and u must be 1-D of the same length >= 2, got {t.size} and {u.size}")
     if np.any(~np.isfinite(t)) or np.any(~np.isfinite(u)) or np.any(np.diff(t) <= 0):
         raise AeroModelError("t must be finite and strictly increasing, u finite")
-    steps = np.diff(t)
-    off = np.flatnonzero(np.abs(steps - steps[0]) > 1e-6 * (steps[0] + np.abs(t).max()))
-    if off.size:   # python-control's forced_response integrates on one step
-        k = int(off[0])
+    k = first_uneven_step(t)
+    if k is not None:   # python-control's forced_response integrates on one step
+        steps = np.diff(t)
         raise AeroModelError(f"t must be equispaced: t[{k + 1}] - t[{k}] = {steps[k]:.6g} but t[1] - t[0] = "
                              f"{steps[0]:.6g}; resample the gust on an equispaced grid (np.interp)")
     return t, u
@@ -102,8 +99,8 @@ def simulate(sys, section: TypicalSection, speed: float, t: np.ndarray, u: np.nd
     names = list(sys.output_labels)
     y = np.asarray(r.outputs).reshape(len(names), -1)
     get = {n: y[names.index(n)] for n in ("plunge", "pitch", "Cl", "Cm")}
-    return GustResponse(_ro(t), _ro(tau + 2.0 * t[0] / V), _ro(u), _ro(get["plunge"]), _ro(get["pitch"]),
-                        _ro(get["Cl"]), _ro(get["Cm"]), float(V))
+    return GustResponse(read_only(t), read_only(tau + 2.0 * t[0] / V), read_only(u), read_only(get["plunge"]),
+                        read_only(get["pitch"]), read_only(get["Cl"]), read_only(get["Cm"]), float(V))
 
 
 def gust_response(aero: Any, section: TypicalSection, speed: float, gust: Any, t: Any = None, *, order: int = 4,

@@ -391,6 +391,21 @@ def flutter_determinant(section, quasi_steady: bool = False, k_range: tuple[floa
 # --------------------------------------------------------------------------------------------------
 # time domain: Jones' indicial approximations
 # --------------------------------------------------------------------------------------------------
+def _lag_sum(k: Any, table) -> np.ndarray:
+    """``1 - sum A i k / (i k + b)`` over the ``(A, b)`` pairs of ``table``: the frequency response of an indicial
+    function ``1 - sum A exp(-b tau)`` (its Laplace transform times ``s``)."""
+    p = 1j * _as_k(k)
+    return 1.0 - sum(A * p / (p + b) for A, b in table)
+
+
+def _exponential_sum(tau: Any, table) -> np.ndarray:
+    """``1 - sum A exp(-b tau)`` over the ``(A, b)`` pairs of ``table``, 0 for ``tau < 0``."""
+    t = np.asarray(tau, dtype=float)
+    with np.errstate(over="ignore"):                     # exp of a large negative tau: masked below
+        value = 1.0 - sum(A * np.exp(-b * t) for A, b in table)
+    return np.where(t < 0.0, 0.0, value)[()]
+
+
 def theodorsen_jones(k: Any) -> np.ndarray:
     """Theodorsen's function as implied by Jones' Wagner approximation: ``1 - sum A_i i k / (i k + b_i)``.
 
@@ -411,8 +426,7 @@ def theodorsen_jones(k: Any) -> np.ndarray:
     SpeedError
         A ``k`` that is negative, not finite or not numeric.
     """
-    p = 1j * _as_k(k)
-    return 1.0 - sum(A * p / (p + b) for A, b in WAGNER_JONES)
+    return _lag_sum(k, WAGNER_JONES)
 
 
 def sears_jones(k: Any) -> np.ndarray:
@@ -436,8 +450,7 @@ def sears_jones(k: Any) -> np.ndarray:
     SpeedError
         A ``k`` that is negative, not finite or not numeric.
     """
-    p = 1j * _as_k(k)
-    return 1.0 - sum(G * p / (p + g) for G, g in KUSSNER_JONES)
+    return _lag_sum(k, KUSSNER_JONES)
 
 
 def jones_frf(omega: Any, a: float, T: float | None = None):
@@ -499,10 +512,7 @@ def wagner_jones(tau: Any) -> np.ndarray:
     ndarray, shape (...)
         ``phi`` (fraction of the steady lift), of the shape of ``tau`` (a NumPy float for a scalar ``tau``).
     """
-    t = np.asarray(tau, dtype=float)
-    with np.errstate(over="ignore"):                     # exp of a large negative tau: masked below
-        phi = 1.0 - sum(A * np.exp(-b * t) for A, b in WAGNER_JONES)
-    return np.where(t < 0.0, 0.0, phi)[()]
+    return _exponential_sum(tau, WAGNER_JONES)
 
 
 def kussner_jones(tau: Any) -> np.ndarray:
@@ -523,10 +533,7 @@ def kussner_jones(tau: Any) -> np.ndarray:
     ndarray, shape (...)
         ``psi`` (fraction of the steady gust lift), of the shape of ``tau`` (a NumPy float for a scalar ``tau``).
     """
-    t = np.asarray(tau, dtype=float)
-    with np.errstate(over="ignore"):                     # exp of a large negative tau: masked below
-        psi = 1.0 - sum(A * np.exp(-b * t) for A, b in KUSSNER_JONES)
-    return np.where(t < 0.0, 0.0, psi)[()]
+    return _exponential_sum(tau, KUSSNER_JONES)
 
 
 def jones_section_model(section, speed: float):

@@ -173,8 +173,9 @@ def _check_initial(lin, initial, scheme):
 
 MAX_STEPS = 1_000_000
 """Most time steps one march takes (``round(t_end / dt)``): the paper's march is 2000 steps (dt 0.02, t_end 40);
-a million steps of the paper grid is about a day of BDF2. Longer histories are marched in pieces, each from the
-last state of the one before (``initial=``)."""
+a million BDF2 steps of the paper grid (one back-substitution each, about 0.03 s) are some 8 hours. Longer
+histories are marched in pieces, each from the last state of the one before (``initial=``). The study files'
+limit, ``studies.schema.MAX_STEPS``, is the same number (a test checks it)."""
 
 
 def _check_times(dt, t_end):

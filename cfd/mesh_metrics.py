@@ -115,13 +115,19 @@ def _check_wake(x, y, n_wake):
     )
 
 
+def signed_cell_areas(x, y) -> np.ndarray:
+    """Signed areas of the quadrilateral cells of the node arrays ``x, y`` (shape (ni, nj)), shape (ni-1, nj-1):
+    half the cross product of the diagonals, positive for right-handed ``(i, j)``."""
+    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+    # corners 1 = (i, j), 2 = (i+1, j), 3 = (i+1, j+1), 4 = (i, j+1): 0.5 (x3 - x1, y3 - y1) x (x4 - x2, y4 - y2)
+    return 0.5 * ((x[1:, 1:] - x[:-1, :-1]) * (y[:-1, 1:] - y[1:, :-1])
+                  - (x[:-1, 1:] - x[1:, :-1]) * (y[1:, 1:] - y[:-1, :-1]))
+
+
 def inverted_cells(x, y) -> np.ndarray:
     """Indices ``(i, j)`` of the cells of the node arrays ``x, y`` (shape (ni, nj)) whose signed area is not
     positive (inverted or degenerate), shape (k, 2), in row-major order."""
-    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
-    area = 0.5 * ((x[1:, 1:] - x[:-1, :-1]) * (y[:-1, 1:] - y[1:, :-1])
-                  - (x[:-1, 1:] - x[1:, :-1]) * (y[1:, 1:] - y[:-1, :-1]))
-    return np.argwhere(area <= 0.0)
+    return np.argwhere(signed_cell_areas(x, y) <= 0.0)
 
 
 def grid_from_nodes(x, y, n_wake):
@@ -165,9 +171,9 @@ def grid_from_nodes(x, y, n_wake):
     # Cell corners: 1 = (i, j), 2 = (i+1, j), 3 = (i+1, j+1), 4 = (i, j+1).
     x1, x2, x3, x4 = x[:-1, :-1], x[1:, :-1], x[1:, 1:], x[:-1, 1:]
     y1, y2, y3, y4 = y[:-1, :-1], y[1:, :-1], y[1:, 1:], y[:-1, 1:]
-    area = 0.5 * ((x3 - x1) * (y4 - y2) - (x4 - x2) * (y3 - y1))
+    area = signed_cell_areas(x, y)
     if np.any(area <= 0.0):
-        bad = inverted_cells(x, y)
+        bad = np.argwhere(area <= 0.0)
         raise MeshError(
             f"{len(bad)} inverted or degenerate cells (area <= 0), first at cell {tuple(int(k) for k in bad[0])}; "
             "check the node ordering (right-handed i, j) or smooth the grid"

@@ -60,11 +60,9 @@ __all__ = ["identify", "IdentificationResult", "StabilisationReport", "unobserve
 
 def _resolve_dc(dc_gain: Any, frf: FrequencyResponse, dc_data: np.ndarray | None) -> np.ndarray | None:
     p, m, _ = frf.shape
-    if dc_gain is None or dc_gain is False:
+    if dc_gain is None:   # identify has turned True / False into "match" / None
         return None
-    if isinstance(dc_gain, str):
-        if dc_gain != "match":
-            raise OptionError(f"dc_gain must be None, 'match' or a (p, m) array, got {dc_gain!r}")
+    if isinstance(dc_gain, str):   # "match": identify refuses any other string before any work
         dc = dc_data
         if dc is None:
             raise ConstraintError(

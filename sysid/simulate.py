@@ -19,7 +19,7 @@ from .errors import ModelError, OptionError, TimeDataError
 from .transforms import c2d_bilinear, c2d_zoh, d2c_bilinear
 
 __all__ = ["markov_parameters", "simulate_discrete", "rediscretise", "rom_simulation", "rom_response",
-           "DISCRETISATIONS", "SIMULATION_METHODS"]
+           "first_uneven_step", "DISCRETISATIONS", "SIMULATION_METHODS"]
 
 DISCRETISATIONS = ("tustin", "zoh")
 """Re-discretisations of a ROM at the simulation step: Tustin (paper Eq. 31) or zero-order hold (Eq. 32)."""
@@ -140,6 +140,31 @@ def rediscretise(model, dt: float, discretisation: str = "tustin"):
             "change simulation.dt (or the identification's T)") from None
 
 
+def first_uneven_step(t) -> int | None:
+    """Index ``k`` of the first step ``t[k+1] - t[k]`` that differs from ``t[1] - t[0]``, or None when the times
+    are equispaced.
+
+    Equispaced means to ``1e-6`` of the step and of the times' size (times printed with six significant digits
+    pass), beyond the rounding of their type (float32); a dropped or doubled sample is off by a whole step.
+
+    Parameters
+    ----------
+    t : array_like, shape (N,)
+        Times, ``N >= 2``.
+
+    Returns
+    -------
+    int or None
+    """
+    t_in = np.asarray(t)
+    t = t_in.astype(float).reshape(-1)
+    steps = np.diff(t)
+    eps = np.finfo(t_in.dtype).eps if np.issubdtype(t_in.dtype, np.floating) else np.finfo(float).eps
+    span = np.abs(t).max()
+    bad = np.flatnonzero(~(np.abs(steps - steps[0]) <= 1e-6 * (steps[0] + span) + 8 * eps * span))
+    return int(bad[0]) if bad.size else None
+
+
 def rom_simulation(A, B, C, D, T, t, u, discretisation="tustin", method="auto"):
     """Simulate a discrete ROM (sampling period ``T``) at the time step of ``t``.
 
@@ -185,13 +210,8 @@ def rom_simulation(A, B, C, D, T, t, u, discretisation="tustin", method="auto"):
     steps = np.diff(t)
     if not (np.isfinite(dt) and dt > 0):
         raise TimeDataError(f"times must increase: t[1] - t[0] = {dt!r}; give equispaced increasing times")
-    # equispaced to 1e-6 of the step and of the times' size (times printed with six significant digits pass),
-    # beyond the rounding of their type (float32); a dropped or doubled sample is off by a whole step
-    eps = np.finfo(t_in.dtype).eps if np.issubdtype(t_in.dtype, np.floating) else np.finfo(float).eps
-    span = np.abs(t).max()
-    bad = np.flatnonzero(~(np.abs(steps - dt) <= 1e-6 * (dt + span) + 8 * eps * span))
-    if bad.size:
-        k = int(bad[0])
+    k = first_uneven_step(t_in)
+    if k is not None:
         raise TimeDataError(f"times must be equispaced (the ROM is re-discretised at one step): t[{k + 1}] - t[{k}] "
                             f"= {float(steps[k])!r} but t[1] - t[0] = {dt!r}; resample the input on an equispaced grid")
     N_u = np.atleast_2d(np.asarray(u)).shape[-1]

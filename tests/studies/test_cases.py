@@ -130,3 +130,11 @@ def test_the_study_mach_floor_is_the_solvers():
     from studies.case_types import MIN_MACH as STUDY_MIN_MACH
 
     assert STUDY_MIN_MACH == MIN_MACH
+
+
+def test_the_study_step_limit_is_the_ltds():
+    from cfd.ltd import MAX_STEPS
+
+    from studies.schema import MAX_STEPS as STUDY_MAX_STEPS
+
+    assert STUDY_MAX_STEPS == MAX_STEPS
