@@ -8,8 +8,8 @@ Main entry points: :class:`FrequencyResponse`, :func:`mckelvey_grid`, :func:`ide
 (:mod:`sysid.history_metrics`); the order limits :func:`max_order`, :func:`min_order`.
 """
 
-from .errors import (ConstraintError, FrequencyDataError, FrequencyGridError, ModelError, OptionError, OrderError,
-                     SolverError, TimeDataError)
+from .errors import (ConstraintError, FrequencyDataError, FrequencyFileError, FrequencyGridError,
+                     FrequencyIndexError, ModelError, OptionError, OrderError, SolverError, TimeDataError)
 from .frd import FrequencyResponse, continuous_to_discrete, discrete_to_continuous, mckelvey_grid
 from .subspace import (
     HankelSVD,
@@ -50,6 +50,8 @@ __all__ = [
     "ModelError",
     "TimeDataError",
     "OptionError",
+    "FrequencyIndexError",
+    "FrequencyFileError",
     # data
     "FrequencyResponse",
     "mckelvey_grid",

@@ -13,11 +13,23 @@ __all__ = [
     "ModelError",
     "TimeDataError",
     "OptionError",
+    "FrequencyIndexError",
+    "FrequencyFileError",
 ]
 
 
 class FrequencyDataError(ValueError):
     """Frequency-response data are malformed: wrong shape, NaN or inf, inconsistent sizes."""
+
+
+class FrequencyIndexError(FrequencyDataError, IndexError):
+    """Frequency indices that do not select samples of the data (out of range, not whole numbers, a mask of
+    another length); also an ``IndexError``."""
+
+
+class FrequencyFileError(FrequencyDataError, OSError):
+    """A path that is not a file :meth:`sysid.FrequencyResponse.save` wrote (another format, not a zip), or
+    that cannot be written as one (a directory); also an ``OSError``."""
 
 
 class FrequencyGridError(ValueError):

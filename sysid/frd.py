@@ -27,7 +27,7 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from .arrays import read_only
-from .errors import FrequencyDataError, FrequencyGridError
+from .errors import FrequencyDataError, FrequencyGridError, FrequencyIndexError
 from .grids import GRID_RTOL, check_period, continuous_to_discrete, discrete_to_continuous, mckelvey_grid
 from .state_space import shifted_solve
 
@@ -81,6 +81,27 @@ def _as_freq(x: Any, name: str, K: int) -> np.ndarray:
     if np.isnan(arr).any():
         raise FrequencyGridError(f"{name} contains NaN at index {int(np.flatnonzero(np.isnan(arr))[0])}")
     return arr
+
+
+def _as_indices(indices: Any, K: int) -> np.ndarray:
+    """Sample indices (or a boolean mask of length ``K``) as a 1-D int array in ``0 .. K-1``."""
+    raw = np.asarray(indices)
+    if raw.ndim > 1:
+        raise FrequencyIndexError(f"indices must be 1-D, got shape {raw.shape}")
+    raw = raw.reshape(-1)
+    if raw.dtype == bool:
+        if raw.size != K:
+            raise FrequencyIndexError(f"a boolean mask of {raw.size} values but the data have {K} frequencies; "
+                                      "give one value per sample")
+        return np.flatnonzero(raw)
+    if raw.size and (raw.dtype.kind not in "iuf" or not np.all(np.isfinite(raw)) or np.any(raw != np.round(raw))):
+        raise FrequencyIndexError(f"indices must be whole numbers, got {indices!r}")
+    idx = raw.astype(int)
+    bad = np.flatnonzero((idx < -K) | (idx >= K))
+    if bad.size:
+        raise FrequencyIndexError(f"index {int(idx[bad[0]])} is outside the data's frequencies 0 .. {K - 1} "
+                                  f"(K = {K})")
+    return idx
 
 
 def _check_names(names: Any, n: int, what: str, default_prefix: str) -> tuple[str, ...]:
@@ -550,16 +571,23 @@ class FrequencyResponse:
 
         Parameters
         ----------
-        indices : array_like of int, shape (K_new,)
-            Frequency indices into ``0..K-1`` (flattened).
+        indices : array_like of int, shape (K_new,), or array_like of bool, shape (K,)
+            Frequency indices into ``0..K-1`` (negative ones count from the end, as in NumPy), or a mask with
+            one value per sample.
 
         Returns
         -------
         FrequencyResponse
             ``H[:, :, indices]`` of shape ``(p, m, K_new)`` with the matching ``omega_d`` and ``omega`` (same
             ``T``, names, metadata).
+
+        Raises
+        ------
+        FrequencyIndexError
+            An index outside ``-K .. K-1``, indices that are not whole numbers or not 1-D, a mask of another
+            length than ``K``.
         """
-        idx = np.asarray(indices, dtype=int).reshape(-1)
+        idx = _as_indices(indices, self.nfreq)
         return FrequencyResponse(
             self.H[:, :, idx],
             None if self.omega_d is None else self.omega_d[idx],
@@ -588,6 +616,8 @@ class FrequencyResponse:
         ------
         FrequencyDataError
             The metadata are not JSON-serialisable.
+        FrequencyFileError
+            ``path`` (or ``path`` with ``.npz`` appended) is a directory.
         """
         from .frd_io import save_frf
 
@@ -612,6 +642,10 @@ class FrequencyResponse:
         FrequencyDataError
             The file lacks the ``header``, ``H`` or ``metadata`` entries :meth:`save` writes, or they are not
             what it writes; otherwise as in the constructor.
+        FrequencyFileError
+            The file is not an ``.npz`` archive (another format, or not a zip file at all).
+        FileNotFoundError
+            No such file.
         """
         from .frd_io import load_frf
 

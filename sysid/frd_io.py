@@ -13,7 +13,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from .errors import FrequencyDataError, FrequencyGridError
+from .errors import FrequencyDataError, FrequencyFileError, FrequencyGridError
 
 __all__ = ["save_frf", "load_frf", "frf_to_control", "frf_from_control"]
 
@@ -21,9 +21,13 @@ __all__ = ["save_frf", "load_frf", "frf_to_control", "frf_from_control"]
 def save_frf(frf, path: str | Path) -> Path:
     """Write ``frf`` (a :class:`sysid.FrequencyResponse`) to a ``.npz`` file; the path written (``.npz`` appended
     when missing). Metadata must be JSON-serialisable."""
-    path = Path(path)
+    given = Path(path)
+    path = given
     if path.suffix != ".npz":
         path = path.with_suffix(path.suffix + ".npz") if path.suffix else path.with_suffix(".npz")
+    for p in dict.fromkeys((given, path)):   # "folder" used to write folder.npz beside the directory
+        if p.is_dir():
+            raise FrequencyFileError(f"{p} is a directory; give a file name, e.g. {p / 'frf.npz'}")
     try:
         meta = json.dumps(dict(frf.metadata))
     except (TypeError, ValueError) as exc:
@@ -44,8 +48,16 @@ def save_frf(frf, path: str | Path) -> Path:
 
 
 def load_frf(cls, path: str | Path):
-    """Read a file written by :func:`save_frf` as an instance of ``cls`` (:class:`sysid.FrequencyResponse`)."""
-    with np.load(Path(path), allow_pickle=False) as f:
+    """Read a file written by :func:`save_frf` as an instance of ``cls`` (:class:`sysid.FrequencyResponse`).
+    ``FrequencyFileError`` when the file is not an ``.npz`` archive (numpy said "pickled data" of a text file)."""
+    import zipfile
+
+    path = Path(path)
+    if path.is_file() and not zipfile.is_zipfile(path):
+        raise FrequencyFileError(f"{path} is not an .npz file written by FrequencyResponse.save (not a zip "
+                                 "archive); read other formats with numpy or scipy.io and build the data with "
+                                 "FrequencyResponse(...) or FrequencyResponse.from_continuous(...)")
+    with np.load(path, allow_pickle=False) as f:
         if "header" not in f or "H" not in f:
             raise FrequencyDataError(f"{path} is not a FrequencyResponse file (no 'header'/'H' entries)")
         if "metadata" not in f:

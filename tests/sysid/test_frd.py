@@ -319,3 +319,91 @@ def test_from_model_with_a_pole_on_the_sampled_axis_names_the_frequency():
     wd, _ = mckelvey_grid(8, 0.5)
     with pytest.raises(FrequencyDataError, match="pole on the sampled axis at omega_d = 0 "):
         FrequencyResponse.from_model(control.ss([[1.0]], [[1.0]], [[1.0]], [[0.0]], 0.5), wd)
+
+
+# ---------------------------------------------------------------------- input checks (issue 34 findings)
+def test_mckelvey_grid_refuses_a_grid_too_large_to_fit():
+    # 10**8 intervals allocated 1.6 GB and 10**9 did not return; the limit says why and what to do
+    from sysid.grids import MAX_GRID_M
+
+    wd, _ = mckelvey_grid(MAX_GRID_M, 1.0)
+    assert wd.size == MAX_GRID_M + 1
+    with pytest.raises(FrequencyGridError, match=r"M = 100000000 .* at most M = 65536"):
+        mckelvey_grid(10**8, 1.0)
+
+
+@pytest.mark.parametrize("indices, match", [([99], r"index 99 .* 0 \.\. 8"), ([-10], r"index -10"),
+                                            ([1.5], "whole numbers"), (["a"], "whole numbers"),
+                                            ([[0, 1], [2, 3]], "1-D")])
+def test_take_refuses_indices_it_cannot_use(indices, match):
+    wd, _ = mckelvey_grid(8, 1.0)
+    frf = FrequencyResponse(first_order(np.exp(1j * wd)), wd, 1.0)
+    with pytest.raises(sysid.FrequencyIndexError, match=match) as info:
+        frf.take(indices)
+    assert isinstance(info.value, (IndexError, ValueError))   # still caught as the built-ins
+
+
+def test_take_of_a_boolean_mask_keeps_the_true_samples():
+    # np.asarray([True, False, ...], dtype=int) read a mask as the indices 1 and 0
+    wd, _ = mckelvey_grid(8, 1.0)
+    frf = FrequencyResponse(first_order(np.exp(1j * wd)), wd, 1.0)
+    mask = wd > np.pi / 2
+    np.testing.assert_array_equal(frf.take(mask).omega_d, wd[mask])
+    with pytest.raises(sysid.FrequencyIndexError, match="mask of 3 values but the data have 9"):
+        frf.take([True, False, True])
+
+
+def test_load_of_a_file_that_is_not_an_npz_says_so(tmp_path):
+    # numpy's message was "This file contains pickled (object) data ... allow_pickle"
+    bad = tmp_path / "notes.npz"
+    bad.write_text("hello")
+    with pytest.raises(sysid.FrequencyFileError, match="not an .npz file written by FrequencyResponse.save"):
+        FrequencyResponse.load(bad)
+    np.save(tmp_path / "array.npy", np.ones(3))
+    with pytest.raises(sysid.FrequencyFileError, match="not an .npz file written by FrequencyResponse.save"):
+        FrequencyResponse.load(tmp_path / "array.npy")
+
+
+@pytest.mark.parametrize("name", ["folder", "folder.npz"])
+def test_save_to_a_directory_is_refused(tmp_path, name):
+    # "folder" wrote folder.npz beside the directory; "folder.npz" raised a bare IsADirectoryError
+    wd, _ = mckelvey_grid(8, 1.0)
+    frf = FrequencyResponse(first_order(np.exp(1j * wd)), wd, 1.0)
+    (tmp_path / name).mkdir()
+    with pytest.raises(sysid.FrequencyFileError, match="is a directory; give a file name"):
+        frf.save(tmp_path / name)
+    assert sorted(p.name for p in tmp_path.iterdir()) == [name]
+
+
+# ------------------------------------------------------------ the period against the data's frequencies
+def test_period_range_is_the_studies_rule():
+    # studies accept T with the grid's centre frequency 2/T inside the aerofoil's band omega = 0.01 .. 100:
+    # the same rule with factor 1 gives their range
+    from studies.schema import T_RANGE
+
+    from sysid.grids import period_range
+
+    np.testing.assert_allclose(period_range([0.01, 100.0], factor=1.0), T_RANGE, rtol=1e-12)
+
+
+@pytest.mark.parametrize("T, factor", [(2.0 / 3.0, 1.0), (2.0 / 100.0, 10.0), (2.0 / 1e-3, 1e3), (1e-300, 2e299)])
+def test_period_factor_is_how_far_the_centre_frequency_lies_outside_the_data(T, factor):
+    from sysid.grids import period_factor
+
+    omega = np.array([0.0, 1.0, 3.0, 10.0, np.inf])   # the centre 2/T against [1, 10]
+    assert period_factor(T, omega) == pytest.approx(factor, rel=1e-12)
+
+
+def test_check_period_resolves_refuses_warns_and_passes():
+    from sysid.grids import PERIOD_MAX_FACTOR, PERIOD_WARN_FACTOR, check_period_resolves
+
+    omega = np.array([0.0, 1.0, 10.0, np.inf])
+    with pytest.raises(FrequencyGridError, match=r"T = 1e-300 .* 2/T = 2e\+300 .* 0.002 <= T <= 200"):
+        check_period_resolves(1e-300, omega)
+    with pytest.raises(FrequencyGridError, match="T = 1e\\+10"):
+        check_period_resolves(1e10, omega)
+    with pytest.warns(RuntimeWarning, match="crowd near omega_d = 0"):
+        check_period_resolves(2.0 / (10 * 2 * PERIOD_WARN_FACTOR), omega)
+    assert check_period_resolves(2.0 / 10 / PERIOD_WARN_FACTOR, omega) == pytest.approx(PERIOD_WARN_FACTOR)
+    assert PERIOD_WARN_FACTOR < PERIOD_MAX_FACTOR
+    assert check_period_resolves(1e-300, np.array([0.0, np.inf])) == 1.0   # nothing in between to resolve
