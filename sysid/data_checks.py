@@ -1,5 +1,6 @@
 """Checks of frequency-response data shared by the identification entry points (:func:`sysid.identify`,
-:func:`sysid.fit_relocated`, the refits): weights, constraint values, all-zero channels.
+:func:`sysid.fit_relocated`, the refits): weights, constraint values, all-zero channels, the data's magnitude,
+flags that must be booleans.
 
 Each raises a typed error (:mod:`sysid.errors`) that says what was wrong and what to do.
 """
@@ -10,27 +11,83 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from .errors import ConstraintError, FrequencyDataError
+from .errors import ConstraintError, FrequencyDataError, OptionError
 
-__all__ = ["check_weights", "check_constraint", "check_nonzero_outputs"]
+__all__ = ["check_weights", "check_constraint", "check_nonzero_outputs", "check_flag", "check_data_scale",
+           "MAX_DATA_SCALE"]
+
+MAX_DATA_SCALE = 1e150
+"""Largest peak magnitude of an output (and ``1 / MAX_DATA_SCALE`` the smallest nonzero one) that the
+identification takes (:func:`check_data_scale`). Its fits square the samples (least squares, the Hankel
+products, the Gram matrices of the Gauss-Newton steps), and squares overflow beyond about 1.3e154: data scaled
+by 1e200 or with a DC value of 1e300 gave ``rms_error = nan`` with numpy overflow warnings, while 1e-150 ..
+1e150 fit to round-off (tests/sysid/test_identify.py). The relative errors and the model's poles do not depend
+on the outputs' units, so dividing an output by a unit scale and multiplying the model's ``C`` and ``D`` rows
+back loses nothing."""
 
 
-def check_weights(weights: Any, p: int, m: int, K: int) -> np.ndarray | None:
-    """``weights`` as a float array of shape ``(K,)`` or ``(p, m, K)``, finite and nonnegative (None stays None).
+def check_flag(value: Any, name: str) -> bool:
+    """``value`` as a bool; :class:`OptionError` naming ``name`` unless it is ``True`` or ``False`` (NumPy's
+    booleans included). ``stable="no"`` imposed stability because any truthy value did."""
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    raise OptionError(f"{name} must be True or False, got {value!r}")
+
+
+def check_data_scale(H: Any, outputs: Sequence[str] | None = None) -> None:
+    """Raise :class:`FrequencyDataError` when an output's peak ``max |H[i]|`` lies outside
+    ``[1 / MAX_DATA_SCALE, MAX_DATA_SCALE]`` (zero outputs are left to :func:`check_nonzero_outputs`).
+
+    Parameters
+    ----------
+    H : array_like, shape (p, m, K)
+    outputs : sequence of str, optional
+        Output names for the message.
+    """
+    peak = np.abs(np.asarray(H)).max(axis=(1, 2))
+    bad = np.flatnonzero((peak > MAX_DATA_SCALE) | ((peak > 0) & (peak < 1.0 / MAX_DATA_SCALE)))
+    if bad.size:
+        i = int(bad[0])
+        label = f"output {outputs[i]!r}" if outputs is not None else f"output {i}"
+        raise FrequencyDataError(
+            f"{label} has a peak |H| of {peak[i]:.3g}, outside {1.0 / MAX_DATA_SCALE:g} .. {MAX_DATA_SCALE:g} "
+            "(sysid.data_checks.MAX_DATA_SCALE), where the fit's squares overflow or underflow; divide that output "
+            f"by a unit scale (e.g. frf.replace(H=H / s) with s = {peak[i]:.3g} for it) and multiply the model's C "
+            "and D rows by s afterwards: the relative errors and the poles do not depend on the scale")
+
+
+def check_weights(weights: Any, p: int, m: int, K: int, outputs: Sequence[str] | None = None) -> np.ndarray | None:
+    """``weights`` as a float array of shape ``(K,)`` or ``(p, m, K)``, finite and nonnegative, not zero
+    everywhere nor for a whole output (None stays None).
 
     Raises
     ------
     FrequencyDataError
-        Another shape, NaN, inf or a negative weight.
+        Another shape, NaN, inf or a negative weight; weights that are zero at every frequency (of all outputs,
+        or of one: that output would be fitted to nothing; ``np.zeros(K)`` raised cvxpy's "Parameter value must
+        be real").
     """
     if weights is None:
         return None
-    w = np.asarray(weights, dtype=float)
+    try:
+        w = np.asarray(weights, dtype=float)
+    except (TypeError, ValueError):
+        raise FrequencyDataError(f"weights must be an array of numbers, got {weights!r}") from None
     if w.shape not in ((K,), (p, m, K)):
         raise FrequencyDataError(f"weights must have shape (K,) = ({K},) or (p, m, K) = ({p}, {m}, {K}); "
                                  f"got {w.shape}.")
     if not np.all(np.isfinite(w)) or np.any(w < 0):
         raise FrequencyDataError("weights must be finite and nonnegative.")
+    if not np.any(w > 0):
+        raise FrequencyDataError("weights are zero at every frequency: there is nothing to fit; give positive "
+                                 "weights where the data count (e.g. 1 / sigma^2), or pass weights=None")
+    if w.ndim == 3:
+        rows = np.flatnonzero(~np.any(w > 0, axis=(1, 2)))
+        if rows.size:
+            i = int(rows[0])
+            label = f"output {outputs[i]!r}" if outputs is not None else f"output {i}"
+            raise FrequencyDataError(f"weights of {label} are zero at every frequency: that output would be fitted "
+                                     "to nothing; give it positive weights or drop the output")
     return w
 
 

@@ -43,10 +43,10 @@ from typing import Any
 
 import numpy as np
 
-from .data_checks import check_nonzero_outputs, check_weights
+from .data_checks import check_data_scale, check_flag, check_nonzero_outputs, check_weights
 from .errors import ConstraintError, FrequencyDataError, FrequencyGridError, OptionError
 from .frd import FrequencyResponse
-from .grids import check_distinct
+from .grids import check_distinct, check_period_resolves
 from .identification_result import IdentificationResult, StabilisationReport
 from .metrics import dc_error, frf_errors, spectral_radius
 from .residues import resonance_points
@@ -170,12 +170,17 @@ def identify(
         ``frf`` is not a :class:`FrequencyResponse`.
     OptionError
         An unknown ``algorithm``, ``method``, ``solver``, ``stabilise_method`` or ``dc_gain`` string, ``refit_c``
-        not ``"auto"`` / True / False, ``margin`` outside ``[0, 1)``, ``minimax_within`` not a positive number
-        (all checked before any work, whether the path taken uses them or not).
+        not ``"auto"`` / True / False, ``stable`` or ``fix_feedthrough`` not a bool (``stable="no"`` imposed
+        stability), ``margin`` outside ``[0, 1)``, ``minimax_within`` not a positive number (all checked before
+        any work, whether the path taken uses them or not).
     FrequencyGridError
-        ``frf.T`` is None, a frequency appears twice, or the grid does not suit ``method``.
+        ``frf.T`` is None or does not resolve the data's frequencies (:func:`sysid.grids.check_period_resolves`:
+        ``2 / T`` more than 100 times outside them; a ``RuntimeWarning`` beyond 10), a frequency appears twice, or
+        the grid does not suit ``method``.
     FrequencyDataError
-        An output is zero at every frequency, or ``weights`` of the wrong shape, negative or not finite.
+        An output is zero at every frequency or its peak is outside ``1e-150 .. 1e150``
+        (:func:`sysid.data_checks.check_data_scale`), or ``weights`` of the wrong shape, negative, not finite,
+        or zero at every frequency (of all outputs or of one).
     OrderError
         Order outside what the data support.
     ConstraintError
@@ -196,6 +201,8 @@ def identify(
     if minimax_within is not None and not (isinstance(minimax_within, (int, float)) and np.isfinite(minimax_within)
                                            and minimax_within > 0):
         raise OptionError(f"minimax_within must be a positive fraction (e.g. 0.1) or None; got {minimax_within!r}")
+    stable = check_flag(stable, "stable")
+    fix_feedthrough = check_flag(fix_feedthrough, "fix_feedthrough")
     if isinstance(dc_gain, (bool, np.bool_)):
         dc_gain = "match" if dc_gain else None  # not the array [[1.0]]: True is the study file's "match"; False,
         # like None, imposes nothing (and so leaves "auto" on the subspace fit when stability is not imposed)
@@ -204,7 +211,7 @@ def identify(
         algorithm = resolve_algorithm(algorithm, frf.shape[0], frf.shape[1], stable=stable, dc_gain=dc_gain is not None)
     elif algorithm == "auto":
         algorithm = "subspace"  # not a FrequencyResponse: rejected below
-    if refit_c not in ("auto", True, False):
+    if not (isinstance(refit_c, (bool, np.bool_)) or (isinstance(refit_c, str) and refit_c == "auto")):
         raise OptionError(f"refit_c must be 'auto', True or False; got {refit_c!r}")
     if not isinstance(frf, FrequencyResponse):
         raise TypeError(f"identify() expects a sysid.FrequencyResponse, got {type(frf).__name__}")
@@ -217,9 +224,12 @@ def identify(
     if isinstance(margin, (bool, np.bool_)) or np.ndim(margin) != 0 \
             or np.asarray(margin).dtype.kind not in "iuf" or not (0.0 <= float(margin) < 1.0):
         raise OptionError(f"margin must be a number in [0, 1), got {margin!r}")
+    if frf.omega is not None:   # before the distinct check: T = 1e300 sends every sample to omega_d = pi
+        check_period_resolves(frf.T, frf.omega)   # T = 1e-300 sent every sample to z = 1
     check_distinct(frf.omega_d, "omega_d")
     check_nonzero_outputs(frf.H, frf.outputs)
-    weights = check_weights(weights, *frf.shape)
+    check_data_scale(frf.H, frf.outputs)
+    weights = check_weights(weights, *frf.shape, outputs=frf.outputs)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         dc_data = frf.dc_gain

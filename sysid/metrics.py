@@ -25,7 +25,19 @@ __all__ = ["FitErrors", "frf_errors", "max_relative_error", "rms_relative_error"
 _TINY = np.finfo(float).tiny
 
 
+def _refuse_nan(a: np.ndarray, name: str, *, inf: bool = False) -> None:
+    """:class:`FrequencyDataError` naming the first NaN (and, with ``inf``, inf) of ``a``."""
+    bad = np.isnan(a) | (np.isinf(a) if inf else False)
+    if bad.any():
+        k = tuple(int(x) for x in np.argwhere(bad)[0])
+        what = "NaN" if np.isnan(a[k]) else "inf"
+        raise FrequencyDataError(f"{name} contains {what} (first at {list(k)}): an error of it would be "
+                                 f"{what}; {'the model overflowed or holds NaN: check its matrices' if name in ('H_model', 'dc_model') else 'repair or drop that sample'}")
+
+
 def _pair(H_model, H_data):
+    """``(Hm, Hd, s)``: both as complex (p, m, K) arrays divided by ``s``, shape (p, 1, 1), each output's peak of
+    the data (of the model where the data are zero), so that no square below overflows or underflows."""
     Hm = np.asarray(H_model, dtype=complex)
     Hd = np.asarray(H_data, dtype=complex)
     if Hm.ndim == 1:
@@ -34,7 +46,19 @@ def _pair(H_model, H_data):
         Hd = Hd.reshape(1, 1, -1)
     if Hm.shape != Hd.shape:
         raise FrequencyDataError(f"H_model has shape {Hm.shape} but H_data has shape {Hd.shape}; they must match")
+    _refuse_nan(Hm, "H_model")
+    _refuse_nan(Hd, "H_data", inf=True)
     return Hm, Hd
+
+
+def _scaled(Hm: np.ndarray, Hd: np.ndarray, axis) -> tuple[np.ndarray, np.ndarray]:
+    """Both divided by the data's peak over ``axis`` (the model's where the data are zero; 1 where both are):
+    the relative errors are unchanged and no square overflows or underflows (data of 1e200 gave rms nan)."""
+    s = np.abs(Hd).max(axis=axis, keepdims=True) if Hd.size else np.ones((1, 1, 1))
+    with np.errstate(invalid="ignore"):
+        sm = np.abs(Hm).max(axis=axis, keepdims=True) if Hm.size else s
+    s = np.where(s > 0, s, np.where(np.isfinite(sm) & (sm > 0), sm, 1.0))
+    return Hm / s, Hd / s
 
 
 @dataclass(frozen=True)
@@ -77,9 +101,12 @@ def max_relative_error(H_model, H_data, *, per_output: bool = False):
     Raises
     ------
     FrequencyDataError
-        ``H_model`` and ``H_data`` differ in shape.
+        ``H_model`` and ``H_data`` differ in shape, either contains NaN, or ``H_data`` contains inf (an inf in
+        ``H_model``, a pole on the sampled axis, is an infinite error). The errors are computed on both arrays
+        divided by each output's peak, so data of any magnitude representable in floating point give the same
+        relative errors (1e200 and 1e-200 gave NaN and 0).
     """
-    Hm, Hd = _pair(H_model, H_data)
+    Hm, Hd = _scaled(*_pair(H_model, H_data), axis=(1, 2))
     err = np.abs(Hm - Hd).max(axis=(1, 2))
     scale = np.maximum(np.abs(Hd).max(axis=(1, 2)), _TINY)
     per = err / scale
@@ -105,14 +132,20 @@ def rms_relative_error(H_model, H_data, *, per_output: bool = False):
     Raises
     ------
     FrequencyDataError
-        ``H_model`` and ``H_data`` differ in shape.
+        ``H_model`` and ``H_data`` differ in shape, either contains NaN, or ``H_data`` contains inf (an inf in
+        ``H_model``, a pole on the sampled axis, is an infinite error). The errors are computed on both arrays
+        divided by each output's peak, so data of any magnitude representable in floating point give the same
+        relative errors (1e200 and 1e-200 gave NaN and 0).
     """
     Hm, Hd = _pair(H_model, H_data)
     if per_output:
+        Hm, Hd = _scaled(Hm, Hd, axis=(1, 2))
         num = np.sqrt(np.mean(np.abs(Hm - Hd) ** 2, axis=(1, 2)))
         den = np.maximum(np.sqrt(np.mean(np.abs(Hd) ** 2, axis=(1, 2))), _TINY)
         return num / den
-    return float(np.linalg.norm(Hm - Hd) / max(np.linalg.norm(Hd), _TINY))
+    Hm, Hd = _scaled(Hm, Hd, axis=None)
+    num = np.sqrt(np.sum(np.abs(Hm - Hd) ** 2))   # not np.linalg.norm: it gives nan for an inf entry
+    return float(num / max(float(np.sqrt(np.sum(np.abs(Hd) ** 2))), _TINY))
 
 
 def frf_errors(H_model, H_data) -> FitErrors:
@@ -132,7 +165,10 @@ def frf_errors(H_model, H_data) -> FitErrors:
     Raises
     ------
     FrequencyDataError
-        ``H_model`` and ``H_data`` differ in shape.
+        ``H_model`` and ``H_data`` differ in shape, either contains NaN, or ``H_data`` contains inf (an inf in
+        ``H_model``, a pole on the sampled axis, is an infinite error). The errors are computed on both arrays
+        divided by each output's peak, so data of any magnitude representable in floating point give the same
+        relative errors (1e200 and 1e-200 gave NaN and 0).
     """
     return FitErrors(
         max_rel=max_relative_error(H_model, H_data),
@@ -161,12 +197,14 @@ def dc_error(dc_model, dc_data, *, relative: bool = True) -> float:
     Raises
     ------
     FrequencyDataError
-        ``dc_model`` and ``dc_data`` differ in shape.
+        ``dc_model`` and ``dc_data`` differ in shape, either contains NaN or ``dc_data`` contains inf.
     """
     a = np.asarray(dc_model)
     b = np.asarray(dc_data)
     if a.shape != b.shape:
         raise FrequencyDataError(f"dc_model has shape {a.shape} but dc_data has shape {b.shape}")
+    _refuse_nan(a, "dc_model")
+    _refuse_nan(b, "dc_data", inf=True)
     err = float(np.abs(a - b).max()) if a.size else 0.0
     if relative:
         scale = float(np.abs(b).max()) if b.size else 0.0

@@ -536,3 +536,76 @@ def test_a_negative_continuous_frequency_gives_the_conjugate_response():
     res = identify(frf, 6)
     np.testing.assert_allclose(res.evaluate_continuous([-1.0, -0.2]), np.conj(res.evaluate_continuous([1.0, 0.2])),
                                rtol=0, atol=0)
+
+
+# ---------------------------------------------------------------------- input checks (issue 34 findings)
+def test_a_period_that_does_not_resolve_the_data_is_refused():
+    # T = 1e-300 mapped every sample to z = 1 and returned a model 119 % off (or NaN)
+    frf, _ = data(n=4, p=1, m=1, seed=0, M=32)
+    with pytest.raises(FrequencyGridError, match=r"T = 1e-300 .* centre frequency 2/T = 2e\+300"):
+        identify(frf.with_T(1e-300), 4)
+    with pytest.raises(FrequencyGridError, match=r"T = 1e\+300"):
+        identify(frf.with_T(1e300), 4, stable=True)
+    # McKelvey's grid at any T puts 2/T at the geometric mean of its frequencies: always accepted
+    wd, w = mckelvey_grid(32, 1e-6)
+    assert identify(FrequencyResponse(frf.H, wd, 1e-6), 4).max_error < 1e-8
+
+
+@pytest.mark.parametrize("name", ["stable", "fix_feedthrough"])
+@pytest.mark.parametrize("value", ["no", 1, None, np.array([True])])
+def test_flags_must_be_booleans(name, value):
+    # stable="no" imposed stability (any truthy value did)
+    frf, _ = data(seed=2)
+    with pytest.raises(sysid.OptionError, match=rf"{name} must be True or False, got"):
+        identify(frf, 6, **{name: value})
+
+
+@pytest.mark.parametrize("value", [1, 0, "yes"])
+def test_refit_c_must_be_auto_or_a_boolean(value):
+    frf, _ = data(seed=2)
+    with pytest.raises(sysid.OptionError, match="refit_c must be 'auto', True or False"):
+        identify(frf, 6, refit_c=value)
+
+
+def test_numpy_booleans_are_booleans():
+    frf, _ = data(seed=2)
+    assert identify(frf, 6, stable=np.True_).enforced["stable"] is True
+
+
+@pytest.mark.parametrize("stable", [False, True])
+def test_weights_that_are_zero_everywhere_are_refused(stable):
+    # cvxpy's "Parameter value must be real" (stable=False), a 107 % model with divide-by-zero warnings (True)
+    frf, _ = data(n=4, p=2, m=1, seed=0)
+    K = frf.nfreq
+    with pytest.raises(sysid.FrequencyDataError, match="weights are zero at every frequency"):
+        identify(frf, 4, weights=np.zeros(K), stable=stable)
+    w = np.ones((2, 1, K))
+    w[1] = 0.0
+    with pytest.raises(sysid.FrequencyDataError, match=r"weights of output 'y1' are zero at every frequency"):
+        identify(frf, 4, weights=w, stable=stable)
+
+
+@pytest.mark.parametrize("scale", [1e-140, 1e140])
+@pytest.mark.parametrize("stable", [False, True])
+def test_far_from_order_one_data_fit_as_well(scale, stable):
+    frf, _ = data(n=4, p=2, m=1, seed=0)
+    ref = identify(frf, 4, stable=stable, dc_gain="match" if stable else None)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")   # no raw numpy overflow warning
+        got = identify(frf.replace(H=np.asarray(frf.H) * scale), 4, stable=stable,
+                       dc_gain="match" if stable else None)
+    # both round-off: the relative errors of exact data are at the level of eps times the conditioning
+    assert got.max_error < 1e-10 and got.rms_error < 1e-10 and ref.max_error < 1e-10
+
+
+@pytest.mark.parametrize("scale, where", [(1e200, "all"), (1e300, "dc"), (1e-200, "all")])
+def test_data_whose_squares_do_not_fit_a_float_are_refused(scale, where):
+    # 1e200 and a DC value of 1e300 gave rms_error = nan with raw numpy overflow warnings
+    frf, _ = data(n=4, p=2, m=1, seed=0)
+    H = np.array(frf.H)
+    if where == "all":
+        H = H * scale
+    else:
+        H[0, 0, 0] = scale
+    with pytest.raises(sysid.FrequencyDataError, match=r"output 'y0' .* peak .* 1e-150 .* 1e\+150.* divide"):
+        identify(frf.replace(H=H), 4)

@@ -35,3 +35,44 @@ def test_dc_error_and_spectral_radius():
     A = np.array([[0.0, -0.9], [0.9, 0.0]])  # eigenvalues +-0.9j
     assert spectral_radius(A) == pytest.approx(0.9)
     assert spectral_radius(np.zeros((0, 0))) == 0.0
+
+
+# ---------------------------------------------------------------------- input checks (issue 34 findings)
+@pytest.mark.parametrize("func", [frf_errors, max_relative_error, rms_relative_error])
+@pytest.mark.parametrize("which", ["H_model", "H_data"])
+def test_nan_is_refused_not_reported(func, which):
+    # frf_errors with a NaN returned max_rel = rms_rel = nan
+    good, bad = np.array([1.0, 2.0, 3.0]), np.array([1.0, np.nan, 3.0])
+    args = (bad, good) if which == "H_model" else (good, bad)
+    with pytest.raises(FrequencyDataError, match=rf"{which} contains NaN .*\[0, 0, 1\]"):
+        func(*args)
+
+
+def test_an_infinite_model_response_is_an_infinite_error_and_infinite_data_are_refused():
+    H = np.array([1.0, 2.0, 3.0])
+    e = frf_errors(np.array([1.0, np.inf, 3.0]), H)   # a pole on the sampled axis: honestly infinite
+    assert e.max_rel == np.inf and e.rms_rel == np.inf
+    with pytest.raises(FrequencyDataError, match="H_data contains inf"):
+        frf_errors(H, np.array([1.0, np.inf, 3.0]))
+
+
+@pytest.mark.parametrize("scale", [1e-300, 1e-200, 1e200, 1e300])
+def test_errors_do_not_depend_on_the_data_scale(scale):
+    # at 1e200 the squares overflowed (rms nan), at 1e-200 they underflowed (rms 0.0 of a 1e-3 error)
+    H = np.zeros((2, 1, 4), dtype=complex)
+    H[0, 0] = [2.0, 1.0, 1.0j, 0.0]
+    H[1, 0] = [10.0, 10.0, 10.0, 10.0]
+    Hm = H.copy()
+    Hm[0, 0, 3] = 0.5
+    Hm[1, 0, 0] = 11.0
+    ref = frf_errors(Hm, H)
+    got = frf_errors(Hm * scale, H * scale)
+    assert np.isfinite([got.max_rel, got.rms_rel]).all()
+    np.testing.assert_allclose([got.max_rel, got.rms_rel], [ref.max_rel, ref.rms_rel], rtol=1e-13)
+    np.testing.assert_allclose(got.rms_rel_per_output, ref.rms_rel_per_output, rtol=1e-13)
+    np.testing.assert_allclose(got.max_rel_per_output, ref.max_rel_per_output, rtol=1e-13)
+
+
+def test_dc_error_refuses_nan():
+    with pytest.raises(FrequencyDataError, match="dc_model contains NaN"):
+        dc_error(np.array([[np.nan]]), np.array([[1.0]]))
