@@ -38,9 +38,10 @@ positive finite frequencies."""
 
 
 def check_period(T: Any) -> float:
-    """Return ``T`` as a positive finite float or raise :class:`FrequencyGridError` (``True`` is not a period)."""
+    """Return ``T`` as a positive finite float or raise :class:`FrequencyGridError` (``True`` and the string
+    ``"1"`` are not periods)."""
     try:
-        if isinstance(T, bool):
+        if isinstance(T, (bool, np.bool_, str, bytes)):
             raise TypeError
         Tf = float(T)
     except (TypeError, ValueError):

@@ -16,10 +16,16 @@ from __future__ import annotations
 import numpy as np
 
 from .errors import ModelError, OptionError, TimeDataError
+from .grids import check_period
 from .transforms import c2d_bilinear, c2d_zoh, d2c_bilinear
 
 __all__ = ["markov_parameters", "simulate_discrete", "rediscretise", "rom_simulation", "rom_response",
-           "first_uneven_step", "DISCRETISATIONS", "SIMULATION_METHODS"]
+           "first_uneven_step", "check_matrices", "DISCRETISATIONS", "SIMULATION_METHODS", "MAX_SIMULATION_VALUES"]
+
+MAX_SIMULATION_VALUES = 10**7 * 8
+"""Largest ``n x m x N`` (states x inputs x time steps) :func:`rom_simulation` takes: the FFT convolution holds
+the first ``N`` Markov parameters of every state, ``16 n m N`` bytes while doubling (1.3 GB here), and
+python-control's march as much; an order-55 ROM over 2000 steps needs 1.1e5."""
 
 DISCRETISATIONS = ("tustin", "zoh")
 """Re-discretisations of a ROM at the simulation step: Tustin (paper Eq. 31) or zero-order hold (Eq. 32)."""
@@ -165,6 +171,39 @@ def first_uneven_step(t) -> int | None:
     return int(bad[0]) if bad.size else None
 
 
+def check_matrices(A, B, C, D) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """``A, B, C, D`` as float arrays of shapes ``(n, n), (n, m), (p, n), (p, m)``, finite.
+
+    Raises
+    ------
+    ModelError
+        A matrix that is not 2-D, not real numbers, NaN or inf, or whose shape does not fit the others (the
+        message names it, as python-control does: ``B has shape (2, 1) but A is 1 x 1``).
+    """
+    mats = {}
+    for name, x in zip("ABCD", (A, B, C, D)):
+        try:
+            a = np.asarray(x, dtype=float)
+        except (TypeError, ValueError):
+            raise ModelError(f"{name} must be a matrix of real numbers, got {x!r}") from None
+        if a.ndim != 2:
+            raise ModelError(f"{name} must be a 2-D matrix, got shape {a.shape}")
+        if not np.all(np.isfinite(a)):
+            raise ModelError(f"{name} contains NaN or inf; repair the model")
+        mats[name] = a
+    A, B, C, D = (mats[k] for k in "ABCD")
+    if A.shape[0] != A.shape[1]:
+        raise ModelError(f"A must be square (n, n), got shape {A.shape}")
+    n = A.shape[0]
+    if B.shape[0] != n:
+        raise ModelError(f"B has shape {B.shape} but A is {n} x {n}: B must be (n, m) = ({n}, m)")
+    if C.shape[1] != n:
+        raise ModelError(f"C has shape {C.shape} but A is {n} x {n}: C must be (p, n) = (p, {n})")
+    if D.shape != (C.shape[0], B.shape[1]):
+        raise ModelError(f"D has shape {D.shape} but C and B give (p, m) = ({C.shape[0]}, {B.shape[1]})")
+    return A, B, C, D
+
+
 def rom_simulation(A, B, C, D, T, t, u, discretisation="tustin", method="auto"):
     """Simulate a discrete ROM (sampling period ``T``) at the time step of ``t``.
 
@@ -193,17 +232,33 @@ def rom_simulation(A, B, C, D, T, t, u, discretisation="tustin", method="auto"):
     Raises
     ------
     TimeDataError
-        ``t`` not equispaced (to ``1e-6`` of its step and size, beyond its rounding) or not increasing, or ``u`` of
-        another length, or fewer than two time points.
+        ``t`` not equispaced (to ``1e-6`` of its step and size, beyond its rounding), not increasing or not
+        finite; ``u`` of another length, with another number of channels than ``B`` has columns, or not finite (a
+        NaN made every later output NaN); fewer than two time points; ``n m N`` above
+        :data:`MAX_SIMULATION_VALUES`.
     OptionError
-        An unknown discretisation.
+        An unknown discretisation or method (checked first).
+    FrequencyGridError
+        ``T`` not positive and finite (python-control's "invalid timebase" before).
     ModelError
-        The ROM cannot be re-discretised at that step.
+        A matrix of the wrong shape (named), not finite; the ROM cannot be re-discretised at that step.
     """
     import control
 
+    if not isinstance(discretisation, str) or discretisation not in DISCRETISATIONS:
+        raise OptionError(f"discretisation must be 'tustin' or 'zoh', got {discretisation!r}")
+    if not isinstance(method, str) or method not in SIMULATION_METHODS:
+        raise OptionError(f"method must be 'auto', 'convolution' or 'control', got {method!r}")
+    A, B, C, D = check_matrices(A, B, C, D)
+    T = check_period(T)
     t_in = np.asarray(t)
-    t = t_in.astype(float).reshape(-1)
+    try:
+        t = t_in.astype(float).reshape(-1)
+    except (TypeError, ValueError):
+        raise TimeDataError(f"t must be an array of times (numbers), got {t!r}") from None
+    bad = np.flatnonzero(~np.isfinite(t))
+    if bad.size:
+        raise TimeDataError(f"t contains NaN or inf at index {int(bad[0])}; give finite equispaced times")
     if t.size < 2:
         raise TimeDataError(f"need at least two time points, got {t.size}")
     dt = float(t[1] - t[0])
@@ -214,11 +269,30 @@ def rom_simulation(A, B, C, D, T, t, u, discretisation="tustin", method="auto"):
     if k is not None:
         raise TimeDataError(f"times must be equispaced (the ROM is re-discretised at one step): t[{k + 1}] - t[{k}] "
                             f"= {float(steps[k])!r} but t[1] - t[0] = {dt!r}; resample the input on an equispaced grid")
-    N_u = np.atleast_2d(np.asarray(u)).shape[-1]
+    try:
+        U = np.atleast_2d(np.asarray(u, dtype=float))
+    except (TypeError, ValueError):
+        raise TimeDataError(f"u must be an array of numbers, shape (N,) or (m, N), got {u!r}") from None
+    if U.ndim != 2:
+        raise TimeDataError(f"u must have shape (N,) or (m, N), got {np.shape(u)}")
+    N_u = U.shape[-1]
     if N_u != t.size:
         raise TimeDataError(f"u has {N_u} samples but t has {t.size} times; give one input sample per time")
+    if U.shape[0] != B.shape[1]:
+        raise TimeDataError(f"u has {U.shape[0]} input channels but the model has m = {B.shape[1]} (B's columns)")
+    bad = np.argwhere(~np.isfinite(U))
+    if bad.size:
+        k = int(bad[0][1])
+        raise TimeDataError(f"u contains NaN or inf at sample {k} (t = {t[k]:g}); every output from there on would "
+                            "be NaN: repair or drop that sample")
+    size = max(A.shape[0], 1) * B.shape[1] * t.size
+    if size > MAX_SIMULATION_VALUES:
+        raise TimeDataError(
+            f"n x m x N = {A.shape[0]} x {B.shape[1]} x {t.size} = {size:.3g} values, above "
+            f"sysid.simulate.MAX_SIMULATION_VALUES = {MAX_SIMULATION_VALUES:.3g} (about {16 * size / 2**30:.2g} GiB "
+            "of Markov parameters): use a larger time step or fewer times, or a lower-order ROM")
     discrete = rediscretise(control.ss(A, B, C, D, T), dt, discretisation)
-    return simulate_discrete(discrete.A, discrete.B, discrete.C, discrete.D, np.asarray(u, dtype=float), method)
+    return simulate_discrete(discrete.A, discrete.B, discrete.C, discrete.D, U if np.ndim(u) == 2 else U[0], method)
 
 
 def rom_response(model, t, u, *, discretisation: str = "tustin", method: str = "auto"):
@@ -249,11 +323,22 @@ def rom_response(model, t, u, *, discretisation: str = "tustin", method: str = "
     OptionError
         An unknown discretisation or method.
     ModelError
-        The ROM cannot be re-discretised at that step.
+        ``model`` is continuous, or the ROM cannot be re-discretised at that step; otherwise as
+        :func:`rom_simulation`.
+    TypeError
+        ``model`` is not a ``control.StateSpace``.
     """
     import control
 
-    U = np.atleast_2d(np.asarray(u, dtype=float))
+    if not isinstance(model, control.StateSpace):
+        raise TypeError(f"rom_response() expects a control.StateSpace (a discrete ROM), got {type(model).__name__}")
+    if not model.isdtime(strict=True) or model.dt is True:
+        raise ModelError(f"rom_response() expects a discrete model with dt = T > 0 (the ROM's sampling period); "
+                         f"this one has dt = {model.dt!r}: discretise it first (sysid.c2d_bilinear(model, T))")
+    try:
+        U = np.atleast_2d(np.asarray(u, dtype=float))
+    except (TypeError, ValueError):
+        raise TimeDataError(f"u must be an array of numbers, shape (N,) or (m, N), got {u!r}") from None
     Y = rom_simulation(model.A, model.B, model.C, model.D, model.dt, t, U, discretisation, method)  # t as given:
     t = np.asarray(t, dtype=float)                                   # its rounding sets the equispacing check
     return control.TimeResponseData(t, Y, inputs=U, output_labels=list(model.output_labels),

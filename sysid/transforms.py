@@ -57,7 +57,51 @@ def _check_model(model: Any, *, discrete: bool, func: str):
             f"{func}() expects a continuous-time model (dt = 0); this one is discrete (dt = {model.dt}). "
             "Use d2c_bilinear(model) first"
         )
+    for name in "ABCD":
+        if not np.all(np.isfinite(np.asarray(getattr(model, name), dtype=float))):
+            raise ModelError(f"{func}(): the model's {name} contains NaN or inf; repair the model first")
     return model
+
+
+def _check_stable_poles_kept(A_c: np.ndarray, A_d: np.ndarray, T: float, margin_sq, func: str) -> None:
+    """Refuse a period at which a stable continuous pole lands on or outside the unit circle, and warn when its
+    distance to the circle keeps fewer than 8 digits.
+
+    ``margin_sq(s)`` is ``1 - |z|^2`` of the discrete image ``z`` of each continuous pole ``s``, computed without
+    cancellation (Tustin: ``-2 Re(s) T / |1 - s T / 2|^2``; ZOH: ``-expm1(2 Re(s) T)``); the discrete matrix
+    holds it to about ``eps`` (its norm is about 1), so ``log10(margin / eps)`` digits of the pole's decay rate
+    survive, and none when the computed discrete pole is not inside the circle.
+    """
+    if A_c.size == 0:
+        return
+    s = np.linalg.eigvals(A_c)
+    stable = s.real < 0
+    if not stable.any():
+        return
+    z = np.linalg.eigvals(A_d)
+    with np.errstate(all="ignore"):
+        margin = margin_sq(s[stable])
+    mags = np.abs(s[stable])
+    lo, hi = float(mags.min()), float(mags.max())
+    eps = np.finfo(float).eps
+    lost = (np.abs(z).max() >= 1.0) or (margin.min() <= 4 * eps)
+    i = int(np.argmin(margin))
+    pole = s[stable][i]
+    side = "small" if abs(pole) * T < 2.0 else "large"
+    advice = (f"choose T with 2/T among the model's pole magnitudes ({lo:.3g} .. {hi:.3g}), e.g. "
+              f"T = {2.0 / np.sqrt(lo * hi):.3g}" if lo > 0 else "choose a larger T")
+    pole_txt = f"{pole.real:.6g}" + (f" {'+' if pole.imag >= 0 else '-'} {abs(pole.imag):.6g}j" if pole.imag else "")
+    if lost:
+        raise ModelError(
+            f"{func}(): at T = {T:.6g} the stable pole s = {pole_txt} lands on the unit circle (1 - |z|^2 = "
+            f"{margin[i]:.3g}, below round-off): T is too {side} for this model, and the discrete model would not "
+            f"decay; {advice}")
+    digits = np.log10(margin[i] / eps)
+    if digits < 8:
+        warnings.warn(
+            f"{func}(): at T = {T:.6g} the discrete model keeps about {digits:.0f} digits of the decay of the pole "
+            f"s = {pole_txt} (1 - |z|^2 = {margin[i]:.3g}): T is too {side} for it; {advice}",
+            RuntimeWarning, stacklevel=3)
 
 
 def _matrices(model) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -120,7 +164,8 @@ def d2c_bilinear(model):
     TypeError
         ``model`` is not a python-control LTI model.
     ModelError
-        Continuous model given, or ``I + Ahat`` singular (a pole at ``z = -1``, which maps to ``s = inf``).
+        Continuous model given, NaN or inf in its matrices, or ``I + Ahat`` singular (a pole at ``z = -1``,
+        which maps to ``s = inf``).
         A merely ill-conditioned ``I + Ahat`` (reciprocal condition number below 1e-8) gives a
         ``RuntimeWarning``.
     FrequencyGridError
@@ -173,10 +218,17 @@ def c2d_bilinear(model, T: float):
     TypeError
         ``model`` is not a python-control LTI model.
     ModelError
-        Discrete model given, or ``2/T I - A`` singular (a continuous pole at ``s = 2/T``, which maps to
-        ``z = inf``); change ``T``.
+        Discrete model given, NaN or inf in its matrices, ``2/T I - A`` singular (a continuous pole at
+        ``s = 2/T``, which maps to ``z = inf``), or a ``T`` so small or large that a stable continuous pole lands
+        on the unit circle (``T = 1e-300`` sent ``s = -1`` to ``z = 1`` silently); change ``T``.
     FrequencyGridError
         ``T <= 0`` or not finite.
+
+    Warns
+    -----
+    RuntimeWarning
+        The discrete model keeps fewer than 8 digits of a stable pole's decay (``1 - |z|^2`` below
+        ``1e8`` machine epsilons).
     """
     model = _check_model(model, discrete=False, func="c2d_bilinear")
     T = check_period(T)
@@ -194,6 +246,8 @@ def c2d_bilinear(model, T: float):
     CW = _solve(lu, C.T, trans=1).T if n else C  # C (2/T I - A)^-1
     Cd = (2.0 / math.sqrt(T)) * CW
     Dd = D + CW @ B
+    _check_stable_poles_kept(A, Ad, T, lambda s: -2.0 * s.real * T / np.abs(1.0 - s * T / 2.0) ** 2,
+                             "c2d_bilinear")
     return _build(Ad, Bd, Cd, Dd, T, model)
 
 
@@ -223,9 +277,15 @@ def c2d_zoh(model, T: float):
     TypeError
         ``model`` is not a python-control LTI model.
     ModelError
-        Discrete model given.
+        Discrete model given, NaN or inf in its matrices, or a ``T`` so small that a stable continuous pole
+        lands on the unit circle (``exp(s T)`` rounds to modulus 1).
     FrequencyGridError
         ``T <= 0`` or not finite.
+
+    Warns
+    -----
+    RuntimeWarning
+        The discrete model keeps fewer than 8 digits of a stable pole's decay.
     """
     model = _check_model(model, discrete=False, func="c2d_zoh")
     T = check_period(T)
@@ -235,4 +295,5 @@ def c2d_zoh(model, T: float):
     aug[:n, :n] = A * T
     aug[:n, n:] = B * T
     E = scipy.linalg.expm(aug)
+    _check_stable_poles_kept(A, E[:n, :n], T, lambda s: -np.expm1(2.0 * s.real * T), "c2d_zoh")
     return _build(E[:n, :n], E[:n, n:], C, D, T, model)

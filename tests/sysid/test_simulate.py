@@ -86,3 +86,78 @@ def test_rom_response_returns_python_control_data():
     assert data.outputs.shape == (2, t.size) and list(data.output_labels) == ["Cl", "Cm"]
     np.testing.assert_allclose(data.outputs, rom_simulation(rom.A, rom.B, rom.C, rom.D, 0.5, t, u, "zoh"))
     np.testing.assert_allclose(data.time, t)
+
+
+# ---------------------------------------------------------------------- input checks (issue 34 findings)
+A1, B1, C1, D1 = np.eye(1) * 0.5, np.ones((1, 1)), np.ones((1, 1)), np.zeros((1, 1))
+T10 = np.arange(10.0)
+
+
+@pytest.mark.parametrize("k", [0, 3, 9])
+@pytest.mark.parametrize("bad", [np.nan, np.inf])
+def test_rom_simulation_refuses_a_non_finite_input(k, bad):
+    # a NaN at sample 3 returned NaN histories from sample 1 on (the FFT spreads it)
+    u = np.ones(10)
+    u[k] = bad
+    with pytest.raises(sysid.TimeDataError, match=rf"u contains NaN or inf at sample {k} \(t = {float(k):g}\)"):
+        rom_simulation(A1, B1, C1, D1, 1.0, T10, u)
+
+
+def test_rom_simulation_refuses_non_finite_times():
+    t = T10.copy()
+    t[4] = np.nan
+    with pytest.raises(sysid.TimeDataError, match=r"t contains NaN or inf at index 4"):
+        rom_simulation(A1, B1, C1, D1, 1.0, t, np.ones(10))
+
+
+@pytest.mark.parametrize("T", [-1.0, 0.0, np.nan, np.inf, "1", True])
+def test_rom_simulation_refuses_a_bad_period(T):
+    # T = -1 raised python-control's "invalid timebase, dt = -1.0"
+    with pytest.raises(sysid.FrequencyGridError, match="sampling period T must be"):
+        rom_simulation(A1, B1, C1, D1, T, T10, np.ones(10))
+
+
+@pytest.mark.parametrize("mats, match", [
+    ((np.ones((2, 3)), B1, C1, D1), r"A must be square \(n, n\), got shape \(2, 3\)"),
+    ((A1, np.ones((2, 1)), C1, D1), r"B has shape \(2, 1\) but A is 1 x 1: B must be \(n, m\) = \(1, m\)"),
+    ((A1, B1, np.ones((1, 2)), D1), r"C has shape \(1, 2\) but A is 1 x 1: C must be \(p, n\) = \(p, 1\)"),
+    ((A1, B1, C1, np.zeros((2, 1))), r"D has shape \(2, 1\) but C and B give \(p, m\) = \(1, 1\)"),
+    ((A1, B1, C1, np.zeros((1, 1, 1))), r"D must be a 2-D matrix"),
+    ((np.full((1, 1), np.nan), B1, C1, D1), r"A contains NaN or inf"),
+    ((A1, B1, C1, np.full((1, 1), np.inf)), r"D contains NaN or inf"),
+    ((A1, B1, C1, [["a"]]), r"D must be a matrix of real numbers"),
+])
+def test_rom_simulation_names_the_offending_matrix(mats, match):
+    # python-control's ControlDimension ("Incompatible dimensions of B matrix") before
+    with pytest.raises(sysid.ModelError, match=match):
+        rom_simulation(*mats, 1.0, T10, np.ones(10))
+
+
+def test_rom_simulation_refuses_an_input_with_another_number_of_channels():
+    with pytest.raises(sysid.TimeDataError, match=r"u has 2 input channels but the model has m = 1"):
+        rom_simulation(A1, B1, C1, D1, 1.0, T10, np.ones((2, 10)))
+
+
+def test_rom_simulation_refuses_a_march_that_cannot_fit_in_memory():
+    from sysid.simulate import MAX_SIMULATION_VALUES
+
+    n = 50
+    N = MAX_SIMULATION_VALUES // n + 1
+    t = np.arange(N, dtype=float)   # 1.6 MB of times for 2e5 steps; the Markov parameters would be n times more
+    with pytest.raises(sysid.TimeDataError, match=r"n x m x N = .* above .*MAX_SIMULATION_VALUES"):
+        rom_simulation(np.eye(n) * 0.5, np.ones((n, 1)), np.ones((1, n)), np.zeros((1, 1)), 1.0, t, np.ones(N))
+
+
+def test_rom_response_refuses_what_is_not_a_discrete_model():
+    t = T10
+    with pytest.raises(TypeError, match="rom_response.. expects a control.StateSpace"):
+        rom_response(np.eye(2), t, np.ones(10))
+    with pytest.raises(sysid.ModelError, match="expects a discrete model"):
+        rom_response(control.ss([[-1.0]], [[1.0]], [[1.0]], [[0.0]]), t, np.ones(10))
+
+
+@pytest.mark.parametrize("kwargs, match", [(dict(method="fast"), "method must be"),
+                                           (dict(discretisation=None), "discretisation must be")])
+def test_rom_simulation_options_are_checked_before_any_work(kwargs, match):
+    with pytest.raises(sysid.OptionError, match=match):   # even with a bad input, the option is named first
+        rom_simulation(A1, B1, C1, D1, 1.0, T10, np.ones(10), **kwargs)

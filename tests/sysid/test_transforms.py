@@ -182,3 +182,36 @@ def test_c2d_bilinear_pole_at_two_over_T():
 def test_d2c_needs_sampling_period():
     with pytest.raises(FrequencyGridError, match="dt=True"):
         d2c_bilinear(control.ss([[0.5]], [[1.0]], [[1.0]], [[0.0]], True))
+
+
+# ---------------------------------------------------------------------- input checks (issue 34 findings)
+@pytest.mark.parametrize("T, side", [(1e-300, "small"), (1e-17, "small"), (1e300, "large")])
+@pytest.mark.parametrize("convert", [c2d_bilinear, c2d_zoh])
+def test_a_period_that_puts_a_stable_pole_on_the_unit_circle_is_refused(T, side, convert):
+    # c2d_bilinear(model, 1e-300) returned A = [[1.0]] for the pole s = -1 silently
+    if convert is c2d_zoh and side == "large":
+        pytest.skip("zero-order hold sends slow poles to z = exp(sT) -> 0: inside the circle at any large T")
+    sys = control.ss([[-1.0]], [[1.0]], [[1.0]], [[0.0]])
+    with pytest.raises(ModelError, match=rf"stable pole s = -1 .* unit circle .* T is too {side}"):
+        convert(sys, T)
+
+
+def test_a_period_that_keeps_few_digits_of_a_pole_warns():
+    # 1 - |z| = 2e-11 for s = -1e-3 at T = 1e-8: the decay is held in about five digits
+    sys = control.ss([[-1e-3]], [[1.0]], [[1.0]], [[0.0]])
+    with pytest.warns(RuntimeWarning, match="keeps about 5 digits"):
+        c2d_bilinear(sys, 1e-8)
+
+
+def test_marginal_poles_are_not_refused():
+    # an integrator (s = 0) maps to z = 1 at any T: not a stable pole made marginal
+    integrator = control.ss([[0.0]], [[1.0]], [[1.0]], [[0.0]])
+    assert np.allclose(c2d_bilinear(integrator, 1e-6).A, 1.0)
+
+
+@pytest.mark.parametrize("convert, dt", [(c2d_bilinear, 0), (c2d_zoh, 0), (lambda s, T: d2c_bilinear(s), 1.0)])
+def test_a_model_with_nan_is_refused(convert, dt):
+    # c2d_bilinear called it singular ("a pole at s = 2/T"); c2d_zoh returned NaN matrices
+    A = np.array([[np.nan]])
+    with pytest.raises(ModelError, match="A contains NaN or inf"):
+        convert(control.ss(A, [[1.0]], [[1.0]], [[0.0]], dt), 0.5)
