@@ -57,14 +57,27 @@ from typing import Sequence
 import numpy as np
 
 from .arrays import freeze_array_fields
-from .errors import FrequencyGridError
+from .errors import FrequencyGridError, OptionError
 from .frd import FrequencyResponse, continuous_to_discrete
+from .grids import check_period
 
-__all__ = ["diagnose", "DataDiagnostics", "default_T", "negative_time_energy", "kramers_kronig_imag", "delayed"]
+__all__ = ["diagnose", "DataDiagnostics", "default_T", "negative_time_energy", "negative_time_limit",
+           "kramers_kronig_imag", "kk_discretisation", "kk_truncation_bound", "high_frequency_slope", "delayed"]
 
 NEG_TIME_TOL = 1e-4
 KK_TOL = 1e-2
 DC_IMAG_TOL = 1e-6
+KK_SAFETY = 3.0
+"""The KK residual must exceed this many times its estimated quadrature error (:func:`kk_discretisation`, an
+asymptotic estimate) before it counts."""
+KK_MIN_SAMPLES = 12
+"""Fewest samples for the KK check: its error estimate needs three nested grids of at least three samples."""
+KK_MIN_CHECKED = 0.25
+"""Least fraction of the samples at which the band-limited bound (:func:`kk_truncation_bound`) leaves the check
+meaningful; below it the check does not apply (e.g. data measured in a band far from 0 and inf)."""
+IMPROPER_SLOPE = 0.5
+"""A log-log slope of ``|H|`` above this at the top of the band (no ``omega = inf`` sample) names the response
+improper (:func:`high_frequency_slope`)."""
 _TINY = np.finfo(float).tiny
 
 
@@ -186,6 +199,152 @@ def kramers_kronig_imag(re_H: np.ndarray, omega_d: np.ndarray) -> np.ndarray:
     return out
 
 
+def _subgrid(order: np.ndarray, step: int) -> np.ndarray:
+    """Every ``step``-th of the sorted sample indices ``order``, the last one always kept."""
+    sub = order[::step]
+    return sub if sub[-1] == order[-1] else np.append(sub, order[-1])
+
+
+def kk_discretisation(re_H: np.ndarray, omega_d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The causal imaginary part and the estimated error of its quadrature, from the data's own resolution.
+
+    The rule of :func:`kramers_kronig_imag` is applied on all samples (spacing ``h``), on every second and on
+    every fourth (``2h``, ``4h``). Its largest error sits next to where the response is least smooth (a branch
+    point at ``omega = 0`` as in Theodorsen's function, a sharp resonance), and moves with the grid, so the
+    estimate works with the largest differences of each coarse rule on its own samples: ``d2 = max |I(2h) -
+    I(h)|`` over the samples of the ``2h`` grid (about the ``2h`` rule's largest error) and ``d1 = max |I(4h) -
+    I(2h)|`` over those of the ``4h`` grid. For an error ``c h^q`` their ratio is ``r = d1 / d2 = 2^q`` whatever
+    the order ``q`` (three for smooth data on McKelvey's grid, below one next to a branch point, ``1/2`` for
+    ``1 / (1 + sqrt(s))``), and the full rule's largest error is about ``d2 / r``. ``r`` is clipped to ``[1, 3]``:
+    below 1 the rule does not converge (the samples do not resolve the response) and the estimate is ``d2``; above
+    3 (second order or better) the estimate stays ``d2 / 3``, because a coarse grid that misses a feature makes
+    ``d1`` large without the rule converging faster. :func:`diagnose` flags only a residual above three times
+    the estimate. Measured on exact data (tests/sysid/test_diagnostics.py): the residual is 0.6 - 2 times the
+    estimate for Theodorsen's function and ``1 / (1 + sqrt(s))`` at ``M = 32 .. 512``.
+
+    Parameters
+    ----------
+    re_H : array_like, shape (..., K)
+    omega_d : array_like, shape (K,)
+        Distinct discrete frequencies in ``[0, pi]``.
+
+    Returns
+    -------
+    im_kk : ndarray, shape (..., K)
+        :func:`kramers_kronig_imag` on all samples.
+    error : ndarray, shape (...)
+        Its estimated error (max over the frequencies, in the units of ``re_H``), NaN for fewer than
+        :data:`KK_MIN_SAMPLES` samples.
+    """
+    wd = np.asarray(omega_d, dtype=float)
+    f = np.asarray(re_H, dtype=float)
+    im_kk = kramers_kronig_imag(f, wd)
+    if wd.size < KK_MIN_SAMPLES:
+        return im_kk, np.full(f.shape[:-1], np.nan)
+    order = np.argsort(wd, kind="stable")
+    half, quarter = _subgrid(order, 2), _subgrid(order, 4)
+    im2 = kramers_kronig_imag(f[..., half], wd[half])
+    im4 = kramers_kronig_imag(f[..., quarter], wd[quarter])
+    pos_in_half = {int(k): i for i, k in enumerate(half)}
+    q_in_half = np.array([pos_in_half[int(k)] for k in quarter])
+    d2 = np.abs(im2 - im_kk[..., half]).max(axis=-1)
+    d1 = np.abs(im4 - im2[..., q_in_half]).max(axis=-1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = np.clip(d1 / d2, 1.0, 3.0)
+    return im_kk, np.where(d2 > 0, d2 / r, d1)
+
+
+def kk_truncation_bound(omega_d: np.ndarray, re_H: np.ndarray, peak: np.ndarray) -> np.ndarray:
+    """Bound of what the unsampled ends of ``[0, pi]`` can change in the causal imaginary part, per sample,
+    relative to the peak (the band-limited form of the check).
+
+    Without an ``omega = 0`` sample the even real part is unknown on ``(-a, a)``, ``a`` the lowest sampled
+    ``omega_d``; without ``omega = inf`` on ``(b, 2 pi - b)``, ``b`` the highest. The rule bridges each gap with a
+    straight line, so if the true ``Re H`` differs from that line by at most ``delta`` there, the imaginary part at
+    ``theta`` changes by at most ``delta / (2 pi) int_gap |cot((theta - phi) / 2)| dphi``, integrated in closed form
+    (``int cot(x / 2) dx = 2 ln sin(x / 2)``). ``delta`` follows from the data, assuming the response varies in
+    the gap no faster than between the samples: the largest slope ``L`` of ``Re H`` between neighbouring samples
+    times the gap's width, and never more than ``2 max |H|``. The bound is infinite at the sample next to a gap.
+
+    Parameters
+    ----------
+    omega_d : array_like, shape (K,)
+        Distinct discrete frequencies in ``[0, pi]``.
+    re_H : array_like, shape (p, m, K)
+    peak : array_like, shape (p, m)
+        ``max |H|`` per channel.
+
+    Returns
+    -------
+    ndarray, shape (p, m, K)
+        The bound divided by the channel's peak (0 with both end samples).
+    """
+    wd = np.asarray(omega_d, dtype=float)
+    f = np.asarray(re_H, dtype=float)
+    tol = 1e-9 * np.pi
+    order = np.argsort(wd, kind="stable")
+    th, fs = wd[order], f[..., order]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        slope = np.abs(np.diff(fs, axis=-1) / np.diff(th)).max(axis=-1) if th.size > 1 else np.zeros(f.shape[:-1])
+
+    def F(x):   # 2 ln sin(x / 2), x in [0, 2 pi]
+        with np.errstate(divide="ignore"):
+            return 2.0 * np.log(np.abs(np.sin(x / 2.0)))
+
+    def abs_cot_integral(x1, x2):   # int_{x1}^{x2} |cot(x/2)| dx, 0 <= x1 <= x2 <= 2 pi
+        return np.where(x2 <= np.pi, F(x2) - F(x1), np.where(x1 >= np.pi, F(x1) - F(x2), -F(x1) - F(x2)))
+
+    bound = np.zeros(f.shape)
+    pk = np.asarray(peak, dtype=float)[..., None]
+    if th[0] > tol:   # no omega = 0 sample: the gap (-a, a)
+        a = th[0]
+        delta = np.minimum(slope * a, 2.0 * np.asarray(peak))[..., None]
+        bound = bound + delta / (2.0 * np.pi) * abs_cot_integral(th - a, th + a)[order.argsort()] / pk
+    if th[-1] < np.pi - tol:   # no omega = inf sample: the gap (b, 2 pi - b)
+        b = th[-1]
+        delta = np.minimum(slope * (np.pi - b), 2.0 * np.asarray(peak))[..., None]
+        bound = bound + delta / (2.0 * np.pi) * abs_cot_integral(b - th, 2.0 * np.pi - b - th)[order.argsort()] / pk
+    return np.where(np.isnan(bound), np.inf, bound)
+
+
+def high_frequency_slope(omega: np.ndarray, H: np.ndarray) -> np.ndarray | None:
+    """Log-log slope of ``|H|`` over the top of the sampled band, per channel; None when it cannot be measured.
+
+    Least squares of ``log |H|`` on ``log omega`` over the samples in the highest quarter of the positive finite
+    frequencies on a log scale (at least 3 samples, a band of at least a factor 2); a proper response tends to
+    its finite feedthrough (slope 0 or negative), ``k^2`` growth has slope 2.
+
+    Parameters
+    ----------
+    omega : array_like, shape (K,) or None
+    H : array_like, complex, shape (p, m, K)
+
+    Returns
+    -------
+    ndarray, shape (p, m), or None
+        None without continuous frequencies, with an ``omega = inf`` sample (the data say the response is finite
+        there), or with too few samples at the top.
+    """
+    if omega is None:
+        return None
+    w = np.asarray(omega, dtype=float)
+    if np.isinf(w).any():
+        return None
+    pos = np.flatnonzero(np.isfinite(w) & (w > 0))
+    if pos.size < 3:
+        return None
+    lw = np.log(w[pos])
+    top = pos[lw >= lw.max() - 0.25 * (lw.max() - lw.min())]
+    if top.size < 3 or w[top].max() < 2.0 * w[top].min():
+        return None
+    mag = np.abs(np.asarray(H))[..., top]
+    if np.any(mag <= 0):
+        return None
+    x = np.log(w[top]) - np.log(w[top]).mean()
+    y = np.log(mag)
+    return (y - y.mean(axis=-1, keepdims=True)) @ x / (x @ x)
+
+
 @dataclass(frozen=True)
 class DataDiagnostics:
     """Result of :func:`diagnose`. Arrays are indexed ``[output, input]``.
@@ -198,9 +357,11 @@ class DataDiagnostics:
     rms_floor : ndarray (p, m) or None
         ``sqrt(E_neg)``: the relative RMS error below which no model with a decayed impulse response fits.
     kk_residual : ndarray (p, m)
-        Kramers-Kronig residual ``max |Im H_KK - Im H| / max |H|``.
+        Kramers-Kronig residual ``max |Im H_KK - Im H| / max |H|`` over the samples where the band-limited bound
+        is below the threshold; NaN where the check does not apply (``kk_applies``).
     kk_discretisation : ndarray (p, m)
-        Estimated discretisation error of that residual (NaN for fewer than 8 samples).
+        Estimated quadrature error of the causal imaginary part, from the data's resolution
+        (:func:`kk_discretisation`; NaN for fewer than 12 samples).
     dc_imag : ndarray (p, m) or None
         ``|Im H(omega = 0)| / max |H|``; ``None`` when the data have no ``omega = 0`` sample.
     has_dc, has_inf : bool
@@ -216,7 +377,17 @@ class DataDiagnostics:
     warnings : tuple of str
         Plain-language findings with what to do; empty when the data look consistent.
     thresholds : dict
-        ``neg_time``, ``kk``, ``dc_imag`` used.
+        ``neg_time``, ``kk``, ``dc_imag``, ``kk_safety`` used.
+    negative_time_limit : ndarray (p, m) or None
+        The negative-time energy extrapolated to a fine grid (:func:`negative_time_limit`), which the flag uses;
+        None off McKelvey's grid or when ``M`` is not a multiple of 4 of at least 16.
+    kk_threshold : ndarray (p, m) or None
+        ``max(kk_tol, 3 x kk_discretisation)``.
+    kk_applies : ndarray of bool (p, m) or None
+        Whether the KK check applies (enough samples, and the unsampled ends leave a quarter of them checkable).
+    high_frequency_slope : ndarray (p, m) or None
+        Log-log slope of ``|H|`` at the top of the band (:func:`high_frequency_slope`); above 0.5 the channel is
+        named improper.
     """
 
     outputs: tuple
@@ -235,18 +406,37 @@ class DataDiagnostics:
     flagged: np.ndarray = field(repr=False)
     warnings: tuple = ()
     thresholds: dict = field(default_factory=dict, repr=False)
+    negative_time_limit: np.ndarray | None = field(default=None, repr=False)
+    kk_threshold: np.ndarray | None = field(default=None, repr=False)
+    kk_applies: np.ndarray | None = field(default=None, repr=False)
+    high_frequency_slope: np.ndarray | None = field(default=None, repr=False)
 
     def __post_init__(self):
         freeze_array_fields(self)   # the arrays of a frozen result are read-only too
 
     @property
     def ok(self) -> bool:
-        """True when no channel is flagged and nothing else was found."""
-        return not self.warnings
+        """True when no channel is flagged, every check applied and was computed, and nothing else was found."""
+        return not self.warnings and not self.flagged.any() and self._all_computed()
+
+    def _all_computed(self) -> bool:
+        nums = [self.kk_residual] + ([] if self.negative_time_energy is None else [self.negative_time_energy])
+        return all(np.isfinite(np.asarray(a, dtype=float)).all() for a in nums)
+
+    def _status(self, i: int, j: int) -> str:
+        if self.flagged[i, j]:
+            return "FLAG"
+        if self.kk_applies is not None and not self.kk_applies[i, j]:
+            return "KK n/a"
+        if not np.isfinite(self.kk_residual[i, j]) or (self.negative_time_energy is not None
+                                                       and not np.isfinite(self.negative_time_energy[i, j])):
+            return "not computed"
+        return "ok"
 
     def channels(self) -> list[dict]:
         """One dict per channel: ``output, input, neg_time_energy, kk_residual, kk_discretisation, dc_imag,
-        flagged`` (None where a check does not apply)."""
+        flagged, status`` (None where a check does not apply; ``status`` is ``"FLAG"``, ``"KK n/a"``,
+        ``"not computed"`` or ``"ok"``)."""
         rows = []
         for i, o in enumerate(self.outputs):
             for j, u in enumerate(self.inputs):
@@ -257,6 +447,7 @@ class DataDiagnostics:
                     kk_discretisation=float(self.kk_discretisation[i, j]),
                     dc_imag=None if self.dc_imag is None else float(self.dc_imag[i, j]),
                     flagged=bool(self.flagged[i, j]),
+                    status=self._status(i, j),
                 ))
         return rows
 
@@ -267,10 +458,10 @@ class DataDiagnostics:
             rows.append([
                 f"{c['output']}/{c['input']}",
                 "n/a" if c["neg_time_energy"] is None else f"{c['neg_time_energy']:.2e}",
-                f"{c['kk_residual']:.2e}",
+                "n/a" if math.isnan(c["kk_residual"]) else f"{c['kk_residual']:.2e}",
                 "n/a" if math.isnan(c["kk_discretisation"]) else f"{c['kk_discretisation']:.1e}",
                 "no sample" if c["dc_imag"] is None else f"{c['dc_imag']:.1e}",
-                "FLAG" if c["flagged"] else "ok",
+                c["status"],
             ])
         if markdown:
             out = ["| " + " | ".join(head) + " |", "|" + "|".join(" --- " for _ in head) + "|"]
@@ -293,44 +484,82 @@ class DataDiagnostics:
     def summary(self) -> str:
         """Plain-text report: one line per channel, then the warnings (or that the data look consistent)."""
         lines = [self._header()] + ["  " + s for s in self._table(False)]
-        if self.warnings:
+        if self.warnings or not self.ok:
             lines += ["warning: " + w for w in self.warnings]
         else:
             lines.append("the data are consistent with a causal, stable, real LTI system within the thresholds "
                          f"(negative-time energy <= {self.thresholds['neg_time']:g}, KK residual <= "
-                         f"max({self.thresholds['kk']:g}, 3 x its discretisation estimate), Im H(0)/peak <= {self.thresholds['dc_imag']:g})")
+                         f"max({self.thresholds['kk']:g}, 3 x its quadrature error estimated from the data's "
+                         f"resolution), Im H(0)/peak <= {self.thresholds['dc_imag']:g})")
         return "\n".join(lines)
 
     def markdown(self) -> str:
         """The same report as Markdown (a table and a bullet list)."""
         lines = [self._header() + ".", ""] + self._table(True) + [""]
-        if self.warnings:
+        if self.warnings or not self.ok:
             lines += [f"- {w}" for w in self.warnings]
         else:
             lines.append("- The data are consistent with a causal, stable, real LTI system within the thresholds "
                          f"(negative-time energy <= {self.thresholds['neg_time']:g}, KK residual <= "
-                         f"max({self.thresholds['kk']:g}, 3 x its discretisation estimate), Im H(0)/peak <= {self.thresholds['dc_imag']:g}).")
+                         f"max({self.thresholds['kk']:g}, 3 x its quadrature error estimated from the data's "
+                         f"resolution), Im H(0)/peak <= {self.thresholds['dc_imag']:g}).")
         return "\n".join(lines)
 
 
-def _kk(frf_H: np.ndarray, omega_d: np.ndarray, peak: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``(residual, discretisation estimate)``, each (p, m)."""
-    im_kk = kramers_kronig_imag(frf_H.real, omega_d)
-    res = np.abs(im_kk - frf_H.imag).max(axis=-1) / peak
-    K = omega_d.size
-    if K < 8:
-        return res, np.full(res.shape, np.nan)
-    order = np.argsort(omega_d, kind="stable")
-    half = order[::2]
-    if order[-1] not in half:
-        half = np.append(half, order[-1])
-    im_half = kramers_kronig_imag(frf_H.real[..., half], omega_d[half])
-    disc = np.abs(im_half - im_kk[..., half]).max(axis=-1) / 3.0 / peak
-    return res, disc
+def negative_time_limit(H: np.ndarray) -> np.ndarray | None:
+    """The negative-time energy the equispaced data tend to as the grid is refined, per channel.
+
+    A causal response's negative-time energy on McKelvey's grid is the aliased tail of its impulse response, which
+    falls as ``M`` grows (geometrically for rational systems, algebraically next to a branch point at
+    ``omega = 0``: ``1 / (1 + sqrt(s))`` gives 5.6e-4 at ``M = 32`` and 3.8e-5 at 128); a response before the input
+    (a time advance) or noise keep it. From the grids ``M``, ``M / 2`` and ``M / 4`` (subsamples of the data):
+    ``E(M) - d2 / (r - 1)`` with ``d2 = E(M/2) - E(M)``, ``r = (E(M/4) - E(M/2)) / d2`` when the energy falls
+    with ``r > 1.5``, else ``E(M)`` itself.
+
+    Parameters
+    ----------
+    H : array_like, complex, shape (p, m, M + 1)
+        Samples on McKelvey's grid.
+
+    Returns
+    -------
+    ndarray, shape (p, m), or None
+        None when ``M`` is not a multiple of 4 of at least 16 (then only ``E(M)`` is known).
+    """
+    H = np.asarray(H, dtype=complex)
+    M = H.shape[-1] - 1
+    if M % 4 or M < 16:
+        return None
+    e1 = negative_time_energy(H)
+    e2 = negative_time_energy(H[..., ::2])
+    e4 = negative_time_energy(H[..., ::4])
+    d2, d1 = e2 - e1, e4 - e2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = d1 / d2
+        lim = np.where((d2 > 0) & (d1 > 0) & (r > 1.5), e1 - d2 / (r - 1.0), e1)
+    return np.maximum(lim, 0.0)
 
 
 def _names(ch: Sequence[tuple[int, int]], frf: FrequencyResponse) -> str:
     return ", ".join(f"{frf.outputs[i]}/{frf.inputs[j]}" for i, j in ch)
+
+
+def _kk_grid(frf: FrequencyResponse, T: float | None) -> tuple[np.ndarray, float, bool, str]:
+    """``(omega_d, T_used, T_is_default, note)`` for the KK check: the data's own ``omega_d`` when their ``T``
+    resolves their frequencies, else the map with :func:`default_T` (the continuous KK relation is the same for
+    every ``T``; only the quadrature changes)."""
+    from .grids import PERIOD_MAX_FACTOR, period_factor
+
+    if frf.omega is None:   # discrete data without T: their own unit circle
+        return np.asarray(frf.omega_d, dtype=float), float("nan"), False, ""
+    if frf.omega_d is not None and period_factor(frf.T, frf.omega) <= PERIOD_MAX_FACTOR:
+        return np.asarray(frf.omega_d, dtype=float), float(frf.T), False, ""
+    note = ""
+    if frf.omega_d is not None:
+        note = (f"the data's T = {frf.T:.6g} does not resolve their frequencies (sysid.grids.check_period_resolves; "
+                "identify refuses it), so the KK check maps them with the default T")
+    T_used = check_period(T) if (T is not None and frf.omega_d is None) else default_T(frf.omega)
+    return continuous_to_discrete(frf.omega, T_used), T_used, T is None or frf.omega_d is not None, note
 
 
 def diagnose(
@@ -348,56 +577,76 @@ def diagnose(
     frf : FrequencyResponse
         Data on a discrete grid (with or without ``T``) or on continuous frequencies.
     neg_time_tol : float
-        Flag a channel whose negative-time energy fraction exceeds this (default 1e-4: a 1 % RMS floor).
+        Flag a channel whose negative-time energy fraction, extrapolated to a fine grid
+        (:func:`negative_time_limit`), exceeds this (default 1e-4: a 1 % RMS floor).
     kk_tol : float
-        Flag a channel whose Kramers-Kronig residual (peak-normalised) exceeds this (default 1e-2) and three
-        times its discretisation estimate.
+        The smallest Kramers-Kronig residual (peak-normalised) worth reporting (default 1e-2). A channel is
+        flagged where its residual exceeds ``max(kk_tol, 3 x`` the quadrature error estimated from the data's
+        resolution, :func:`kk_discretisation`) plus the band-limited bound of the unsampled ends
+        (:func:`kk_truncation_bound`), at the samples where that bound is below the threshold; when those are
+        fewer than a quarter of the samples, or fewer than 12 samples in all, the check does not apply.
     dc_imag_tol : float
         Flag ``|Im H(0)| / max |H|`` above this (default 1e-6, as :attr:`FrequencyResponse.dc_gain`).
     T : float, optional
         Sampling period for the KK check of data on continuous frequencies without one (default
-        :func:`default_T`); ignored when the data have ``omega_d``.
+        :func:`default_T`); ignored when the data have ``omega_d``. Data whose own ``T`` does not resolve their
+        frequencies (:func:`sysid.grids.check_period_resolves`) are checked with :func:`default_T`.
 
     Returns
     -------
     DataDiagnostics
-        Per-channel numbers, flags, plain-language ``warnings`` and :meth:`DataDiagnostics.summary`.
+        Per-channel numbers, flags, plain-language ``warnings`` and :meth:`DataDiagnostics.summary`. A check
+        that could not be computed (a NaN) is reported as such and never as consistent.
 
     Raises
     ------
     TypeError
         ``frf`` is not a :class:`FrequencyResponse`.
+    OptionError
+        A tolerance that is not a nonnegative number.
     FrequencyGridError
         A frequency appears twice; or, for data on continuous frequencies only, ``T`` not positive and finite,
         or no ``T`` given and no positive finite frequency to choose the default from.
 
     Notes
     -----
-    The formulas, the tolerances' meaning and the discretisation error are in the module docstring of
+    The formulas, the tolerances' meaning and the error estimates are in the module docstring of
     :mod:`sysid.diagnostics`.
     """
     if not isinstance(frf, FrequencyResponse):
         raise TypeError(f"diagnose() expects a sysid.FrequencyResponse, got {type(frf).__name__}")
+    for name, value in (("neg_time_tol", neg_time_tol), ("kk_tol", kk_tol), ("dc_imag_tol", dc_imag_tol)):
+        if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)) \
+                or not (np.isfinite(value) and value >= 0):
+            raise OptionError(f"{name} must be a nonnegative number, got {value!r}")
     H = np.asarray(frf.H)
     p, m, K = H.shape
     peak = np.maximum(np.abs(H).max(axis=-1), _TINY)
 
-    T_is_default = False
-    if frf.omega_d is not None:
-        wd = np.asarray(frf.omega_d, dtype=float)
-        T_used = frf.T if frf.T is not None else float("nan")
-    else:
-        T_used = T if T is not None else default_T(frf.omega)
-        T_is_default = T is None
-        wd = continuous_to_discrete(frf.omega, T_used)
+    wd, T_used, T_is_default, t_note = _kk_grid(frf, T)
     if np.unique(wd).size != wd.size:
         raise FrequencyGridError("diagnose() needs distinct frequencies; the data repeat a frequency, "
                                  "average or drop the repeated samples")
 
     equi = frf.is_equispaced
     neg = negative_time_energy(H) if equi else None
+    neg_lim = negative_time_limit(H) if equi else None
     floor = None if neg is None else np.sqrt(neg)
-    kk_res, kk_disc = _kk(H, wd, peak)
+
+    im_kk, kk_disc = kk_discretisation(H.real, wd)
+    kk_disc = kk_disc / peak
+    kk_lim = np.maximum(kk_tol, KK_SAFETY * np.nan_to_num(kk_disc, nan=np.inf))   # (p, m)
+    bound = kk_truncation_bound(wd, H.real, peak)   # (p, m, K)
+    res_k = np.abs(im_kk - H.imag) / peak[..., None]
+    checked = bound < kk_lim[..., None]
+    kk_applies = (K >= KK_MIN_SAMPLES) & (checked.mean(axis=-1) >= KK_MIN_CHECKED) & np.isfinite(kk_lim)
+    with np.errstate(invalid="ignore"):
+        kk_res = np.where(checked, res_k, -np.inf).max(axis=-1)
+    kk_res = np.where(kk_applies & np.isfinite(kk_res), kk_res, np.nan)
+    kk_computed = ~kk_applies | np.isfinite(kk_res)   # not applicable is not "not computed"
+
+    slope = high_frequency_slope(frf.omega, H)
+    improper = np.zeros((p, m), bool) if slope is None else slope > IMPROPER_SLOPE
 
     tol = 1e-9 * np.pi
     k_dc = np.flatnonzero(np.abs(wd) <= tol)
@@ -406,38 +655,54 @@ def diagnose(
     dc_imag = np.abs(H[:, :, k_dc[0]].imag) / peak if has_dc else None
     ft = np.array(H[:, :, k_inf[0]].real) if has_inf else None
 
-    flag_neg = np.zeros((p, m), bool) if neg is None else neg > neg_time_tol
-    kk_lim = np.maximum(kk_tol, 3.0 * np.nan_to_num(kk_disc, nan=0.0))
-    flag_kk = kk_res > kk_lim
+    neg_judged = neg if neg_lim is None else neg_lim
+    flag_neg = np.zeros((p, m), bool) if neg is None else ~(neg_judged <= neg_time_tol)   # NaN flags
+    with np.errstate(invalid="ignore"):
+        flag_kk = kk_applies & ~improper & np.any(checked & (res_k > kk_lim[..., None] + bound), axis=-1)
     flag_dc = np.zeros((p, m), bool) if dc_imag is None else dc_imag > dc_imag_tol
-    flagged = flag_neg | flag_kk | flag_dc
+    flagged = flag_neg | flag_kk | flag_dc | improper
     chans = lambda mask: [tuple(ij) for ij in np.argwhere(mask)]  # noqa: E731
 
     msgs: list[str] = []
+    if t_note:
+        msgs.append(t_note)
     if flag_neg.any():
         ch = chans(flag_neg)
-        worst = max(ch, key=lambda ij: neg[ij])
+        worst = max(ch, key=lambda ij: np.nan_to_num(neg_judged[ij], nan=np.inf))
+        lim_txt = "" if neg_lim is None else (f", {neg_lim[worst]:.2g} extrapolated to a fine grid from the grids M, "
+                                              "M/2 and M/4: a causal response's aliased tail would fall")
         msgs.append(
-            f"{_names(ch, frf)}: {neg[worst]:.2g} of the impulse response's energy is at negative time (threshold "
-            f"{neg_time_tol:g}), so no causal model whose impulse response decays within the grid's {K - 1} samples "
-            f"fits these data better than about {np.sqrt(neg[worst]):.1%} RMS: accurate fits need poles outside the "
-            "unit circle, or stable poles so close to it (|z|^M not small, often near z = -1) that the impulse response "
-            "wraps around the grid: artefacts of the fit. If the output responds before the input "
-            "reaches its reference point (e.g. loads that feel a gust ahead of the leading edge while the gust is "
-            "referenced at x_ref = 0), move the reference upstream by d: the response is then later, H exp(-i omega "
-            "d) (sysid.diagnostics.delayed(frf, d)), the ROM is driven by the input at the new reference, and "
+            f"{_names(ch, frf)}: {neg[worst]:.2g} of the impulse response's energy is at negative time{lim_txt} "
+            f"(threshold {neg_time_tol:g}), so no causal model whose impulse response decays within the grid's "
+            f"{K - 1} samples fits these data better than about {np.sqrt(neg[worst]):.1%} RMS: accurate fits need "
+            "poles outside the unit circle, or stable poles so close to it (|z|^M not small, often near z = -1) that "
+            "the impulse response wraps around the grid: artefacts of the fit. If the output responds before the "
+            "input reaches its reference point (e.g. loads that feel a gust ahead of the leading edge while the gust "
+            "is referenced at x_ref = 0), move the reference upstream by d: the response is then later, H exp(-i "
+            "omega d) (sysid.diagnostics.delayed(frf, d)), the ROM is driven by the input at the new reference, and "
             "diagnose() tells whether the negative-time content went; if it does not fall, it is in the data (e.g. "
             "an under-resolved fast phase roll near omega_d = pi: try a smaller T or a larger M)")
+    if improper.any():
+        ch = chans(improper)
+        worst = max(ch, key=lambda ij: slope[ij])
+        msgs.append(
+            f"{_names(ch, frf)}: |H| grows like omega^{slope[worst]:.2g} at the top of the band (no omega = inf "
+            "sample): the response is improper (e.g. an apparent-mass load growing like k^2). No proper state-space "
+            "model follows it outside the band: a fit matches the band only and levels off to its feedthrough D "
+            "beyond, so do not use the model above the highest frequency; or fit the strictly proper part, e.g. "
+            "H / (1 + i omega / omega_c)^2 with omega_c above the band, and add the polynomial back. The "
+            "Kramers-Kronig check is skipped for it (a growing response needs subtractions)")
     if flag_kk.any():
         ch = chans(flag_kk)
-        worst = max(ch, key=lambda ij: kk_res[ij])
+        worst = max(ch, key=lambda ij: np.nan_to_num(kk_res[ij], nan=np.inf))
         msgs.append(
             f"{_names(ch, frf)}: the imaginary part differs from the one causality implies from the real part "
-            f"(Kramers-Kronig) by {kk_res[worst]:.2g} of the peak (threshold {kk_tol:g}, discretisation estimate "
-            f"{kk_disc[worst]:.1g}): the data are not those of a causal, stable, real system, or they are noisy "
-            "(noise has no causal structure: a residual about twice the relative noise level is expected), or "
-            "too sparse in frequency; check the sign convention (responses per exp(+i omega t)), the phase reference "
-            "(a time advance e^{+i omega tau} is non-causal), and add frequencies where the response varies fast")
+            f"(Kramers-Kronig) by {kk_res[worst]:.2g} of the peak (threshold {kk_lim[worst]:.2g}: max({kk_tol:g}, "
+            f"{KK_SAFETY:g} x the quadrature error {kk_disc[worst]:.1g} estimated from the data's resolution)): the "
+            "data are not those of a causal, stable, real system, or they are noisy (noise has no causal structure: "
+            "a residual about twice the relative noise level is expected); check the sign convention (responses per "
+            "exp(+i omega t)), the phase reference (a time advance e^{+i omega tau} is non-causal), and add "
+            "frequencies where the response varies fast")
     if flag_dc.any():
         ch = chans(flag_dc)
         worst = max(ch, key=lambda ij: dc_imag[ij])
@@ -445,6 +710,19 @@ def diagnose(
             f"{_names(ch, frf)}: the omega = 0 sample has an imaginary part of {dc_imag[worst]:.2g} of the peak "
             f"(threshold {dc_imag_tol:g}); a real system's DC gain is real: the 'DC' sample is probably at a small "
             "nonzero frequency or carries a phase error; dc_gain='match' uses its real part only")
+    not_applicable = ~kk_applies & ~improper
+    if not_applicable.any():
+        ch = chans(not_applicable)
+        why = (f"only {K} samples (at least {KK_MIN_SAMPLES} are needed)" if K < KK_MIN_SAMPLES else
+               f"the data cover omega_d = {wd.min():.3g} .. {wd.max():.3g} of [0, pi] (T = {T_used:.6g}), and what the "
+               "response does in the unsampled band could change the causal imaginary part by more than the "
+               "threshold at most samples")
+        msgs.append(f"{_names(ch, frf)}: the Kramers-Kronig check does not apply: {why}; it says nothing about "
+                    "causality here (a band-limited check needs the response near omega = 0 and inf, or a model)")
+    not_computed = ~kk_computed | (np.zeros((p, m), bool) if neg is None else ~np.isfinite(neg))
+    if not_computed.any():
+        msgs.append(f"{_names(chans(not_computed), frf)}: a consistency check could not be computed (NaN): the "
+                    "data are not judged consistent; check the frequencies and T")
     if not has_dc:
         msgs.append("no omega = 0 sample: the DC gain cannot be matched (dc_gain='match' needs it); add the steady "
                     "response or pass the DC gain as an array")
@@ -453,7 +731,8 @@ def diagnose(
         kk_residual=kk_res, kk_discretisation=kk_disc, dc_imag=dc_imag, has_dc=has_dc,
         has_inf=has_inf, feedthrough=ft, T=float(T_used), T_is_default=T_is_default, equispaced=equi,
         flagged=flagged, warnings=tuple(msgs),
-        thresholds={"neg_time": neg_time_tol, "kk": kk_tol, "dc_imag": dc_imag_tol},
+        thresholds={"neg_time": neg_time_tol, "kk": kk_tol, "dc_imag": dc_imag_tol, "kk_safety": KK_SAFETY},
+        negative_time_limit=neg_lim, kk_threshold=kk_lim, kk_applies=kk_applies, high_frequency_slope=slope,
     )
 
 

@@ -147,3 +147,168 @@ def test_paper_data_are_flagged_where_the_samples_do_not_determine_cm():
     assert got["T4"].flagged[1, 0] and got["T5"].flagged[1, 0]
     assert "McKelvey" in got["T4"].summary() and "negative time" in got["T4"].summary()
     assert "| Cm/gust |" in got["T4"].markdown()
+
+
+# ------------------------------------------- issue 33 item 4 and the issue 34 finding: diagnostics that are right
+def theodorsen(k):
+    """Theodorsen's C(k) = H1(k) / (H1(k) + i H0(k)) (Hankel functions of the second kind, responses per
+    exp(+i omega t)): causal, with a branch point at k = 0; C(0) = 1, C(inf) = 1/2."""
+    from scipy.special import hankel2
+
+    k = np.asarray(k, dtype=float)
+    out = np.empty(k.shape, complex)
+    f = np.isfinite(k) & (k > 0)
+    H1, H0 = hankel2(1, k[f]), hankel2(0, k[f])
+    out[f] = H1 / (H1 + 1j * H0)
+    out[k == 0] = 1.0
+    out[np.isinf(k)] = 0.5
+    return out
+
+
+def sqrt_lag(w):
+    """1 / (1 + sqrt(s)), s = i omega (principal root): analytic and bounded for Re s > 0, hence causal; branch
+    point at s = 0, impulse response decaying like t^(-3/2)."""
+    w = np.asarray(w, dtype=float)
+    out = np.zeros(w.shape, complex)
+    f = np.isfinite(w)
+    out[f] = 1.0 / (1.0 + np.sqrt(1j * w[f]))
+    return out
+
+
+def sears(k, reference="leading edge"):
+    """Sears' function S(k) = (J0(k) - i J1(k)) C(k) + i J1(k) for a gust referenced at mid-chord (k in
+    semichords), times exp(-i k) when referenced at the leading edge, which the gust reaches one semichord
+    earlier: causal there, one semichord ahead of causal at mid-chord."""
+    from scipy.special import j0, j1
+
+    k = np.asarray(k, dtype=float)
+    kf = np.where(np.isfinite(k), k, 0.0)
+    S = (j0(kf) - 1j * j1(kf)) * theodorsen(k) + 1j * j1(kf)
+    if reference == "leading edge":
+        S = S * np.exp(-1j * kf)
+    return np.where(np.isfinite(k), S, 0.0)
+
+
+@pytest.mark.parametrize("func", [theodorsen, sqrt_lag, sears])
+@pytest.mark.parametrize("M, T", [(32, 70 / (2 * np.pi)), (32, 2.0), (128, 2.0), (512, 70 / (2 * np.pi)),
+                                  (512, 2.0), (32, 0.25), (32, 0.5), (64, 0.25), (128, 0.5)])
+def test_exact_causal_functions_with_a_branch_point_are_not_flagged(func, M, T):
+    # the old fixed thresholds flagged C(k) at M = 32, T = 0.25 (KK 0.068, negative-time energy 1.3e-3), at
+    # M = 64, T = 0.25 (0.028, 2e-4) and 1/(1 + sqrt(s)) (KK 0.072, 5.6e-4 at M = 32, T = 11.1): all converge
+    # slowly (order 1 and 1/2) next to the branch point at omega = 0; the quadrature error estimated from the
+    # data's three nested grids and the negative-time energy extrapolated from them follow that
+    wd, w = mckelvey_grid(M, T)
+    d = diagnose(FrequencyResponse(func(w), wd, T))
+    assert not d.flagged.any() and d.ok, d.summary()
+    assert d.kk_residual[0, 0] <= 3 * d.kk_discretisation[0, 0]   # the estimate bounds the true quadrature error
+    assert "consistent with a causal" in d.summary()
+
+
+@pytest.mark.parametrize("M", [64, 256])
+def test_sears_function_at_mid_chord_is_flagged(M):
+    # referenced at mid-chord the lift starts one semichord before the gust reaches the reference: non-causal
+    T = 2.0
+    wd, w = mckelvey_grid(M, T)
+    d = diagnose(FrequencyResponse(sears(w, reference="mid-chord"), wd, T))
+    assert d.flagged[0, 0] and d.negative_time_limit[0, 0] > 1e-2
+
+
+@pytest.mark.parametrize("M", [64, 256])
+def test_a_time_advance_of_a_causal_function_is_still_flagged(M):
+    # half a chord of advance (the Sears function referenced downstream of the leading edge is like this)
+    T = 2.0
+    wd, w = mckelvey_grid(M, T)
+    wf = np.where(np.isfinite(w), w, 0.0)
+    H = theodorsen(w) * np.exp(1j * wf * 0.5)
+    H[-1] = 0.5
+    d = diagnose(FrequencyResponse(H, wd, T))
+    assert d.flagged[0, 0] and not d.ok
+    assert d.negative_time_limit[0, 0] > 1e-2
+
+
+def test_kk_flags_an_anticausal_response_on_an_arbitrary_grid():
+    # the conjugate of a causal response is anti-causal: its imaginary part has the wrong sign everywhere
+    w = np.r_[0.0, np.logspace(-2, 2, 200), np.inf]
+    s = 1j * np.where(np.isfinite(w), w, 0.0)
+    H = np.where(np.isfinite(w), 1.0 / (s + 1.0) + 2.0 / (s**2 + 0.4 * s + 4.0), 0.0)
+    ok = diagnose(FrequencyResponse.from_continuous(H, w))
+    bad = diagnose(FrequencyResponse.from_continuous(np.conj(H), w))
+    assert not ok.flagged.any() and ok.ok
+    assert bad.flagged[0, 0] and bad.kk_residual[0, 0] > 10 * bad.kk_threshold[0, 0]
+    assert any("Kramers-Kronig" in m for m in bad.warnings)
+
+
+@pytest.mark.parametrize("conj", [False, True])
+def test_band_limited_data_far_from_zero_and_infinity_are_not_judged(conj):
+    # a resonance measured from 75 to 110 (as W-band data from 75 to 110 GHz): without the response near
+    # omega = 0 and inf the causal imaginary part is not determined, so the check says it does not apply,
+    # whether the data are causal or not, and never calls them consistent
+    w = np.linspace(75.0, 110.0, 201)
+    s = 1j * w
+    H = 1e3 / (s**2 + 5.0 * s + 90.0**2)
+    d = diagnose(FrequencyResponse.from_continuous(np.conj(H) if conj else H, w))
+    assert not d.flagged.any() and not d.kk_applies.any() and not d.ok
+    assert np.isnan(d.kk_residual[0, 0])
+    assert any("Kramers-Kronig check does not apply" in m for m in d.warnings)
+    assert "consistent with a causal" not in d.summary() and "KK n/a" in d.summary()
+
+
+def test_kk_truncation_bound_is_zero_with_both_ends_and_infinite_next_to_a_gap():
+    from sysid.diagnostics import kk_truncation_bound
+
+    wd = np.linspace(0.0, np.pi, 9)
+    f = np.cos(wd)[None, None, :]
+    assert np.all(kk_truncation_bound(wd, f, np.ones((1, 1))) == 0.0)
+    b = kk_truncation_bound(wd[1:-1], f[..., 1:-1], np.ones((1, 1)))[0, 0]
+    assert np.isinf(b[0]) and np.isinf(b[-1]) and np.all(np.isfinite(b[1:-1]))
+    # the gap (-a, a) of a flat-bridged even function: bound = slope a / (2 pi) int |cot| over the gap
+    from scipy.integrate import quad
+
+    a, th = wd[1], wd[4]
+    slope = np.abs(np.diff(f[0, 0, 1:-1]) / np.diff(wd[1:-1])).max()
+    exact = slope * a / (2 * np.pi) * quad(lambda p: abs(1 / np.tan((th - p) / 2)), -a, a)[0]
+    exact += slope * (np.pi - wd[-2]) / (2 * np.pi) * quad(lambda p: abs(1 / np.tan((p - th) / 2)), wd[-2],
+                                                           2 * np.pi - wd[-2])[0]
+    assert b[3] == pytest.approx(exact, rel=1e-8)
+
+
+def test_a_response_growing_like_k_squared_is_named_improper():
+    # an apparent-mass term 0.05 s^2 on top of a lag: improper, no omega = inf sample possible
+    w = np.r_[0.0, np.logspace(-2, 2, 150)]
+    s = 1j * w
+    d = diagnose(FrequencyResponse.from_continuous(1.0 / (1.0 + s) + 0.05 * s**2, w))
+    assert d.flagged[0, 0] and d.high_frequency_slope[0, 0] == pytest.approx(2.0, abs=0.05)
+    text = " ".join(d.warnings)
+    assert "improper" in text and "omega^2" in text and "No proper state-space model follows it outside the band" in text
+    # a proper response that levels off is not
+    proper = diagnose(FrequencyResponse.from_continuous(1.0 / (1.0 + s) + 0.5, w))
+    assert proper.high_frequency_slope[0, 0] < 0.1 and not proper.flagged.any()
+
+
+def test_a_period_that_does_not_resolve_the_data_is_replaced_and_nan_is_never_ok():
+    # lfdrom fit --T 1e-300 printed "KK residual nan ... ok" and "consistent with a causal, stable, real LTI system"
+    w = np.r_[0.0, np.logspace(-2, 2, 120), np.inf]
+    s = 1j * np.where(np.isfinite(w), w, 0.0)
+    H = np.where(np.isfinite(w), 1.0 / (s + 1.0), 0.0)
+    with np.errstate(all="raise"):
+        d = diagnose(FrequencyResponse.from_continuous(H, w, 1e-300))
+    assert np.isfinite(d.kk_residual).all() and d.T == pytest.approx(default_T(w))
+    assert any("does not resolve their frequencies" in m for m in d.warnings) and not d.ok
+    # a report whose numbers are NaN is never "ok" nor "consistent"
+    nan = np.full((1, 1), np.nan)
+    report = DataDiagnostics(outputs=("y",), inputs=("u",), negative_time_energy=None, rms_floor=None,
+                             kk_residual=nan, kk_discretisation=nan, dc_imag=None, has_dc=True, has_inf=True,
+                             feedthrough=None, T=1.0, T_is_default=False, equispaced=False,
+                             flagged=np.zeros((1, 1), bool), warnings=(),
+                             thresholds={"neg_time": 1e-4, "kk": 1e-2, "dc_imag": 1e-6})
+    assert not report.ok
+    assert "consistent" not in report.summary() and "not computed" in report.summary()
+    assert "consistent" not in report.markdown()
+
+
+@pytest.mark.parametrize("kwargs", [dict(kk_tol=-1), dict(neg_time_tol=np.nan), dict(dc_imag_tol="small"),
+                                    dict(kk_tol=True)])
+def test_tolerances_are_checked(kwargs):
+    frf, _ = causal_frf(M=32)
+    with pytest.raises(sysid.OptionError, match="must be a nonnegative number"):
+        diagnose(frf, **kwargs)
