@@ -30,13 +30,33 @@ the data's own frequencies, extended by the even symmetry of ``Re H`` to ``[-pi,
 ``omega = 0`` or ``omega = inf`` samples, are spanned linearly); the derivative at ``phi = theta`` is the
 three-point nonuniform difference. The residual per channel is ``max_k |Im H_KK - Im H| / max_k |H|``.
 
-*Discretisation error.* The trapezoid rule on the smooth integrand has error ``sum_j h_j^3 / 12 |g''|``,
-second order in the largest spacing ``h`` in ``omega_d`` (a gap of width ``g`` contributes ``O(g^3)``); on
-the equispaced grid the derivative difference dominates and the error is ``O(h^3)``. It is estimated from
-the data: the same rule on every second sample differs from the full one by about ``3x`` (second order)
-to ``7x`` (third order) the full rule's error, so ``kk_discretisation = max |Im_KK(half) - Im_KK(full)| / 3
-/ max |H|`` over the common samples is a conservative estimate. A channel is flagged only when its residual
-exceeds both ``kk_tol`` and ``3 x`` that estimate.
+*Threshold from the data's resolution.* The rule's error is not a fixed number: it is third order in the
+spacing for smooth data on McKelvey's grid, but of order one or below next to a branch point at ``omega = 0``
+(Theodorsen's and Sears' functions, ``1 / (1 + sqrt(s))``: order 1/2), and largest next to that point. It is
+estimated from the data (:func:`kk_discretisation`): the rule on every second and every fourth sample, whose
+largest differences ``d2``, ``d1`` on their own samples give the observed order ``2^q = d1 / d2`` and the full
+rule's error ``d2 / r``, ``r = d1 / d2`` clipped to ``[1, 3]``. A channel is flagged where its residual exceeds
+``max(kk_tol, 3 x`` that estimate``)`` (``kk_tol = 1e-2``: differences below 1 % of the peak are not worth a
+flag) plus the band-limited bound below, at the samples where that bound is below the threshold.
+
+*Unsampled ends (band-limited data).* Without ``omega = 0`` (or ``inf``) the real part between 0 and the lowest
+sample (the highest and pi) is unknown and the rule bridges it with a straight line. If the truth differs from
+that line by at most ``delta``, the imaginary part at ``theta`` moves by at most ``delta / (2 pi) int_gap
+|cot((theta - phi)/2)| dphi`` (closed form, :func:`kk_truncation_bound`); ``delta`` is the data's largest slope
+of ``Re H`` times the gap's width (the response assumed to vary in the gap no faster than between the samples),
+at most twice the peak. The bound is infinite next to a gap and small far from it. Where it leaves fewer than
+a quarter of the samples checkable (data measured in a band far from 0 and inf, e.g. 75 - 110 GHz) the check
+says it does not apply: no verdict either way.
+
+*Improper responses.* Data without an ``omega = inf`` sample whose ``|H|`` grows at the top of the band (log-log
+slope above 0.5, :func:`high_frequency_slope`; ``k^2`` for an apparent-mass load) are named improper: no proper
+state-space model follows them outside the band, and the plain KK relation (which needs a decaying response)
+is skipped for them.
+
+**(a') Negative-time energy on a finer grid.** A causal response's negative-time energy on McKelvey's grid is its
+aliased tail and falls as ``M`` grows (slowly next to a branch point: 5.6e-4 at ``M = 32`` and 3.8e-5 at 128 for
+``1 / (1 + sqrt(s))``); an advance or noise keep it. The flag uses the energy extrapolated from the subgrids
+``M / 2`` and ``M / 4`` (:func:`negative_time_limit`).
 
 **(c) The DC and infinite-frequency samples.** A real system's ``H(omega = 0)`` is real: its imaginary part
 relative to the channel's peak is reported and flagged above ``dc_imag_tol`` (``dc_gain="match"`` uses only
@@ -388,6 +408,9 @@ class DataDiagnostics:
     high_frequency_slope : ndarray (p, m) or None
         Log-log slope of ``|H|`` at the top of the band (:func:`high_frequency_slope`); above 0.5 the channel is
         named improper.
+    notes : tuple of str
+        Findings that are not inconsistencies (a grid too coarse for a causal response's slowly decaying tail);
+        they do not change :attr:`ok`.
     """
 
     outputs: tuple
@@ -410,6 +433,7 @@ class DataDiagnostics:
     kk_threshold: np.ndarray | None = field(default=None, repr=False)
     kk_applies: np.ndarray | None = field(default=None, repr=False)
     high_frequency_slope: np.ndarray | None = field(default=None, repr=False)
+    notes: tuple = ()
 
     def __post_init__(self):
         freeze_array_fields(self)   # the arrays of a frozen result are read-only too
@@ -483,7 +507,7 @@ class DataDiagnostics:
 
     def summary(self) -> str:
         """Plain-text report: one line per channel, then the warnings (or that the data look consistent)."""
-        lines = [self._header()] + ["  " + s for s in self._table(False)]
+        lines = [self._header()] + ["  " + s for s in self._table(False)] + ["note: " + n for n in self.notes]
         if self.warnings or not self.ok:
             lines += ["warning: " + w for w in self.warnings]
         else:
@@ -495,7 +519,7 @@ class DataDiagnostics:
 
     def markdown(self) -> str:
         """The same report as Markdown (a table and a bullet list)."""
-        lines = [self._header() + ".", ""] + self._table(True) + [""]
+        lines = [self._header() + ".", ""] + self._table(True) + [""] + [f"- Note: {n}" for n in self.notes]
         if self.warnings or not self.ok:
             lines += [f"- {w}" for w in self.warnings]
         else:
@@ -703,6 +727,17 @@ def diagnose(
             "a residual about twice the relative noise level is expected); check the sign convention (responses per "
             "exp(+i omega t)), the phase reference (a time advance e^{+i omega tau} is non-causal), and add "
             "frequencies where the response varies fast")
+    notes: list[str] = []
+    coarse = np.zeros((p, m), bool) if neg is None else (neg > neg_time_tol) & ~flag_neg
+    if coarse.any():
+        ch = chans(coarse)
+        worst = max(ch, key=lambda ij: neg[ij])
+        notes.append(
+            f"{_names(ch, frf)}: {neg[worst]:.2g} of the impulse response's energy is at negative time on this grid, "
+            f"but it falls on the grids M/4 and M/2 as a causal response's aliased tail does (extrapolated "
+            f"{neg_lim[worst]:.2g}): consistent with causality; the grid's {K - 1} intervals are coarse for its "
+            f"slowly decaying impulse response, so a model that decays within them cannot fit better than about "
+            f"{np.sqrt(neg[worst]):.1%} RMS (a larger M or smaller T resolves it)")
     if flag_dc.any():
         ch = chans(flag_dc)
         worst = max(ch, key=lambda ij: dc_imag[ij])
@@ -733,6 +768,7 @@ def diagnose(
         flagged=flagged, warnings=tuple(msgs),
         thresholds={"neg_time": neg_time_tol, "kk": kk_tol, "dc_imag": dc_imag_tol, "kk_safety": KK_SAFETY},
         negative_time_limit=neg_lim, kk_threshold=kk_lim, kk_applies=kk_applies, high_frequency_slope=slope,
+        notes=tuple(notes),
     )
 
 
@@ -753,7 +789,17 @@ def delayed(frf: FrequencyResponse, d: float) -> FrequencyResponse:
     Returns
     -------
     FrequencyResponse
+
+    Raises
+    ------
+    OptionError
+        ``d`` not a finite number.
+    FrequencyGridError
+        No continuous frequencies.
     """
+    if isinstance(d, (bool, np.bool_)) or not isinstance(d, (int, float, np.integer, np.floating)) \
+            or not np.isfinite(d):
+        raise OptionError(f"d must be a finite delay (convective time), got {d!r}")
     if frf.omega is None:
         raise FrequencyGridError("delayed() needs the continuous frequencies omega: give the data a T")
     w = np.asarray(frf.omega, dtype=float)

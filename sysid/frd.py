@@ -339,12 +339,18 @@ class FrequencyResponse:
 
         Raises
         ------
+        TypeError
+            ``model`` is not a ``control.StateSpace``.
         FrequencyDataError
             When a sampled point is a pole of the model (an infinite response).
         FrequencyGridError
             A continuous model without ``T``, ``T <= 0`` or not finite, ``omega_d`` not 1-D, NaN or outside
             ``[0, pi]``.
         """
+        import control
+
+        if not isinstance(model, control.StateSpace):
+            raise TypeError(f"from_model() expects a control.StateSpace, got {type(model).__name__}")
         A, B, C, D = (np.asarray(x, dtype=float) for x in (model.A, model.B, model.C, model.D))
         wd = _as_freq(omega_d, "omega_d", np.size(omega_d))
         discrete = bool(model.dt) and model.dt is not True

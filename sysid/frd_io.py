@@ -102,6 +102,10 @@ def frf_from_control(cls, frd, T: float | None = None, *, feedthrough: Any = Non
                      metadata: Mapping[str, Any] | None = None):
     """An instance of ``cls`` (:class:`sysid.FrequencyResponse`) from a continuous-time
     :class:`control.FrequencyResponseData`; ``feedthrough`` (p, m) is appended at ``omega = inf``."""
+    import control
+
+    if not isinstance(frd, control.FrequencyResponseData):
+        raise TypeError(f"from_control() expects a control.FrequencyResponseData, got {type(frd).__name__}")
     if getattr(frd, "dt", 0) not in (0, None):
         raise FrequencyGridError(
             "from_control() expects a continuous-time FRD (dt = 0); a discrete FRD's frequencies follow "

@@ -17,7 +17,31 @@ from typing import Any, Mapping, Optional, Sequence
 
 import numpy as np
 
+from .errors import TimeDataError
+
 __all__ = ["peak", "envelope_errors", "history_errors"]
+
+
+def _histories(t, *ys, names=("y",)):
+    """``t`` and the histories as 1-D float arrays of one length, finite; :class:`TimeDataError` otherwise."""
+    arrays = []
+    for name, a in zip(("t",) + tuple(names), (t,) + ys):
+        try:
+            x = np.asarray(a, dtype=float).reshape(-1)
+        except (TypeError, ValueError):
+            raise TimeDataError(f"{name} must be an array of numbers, got {a!r}"[:200]) from None
+        bad = np.flatnonzero(~np.isfinite(x))
+        if bad.size:
+            raise TimeDataError(f"{name} contains NaN or inf at index {int(bad[0])}: its errors would be NaN; "
+                                "repair or drop that sample")
+        arrays.append(x)
+    n = arrays[0].size
+    if n == 0:
+        raise TimeDataError("the histories are empty; give at least one time")
+    for name, x in zip(names, arrays[1:]):
+        if x.size != n:
+            raise TimeDataError(f"{name} has {x.size} samples but t has {n} times; give one value per time")
+    return arrays
 
 
 def peak(t, y) -> tuple:
@@ -31,10 +55,15 @@ def peak(t, y) -> tuple:
     Returns
     -------
     tuple of float
+
+    Raises
+    ------
+    TimeDataError
+        Empty, NaN or inf, or ``t`` and ``y`` of different lengths.
     """
-    y = np.asarray(y, dtype=float)
+    t, y = _histories(t, y)
     k = int(np.argmax(np.abs(y)))
-    return float(y[k]), float(np.asarray(t, dtype=float)[k])
+    return float(y[k]), float(t[k])
 
 
 def envelope_errors(t, y_model, y_ref) -> tuple:
@@ -54,10 +83,13 @@ def envelope_errors(t, y_model, y_ref) -> tuple:
         reference is identically zero and the model is not, 0 when both are.
     t_peak_err : float
         Time between the reference's largest magnitude and the model's extreme of the same sign.
+
+    Raises
+    ------
+    TimeDataError
+        Histories of other lengths than ``t`` (a shorter one was compared silently), empty, NaN or inf.
     """
-    t = np.asarray(t, dtype=float)
-    ym = np.asarray(y_model, dtype=float)
-    yr = np.asarray(y_ref, dtype=float)
+    t, ym, yr = _histories(t, y_model, y_ref, names=("y_model", "y_ref"))
     err = max(abs(ym.max() - yr.max()), abs(ym.min() - yr.min()))
     p_ref, t_ref = peak(t, yr)
     sign = 1.0 if p_ref >= 0.0 else -1.0
@@ -85,14 +117,21 @@ def history_errors(t, model: Mapping[str, Any], reference: Mapping[str, Any],
         ``peak_err_X``, ``t_peak_err_X``, ``rms_err_X`` per output compared: ``inf`` relative errors where the
         reference is identically zero and the model is not (0 where both are), and every error ``inf`` for an
         output whose model history is not finite (an unstable model overflowed).
+
+    Raises
+    ------
+    TimeDataError
+        A reference history that is not finite, or a history of another length than ``t``.
     """
     names = list(model) if outputs is None else list(outputs)
     out: dict = {}
     for name in names:
         if name not in model or name not in reference:
             continue
-        ym = np.asarray(model[name], dtype=float)
-        yr = np.asarray(reference[name], dtype=float)
+        ym = np.asarray(model[name], dtype=float).reshape(-1)
+        t_arr, yr = _histories(t, reference[name], names=(f"reference[{name!r}]",))
+        if ym.size != t_arr.size:
+            raise TimeDataError(f"model[{name!r}] has {ym.size} samples but t has {t_arr.size} times")
         if not np.all(np.isfinite(ym)):  # an unstable model overflowed: its errors are infinite
             out.update({f"peak_err_{name}": float("inf"), f"t_peak_err_{name}": float("inf"),
                         f"rms_err_{name}": float("inf")})

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .arrays import freeze_array_fields
-from .errors import FrequencyDataError
+from .errors import FrequencyDataError, FrequencyIndexError, ModelError
 
 __all__ = ["FitErrors", "frf_errors", "max_relative_error", "rms_relative_error", "dc_error", "spectral_radius",
            "rom_metrics"]
@@ -224,8 +224,17 @@ def spectral_radius(A) -> float:
     -------
     float
         ``max |eig(A)|``; 0.0 for an empty matrix.
+
+    Raises
+    ------
+    ModelError
+        ``A`` not square or containing NaN or inf (numpy's LinAlgError before).
     """
     A = np.asarray(A)
+    if A.ndim != 2 or A.shape[0] != A.shape[1]:
+        raise ModelError(f"A must be a square (n, n) matrix, got shape {A.shape}")
+    if not np.all(np.isfinite(A)):
+        raise ModelError("A contains NaN or inf: its spectral radius is undefined; repair the model")
     return float(np.max(np.abs(np.linalg.eigvals(A)))) if A.size else 0.0
 
 
@@ -256,9 +265,24 @@ def rom_metrics(frf_rom, H, fit_index, outputs, dc_model, spectral_radius: float
         :func:`rms_relative_error` on all ``K`` points); ``frf_max_err_fit``, ``frf_rms_err_fit`` (overall, on
         the points of ``fit_index``); ``dc_err_X = |G_rom(1) - H(0)|`` (absolute, per radian);
         ``spectral_radius``, ``stable`` (``spectral_radius < 1``) and ``seconds``.
+
+    Raises
+    ------
+    FrequencyDataError
+        Not one name per output, shapes that differ, NaN (as :func:`frf_errors`).
+    FrequencyIndexError
+        ``fit_index`` outside ``0 .. K-1`` or not whole numbers.
     """
     Hm = np.asarray(frf_rom, dtype=complex)
     Hd = np.asarray(H, dtype=complex)
+    outputs = list(outputs)
+    if Hd.ndim != 3 or len(outputs) != Hd.shape[0]:
+        raise FrequencyDataError(f"{len(outputs)} output names for H of shape {Hd.shape}: give one name per output "
+                                 "(H has shape (p, 1, K))")
+    idx = np.asarray(fit_index)
+    if idx.size and (idx.dtype.kind not in "iu" or idx.min() < 0 or idx.max() >= Hd.shape[2]):
+        raise FrequencyIndexError(f"fit_index must hold whole numbers in 0 .. {Hd.shape[2] - 1} (the base grid's "
+                                  f"K = {Hd.shape[2]} points), got {fit_index!r}"[:300])
     mx = max_relative_error(Hm, Hd, per_output=True)
     rms = rms_relative_error(Hm, Hd, per_output=True)
     out: dict = {}

@@ -48,10 +48,23 @@ def markov_parameters(A, B, C, N):
     Returns
     -------
     ndarray, shape (p, m, N)
+
+    Raises
+    ------
+    ModelError
+        Matrices of the wrong shapes (named) or not finite.
+    OptionError
+        ``N`` not a positive whole number.
+    TimeDataError
+        ``n m N`` above :data:`MAX_SIMULATION_VALUES`.
     """
-    A = np.asarray(A, dtype=float)
     B = np.asarray(B, dtype=float)
     C = np.asarray(C, dtype=float)
+    A, B, C, _ = check_matrices(A, B, C, np.zeros((np.shape(C)[0] if np.ndim(C) == 2 else 0,
+                                                   np.shape(B)[1] if np.ndim(B) == 2 else 0)))
+    if isinstance(N, (bool, np.bool_)) or not isinstance(N, (int, np.integer)) or N < 1:
+        raise OptionError(f"N must be a positive whole number of Markov parameters, got {N!r}")
+    _check_size(A.shape[0], B.shape[1], N)
     n, m = B.shape
     X = B.T.reshape(m, n, 1)  # per input: columns A^k b
     P = A
@@ -89,15 +102,21 @@ def simulate_discrete(A, B, C, D, u, method="auto"):
     ------
     OptionError
         Unknown ``method``.
+    ModelError
+        Matrices of the wrong shapes (named) or not finite.
+    TimeDataError
+        ``u`` with another number of channels than ``B`` has columns, not finite, or too long
+        (:data:`MAX_SIMULATION_VALUES`).
     """
     import control
     from scipy.signal import fftconvolve
 
-    A, B, C, D = (np.atleast_2d(np.asarray(x, dtype=float)) for x in (A, B, C, D))
-    U = np.atleast_2d(np.asarray(u, dtype=float))
-    N = U.shape[1]
-    if method not in SIMULATION_METHODS:
+    if not isinstance(method, str) or method not in SIMULATION_METHODS:
         raise OptionError(f"method must be 'auto', 'convolution' or 'control', got {method!r}")
+    A, B, C, D = check_matrices(*(np.atleast_2d(np.asarray(x, dtype=float)) for x in (A, B, C, D)))
+    U = _check_input(u, B.shape[1])
+    N = U.shape[1]
+    _check_size(A.shape[0], B.shape[1], N)
     if method == "auto":
         rho = float(np.max(np.abs(np.linalg.eigvals(A)))) if A.size else 0.0
         method = "convolution" if rho < 1.0 else "control"
@@ -169,6 +188,34 @@ def first_uneven_step(t) -> int | None:
     span = np.abs(t).max()
     bad = np.flatnonzero(~(np.abs(steps - steps[0]) <= 1e-6 * (steps[0] + span) + 8 * eps * span))
     return int(bad[0]) if bad.size else None
+
+
+def _check_input(u, m: int, t=None) -> np.ndarray:
+    """``u`` as a finite float array of shape ``(m, N)``; :class:`TimeDataError` naming the first bad sample."""
+    try:
+        U = np.atleast_2d(np.asarray(u, dtype=float))
+    except (TypeError, ValueError):
+        raise TimeDataError(f"u must be an array of numbers, shape (N,) or (m, N), got {u!r}"[:200]) from None
+    if U.ndim != 2:
+        raise TimeDataError(f"u must have shape (N,) or (m, N), got {np.shape(u)}")
+    if U.shape[0] != m:
+        raise TimeDataError(f"u has {U.shape[0]} input channels but the model has m = {m} (B's columns)")
+    bad = np.argwhere(~np.isfinite(U))
+    if bad.size:
+        k = int(bad[0][1])
+        at = f" (t = {t[k]:g})" if t is not None else ""
+        raise TimeDataError(f"u contains NaN or inf at sample {k}{at}; every output from there on would be NaN: "
+                            "repair or drop that sample")
+    return U
+
+
+def _check_size(n: int, m: int, N: int) -> None:
+    size = max(n, 1) * m * N
+    if size > MAX_SIMULATION_VALUES:
+        raise TimeDataError(
+            f"n x m x N = {n} x {m} x {N} = {size:.3g} values, above sysid.simulate.MAX_SIMULATION_VALUES = "
+            f"{MAX_SIMULATION_VALUES:.3g} (about {16 * size / 2**30:.2g} GiB of Markov parameters): use a larger "
+            "time step or fewer times, or a lower-order ROM")
 
 
 def check_matrices(A, B, C, D) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -269,28 +316,11 @@ def rom_simulation(A, B, C, D, T, t, u, discretisation="tustin", method="auto"):
     if k is not None:
         raise TimeDataError(f"times must be equispaced (the ROM is re-discretised at one step): t[{k + 1}] - t[{k}] "
                             f"= {float(steps[k])!r} but t[1] - t[0] = {dt!r}; resample the input on an equispaced grid")
-    try:
-        U = np.atleast_2d(np.asarray(u, dtype=float))
-    except (TypeError, ValueError):
-        raise TimeDataError(f"u must be an array of numbers, shape (N,) or (m, N), got {u!r}") from None
-    if U.ndim != 2:
-        raise TimeDataError(f"u must have shape (N,) or (m, N), got {np.shape(u)}")
-    N_u = U.shape[-1]
+    N_u = np.atleast_2d(np.asarray(u)).shape[-1]
     if N_u != t.size:
         raise TimeDataError(f"u has {N_u} samples but t has {t.size} times; give one input sample per time")
-    if U.shape[0] != B.shape[1]:
-        raise TimeDataError(f"u has {U.shape[0]} input channels but the model has m = {B.shape[1]} (B's columns)")
-    bad = np.argwhere(~np.isfinite(U))
-    if bad.size:
-        k = int(bad[0][1])
-        raise TimeDataError(f"u contains NaN or inf at sample {k} (t = {t[k]:g}); every output from there on would "
-                            "be NaN: repair or drop that sample")
-    size = max(A.shape[0], 1) * B.shape[1] * t.size
-    if size > MAX_SIMULATION_VALUES:
-        raise TimeDataError(
-            f"n x m x N = {A.shape[0]} x {B.shape[1]} x {t.size} = {size:.3g} values, above "
-            f"sysid.simulate.MAX_SIMULATION_VALUES = {MAX_SIMULATION_VALUES:.3g} (about {16 * size / 2**30:.2g} GiB "
-            "of Markov parameters): use a larger time step or fewer times, or a lower-order ROM")
+    U = _check_input(u, B.shape[1], t)
+    _check_size(A.shape[0], B.shape[1], t.size)
     discrete = rediscretise(control.ss(A, B, C, D, T), dt, discretisation)
     return simulate_discrete(discrete.A, discrete.B, discrete.C, discrete.D, U if np.ndim(u) == 2 else U[0], method)
 

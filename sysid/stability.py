@@ -110,8 +110,9 @@ def _check(A, margin):
         raise FrequencyDataError(f"A must be a non-empty square matrix; got shape {A.shape}.")
     if not np.all(np.isfinite(A)):
         raise FrequencyDataError("A contains NaN or inf.")
-    if not (0.0 <= margin < 1.0):
-        raise OptionError(f"margin must lie in [0, 1); got {margin}.")
+    if isinstance(margin, (bool, np.bool_)) or np.ndim(margin) != 0 \
+            or np.asarray(margin).dtype.kind not in "iuf" or not (0.0 <= float(margin) < 1.0):
+        raise OptionError(f"margin must lie in [0, 1); got {margin!r}.")
     return A
 
 

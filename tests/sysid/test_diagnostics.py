@@ -202,6 +202,8 @@ def test_exact_causal_functions_with_a_branch_point_are_not_flagged(func, M, T):
     assert not d.flagged.any() and d.ok, d.summary()
     assert d.kk_residual[0, 0] <= 3 * d.kk_discretisation[0, 0]   # the estimate bounds the true quadrature error
     assert "consistent with a causal" in d.summary()
+    if d.negative_time_energy[0, 0] > 1e-4:   # 1/(1 + sqrt(s)) at M = 32: a note on the grid, not a flag
+        assert "consistent with causality" in d.notes[0] and "note:" in d.summary()
 
 
 @pytest.mark.parametrize("M", [64, 256])
@@ -312,3 +314,11 @@ def test_tolerances_are_checked(kwargs):
     frf, _ = causal_frf(M=32)
     with pytest.raises(sysid.OptionError, match="must be a nonnegative number"):
         diagnose(frf, **kwargs)
+
+
+@pytest.mark.parametrize("d", [np.nan, np.inf, "a", None, True])
+def test_delayed_refuses_a_delay_that_is_not_a_finite_number(d):
+    # NaN gave a FrequencyDataError about NaN in H, "a" numpy's ValueError
+    frf, _ = causal_frf(M=16)
+    with pytest.raises(sysid.OptionError, match="d must be a finite delay"):
+        delayed(frf, d)

@@ -407,3 +407,12 @@ def test_check_period_resolves_refuses_warns_and_passes():
     assert check_period_resolves(2.0 / 10 / PERIOD_WARN_FACTOR, omega) == pytest.approx(PERIOD_WARN_FACTOR)
     assert PERIOD_WARN_FACTOR < PERIOD_MAX_FACTOR
     assert check_period_resolves(1e-300, np.array([0.0, np.inf])) == 1.0   # nothing in between to resolve
+
+
+def test_from_model_and_from_control_refuse_what_they_do_not_convert():
+    # AttributeError ('numpy.ndarray' object has no attribute 'A' / 'fresp') before
+    wd, _ = mckelvey_grid(8, 1.0)
+    with pytest.raises(TypeError, match=r"from_model\(\) expects a control.StateSpace, got ndarray"):
+        FrequencyResponse.from_model(np.eye(2), wd, 1.0)
+    with pytest.raises(TypeError, match=r"from_control\(\) expects a control.FrequencyResponseData, got ndarray"):
+        FrequencyResponse.from_control(np.eye(2))

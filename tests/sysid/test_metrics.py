@@ -76,3 +76,31 @@ def test_errors_do_not_depend_on_the_data_scale(scale):
 def test_dc_error_refuses_nan():
     with pytest.raises(FrequencyDataError, match="dc_model contains NaN"):
         dc_error(np.array([[np.nan]]), np.array([[1.0]]))
+
+
+@pytest.mark.parametrize("A, match", [(np.ones((2, 3)), r"square \(n, n\) matrix, got shape \(2, 3\)"),
+                                      (np.array([[np.nan]]), "contains NaN or inf")])
+def test_spectral_radius_refuses_what_has_none(A, match):
+    # numpy's LinAlgError before
+    import sysid
+
+    with pytest.raises(sysid.ModelError, match=match):
+        spectral_radius(A)
+
+
+@pytest.mark.parametrize("kwargs, error, match", [
+    (dict(fit_index=[0, 99]), "FrequencyIndexError", r"fit_index must hold whole numbers in 0 \.\. 8"),
+    (dict(fit_index=[0.5]), "FrequencyIndexError", "whole numbers"),
+    (dict(outputs=["Cl", "Cm"]), "FrequencyDataError", "2 output names for H of shape"),
+])
+def test_rom_metrics_refuses_indices_and_names_that_do_not_fit(kwargs, error, match):
+    # IndexError from numpy before
+    import sysid
+    from sysid.metrics import rom_metrics
+
+    H = np.ones((1, 1, 9), complex)
+    args = dict(frf_rom=H, H=H, fit_index=[0, 4, 8], outputs=["Cl"], dc_model=[[1.0]], spectral_radius=0.5,
+                seconds=1.0)
+    args.update(kwargs)
+    with pytest.raises(getattr(sysid, error), match=match):
+        rom_metrics(**args)

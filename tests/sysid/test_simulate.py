@@ -161,3 +161,21 @@ def test_rom_response_refuses_what_is_not_a_discrete_model():
 def test_rom_simulation_options_are_checked_before_any_work(kwargs, match):
     with pytest.raises(sysid.OptionError, match=match):   # even with a bad input, the option is named first
         rom_simulation(A1, B1, C1, D1, 1.0, T10, np.ones(10), **kwargs)
+
+
+@pytest.mark.parametrize("N", [0, -1, 2.5, True, "4"])
+def test_markov_parameters_refuses_a_count_that_is_not_positive(N):
+    # N = -1 returned an empty array, N = 2.5 raised a bare TypeError
+    with pytest.raises(sysid.OptionError, match="N must be a positive whole number"):
+        markov_parameters(A1, B1, C1, N)
+
+
+def test_markov_parameters_and_simulate_discrete_check_their_matrices_and_input():
+    with pytest.raises(sysid.ModelError, match=r"B has shape \(2, 1\) but A is 1 x 1"):
+        markov_parameters(A1, np.ones((2, 1)), C1, 4)
+    with pytest.raises(sysid.ModelError, match=r"D has shape \(2, 2\)"):
+        simulate_discrete(A1, B1, C1, np.ones((2, 2)), np.ones(3))
+    with pytest.raises(sysid.TimeDataError, match="u contains NaN or inf at sample 1"):
+        simulate_discrete(A1, B1, C1, D1, np.array([1.0, np.nan, 1.0]))
+    with pytest.raises(sysid.OptionError, match="method must be"):
+        simulate_discrete(A1, B1, C1, D1, np.ones(3), method=None)

@@ -179,3 +179,12 @@ def test_already_stable_is_returned_unchanged_and_errors():
         stabilise(A, margin=1.5)
     with pytest.raises(FrequencyDataError, match="gamma1"):
         stabilise(np.diag([1.5, 0.2]), gamma1=np.ones((4, 3)), gamma2=np.ones((4, 3)))
+
+
+@pytest.mark.parametrize("margin", ["x", None, np.array([0.1]), True, 1.0, -0.1])
+def test_margin_must_be_a_number_in_the_unit_interval(margin):
+    # margin="x" raised a bare TypeError from the comparison
+    import sysid
+
+    with pytest.raises(sysid.OptionError, match="margin must lie in"):
+        sysid.stabilise(np.array([[1.5]]), margin=margin)
