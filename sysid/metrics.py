@@ -58,7 +58,8 @@ def _scaled(Hm: np.ndarray, Hd: np.ndarray, axis) -> tuple[np.ndarray, np.ndarra
     with np.errstate(invalid="ignore"):
         sm = np.abs(Hm).max(axis=axis, keepdims=True) if Hm.size else s
     s = np.where(s > 0, s, np.where(np.isfinite(sm) & (sm > 0), sm, 1.0))
-    return Hm / s, Hd / s
+    with np.errstate(invalid="ignore"):   # inf / s in complex arithmetic: inf + nan j, whose modulus is inf
+        return Hm / s, Hd / s
 
 
 @dataclass(frozen=True)
