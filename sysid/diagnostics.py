@@ -705,7 +705,8 @@ def diagnose(
             "is referenced at x_ref = 0), move the reference upstream by d: the response is then later, H exp(-i "
             "omega d) (sysid.diagnostics.delayed(frf, d)), the ROM is driven by the input at the new reference, and "
             "diagnose() tells whether the negative-time content went; if it does not fall, it is in the data (e.g. "
-            "an under-resolved fast phase roll near omega_d = pi: try a smaller T or a larger M)")
+            "an under-resolved fast phase roll near omega_d = pi: try a smaller T or a larger M), or it is noise "
+            "(white noise puts half its energy at negative time: about half the noise-to-signal power ratio)")
     if improper.any():
         ch = chans(improper)
         worst = max(ch, key=lambda ij: slope[ij])
