@@ -117,6 +117,10 @@ def _check_names(names: Any, n: int, what: str, default_prefix: str) -> tuple[st
         )
     if not all(isinstance(s, str) for s in names):
         raise FrequencyDataError(f"{what} names must be strings, got {names!r}")
+    dup = sorted({s for s in names if names.count(s) > 1})
+    if dup:
+        raise FrequencyDataError(f"{what} names must be distinct (results are keyed by them), got {dup[0]!r} "
+                                 f"more than once in {names!r}")
     return tuple(names)
 
 

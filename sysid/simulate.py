@@ -153,8 +153,12 @@ def rediscretise(model, dt: float, discretisation: str = "tustin"):
     ModelError
         The continuous form has a pole at ``s = 2 / dt`` (Tustin cannot map it).
     """
-    if discretisation not in DISCRETISATIONS:
+    import control
+
+    if not isinstance(discretisation, str) or discretisation not in DISCRETISATIONS:
         raise OptionError(f"discretisation must be 'tustin' or 'zoh', got {discretisation!r}")
+    if not isinstance(model, control.StateSpace):
+        raise TypeError(f"rediscretise() expects a discrete control.StateSpace, got {type(model).__name__}")
     continuous = d2c_bilinear(model)
     try:
         return c2d_bilinear(continuous, dt) if discretisation == "tustin" else c2d_zoh(continuous, dt)

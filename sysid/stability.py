@@ -246,6 +246,9 @@ def stabilise(A, *, method: str = "lmi", margin: float = 1e-3, gamma1=None, gamm
         The SDP failed.
     FrequencyDataError
         Malformed ``A`` or gamma matrices.
+    OptionError
+        ``method``, ``mode``, ``margin`` outside ``[0, 1)``, ``delta`` negative, ``subspace`` / ``force`` not
+        booleans.
 
     Notes
     -----
@@ -254,6 +257,12 @@ def stabilise(A, *, method: str = "lmi", margin: float = 1e-3, gamma1=None, gamm
     """
     t0 = time.perf_counter()
     A = _check(A, margin)
+    if isinstance(delta, (bool, np.bool_)) or not isinstance(delta, (int, float, np.integer, np.floating)) \
+            or not (np.isfinite(delta) and delta >= 0):
+        raise OptionError(f"delta must be a nonnegative number (the LMI's strictness, default 1e-6); got {delta!r}.")
+    for name, flag in (("subspace", subspace), ("force", force)):
+        if not isinstance(flag, (bool, np.bool_)):
+            raise OptionError(f"{name} must be True or False; got {flag!r}.")
     if (gamma1 is None) != (gamma2 is None):
         raise OptionError("give both gamma1 and gamma2, or neither.")
     rho = 1.0 - margin

@@ -277,8 +277,8 @@ def c2d_zoh(model, T: float):
     TypeError
         ``model`` is not a python-control LTI model.
     ModelError
-        Discrete model given, NaN or inf in its matrices, or a ``T`` so small that a stable continuous pole
-        lands on the unit circle (``exp(s T)`` rounds to modulus 1).
+        Discrete model given, NaN or inf in its matrices, a ``T`` so small that a stable continuous pole
+        lands on the unit circle (``exp(s T)`` rounds to modulus 1), or so large that ``exp(A T)`` overflows.
     FrequencyGridError
         ``T <= 0`` or not finite.
 
@@ -294,6 +294,10 @@ def c2d_zoh(model, T: float):
     aug = np.zeros((n + m, n + m))
     aug[:n, :n] = A * T
     aug[:n, n:] = B * T
-    E = scipy.linalg.expm(aug)
+    with np.errstate(over="ignore", invalid="ignore"):
+        E = scipy.linalg.expm(aug)
+    if not np.all(np.isfinite(E)):   # exp(1000) for s = +1 at T = 1e3: numpy's overflow warning before
+        raise ModelError(f"c2d_zoh(): exp(A T) overflows at T = {T:.6g} (the model's fastest growth rate times T "
+                         "exceeds about 700); the discrete model is not representable: choose a smaller T")
     _check_stable_poles_kept(A, E[:n, :n], T, lambda s: -np.expm1(2.0 * s.real * T), "c2d_zoh")
     return _build(E[:n, :n], E[:n, n:], C, D, T, model)

@@ -416,3 +416,9 @@ def test_from_model_and_from_control_refuse_what_they_do_not_convert():
         FrequencyResponse.from_model(np.eye(2), wd, 1.0)
     with pytest.raises(TypeError, match=r"from_control\(\) expects a control.FrequencyResponseData, got ndarray"):
         FrequencyResponse.from_control(np.eye(2))
+
+
+def test_channel_names_must_be_distinct():
+    # outputs ['a', 'a'] were accepted: per-output results keyed by name overwrote each other
+    with pytest.raises(FrequencyDataError, match="outputs names must be distinct .* 'a' more than once"):
+        FrequencyResponse(np.ones((2, 1, 3)), [0.0, 1.0, 2.0], 1.0, outputs=["a", "a"])

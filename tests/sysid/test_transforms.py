@@ -215,3 +215,10 @@ def test_a_model_with_nan_is_refused(convert, dt):
     A = np.array([[np.nan]])
     with pytest.raises(ModelError, match="A contains NaN or inf"):
         convert(control.ss(A, [[1.0]], [[1.0]], [[0.0]], dt), 0.5)
+
+
+def test_zoh_of_a_growth_that_overflows_is_refused():
+    # exp(1000): numpy's overflow warning and inf matrices before
+    unstable = control.ss([[1.0]], [[1.0]], [[1.0]], [[0.0]])
+    with pytest.raises(ModelError, match=r"exp\(A T\) overflows at T = 1000"):
+        c2d_zoh(unstable, 1e3)
