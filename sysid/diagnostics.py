@@ -331,8 +331,10 @@ def high_frequency_slope(omega: np.ndarray, H: np.ndarray) -> np.ndarray | None:
     """Log-log slope of ``|H|`` over the top of the sampled band, per channel; None when it cannot be measured.
 
     Least squares of ``log |H|`` on ``log omega`` over the samples in the highest quarter of the positive finite
-    frequencies on a log scale (at least 3 samples, a band of at least a factor 2); a proper response tends to
-    its finite feedthrough (slope 0 or negative), ``k^2`` growth has slope 2.
+    frequencies on a log scale (at least 6 samples, a band of at least a factor 2); a proper response tends to
+    its finite feedthrough (slope 0 or negative), ``k^2`` growth has slope 2. Growth counts only when the lower
+    and upper halves of that window agree on it (within a factor 1.5): the flank of a resonance just above the
+    band steepens towards it and is reported as slope 0, not as improper.
 
     Parameters
     ----------
@@ -343,7 +345,7 @@ def high_frequency_slope(omega: np.ndarray, H: np.ndarray) -> np.ndarray | None:
     -------
     ndarray, shape (p, m), or None
         None without continuous frequencies, with an ``omega = inf`` sample (the data say the response is finite
-        there), or with too few samples at the top.
+        there), or with too few samples at the top; 0 where the growth is not a steady power law.
     """
     if omega is None:
         return None
@@ -358,11 +360,20 @@ def high_frequency_slope(omega: np.ndarray, H: np.ndarray) -> np.ndarray | None:
     if top.size < 3 or w[top].max() < 2.0 * w[top].min():
         return None
     mag = np.abs(np.asarray(H))[..., top]
-    if np.any(mag <= 0):
+    if np.any(mag <= 0) or top.size < 6:
         return None
-    x = np.log(w[top]) - np.log(w[top]).mean()
-    y = np.log(mag)
-    return (y - y.mean(axis=-1, keepdims=True)) @ x / (x @ x)
+
+    def fit(idx):
+        x = np.log(w[top][idx]) - np.log(w[top][idx]).mean()
+        y = np.log(mag[..., idx])
+        return (y - y.mean(axis=-1, keepdims=True)) @ x / (x @ x)
+
+    order = np.argsort(w[top])
+    lower, upper = fit(order[: order.size // 2]), fit(order[order.size // 2:])
+    whole = fit(order)
+    # a power law has one slope over the window; the flank of a resonance just above the band steepens
+    steady = (np.minimum(lower, upper) > 0) & (np.maximum(lower, upper) <= 1.5 * np.minimum(lower, upper))
+    return np.where(steady, whole, np.minimum(whole, 0.0))
 
 
 @dataclass(frozen=True)

@@ -340,3 +340,13 @@ def test_noisy_causal_data(sigma, flagged):
     assert d.flagged.any() == flagged and not (d.kk_residual > d.kk_threshold).any()
     if flagged:
         assert "noise" in " ".join(d.warnings)
+
+
+def test_the_flank_of_a_resonance_above_the_band_is_not_called_improper():
+    # |H| rises steeply towards a resonance at omega = 2.2 just above the last sample (2.0): not a power law
+    w = np.r_[0.0, np.logspace(-2, np.log10(2.0), 150)]
+    s = 1j * w
+    H = 1.0 / (s**2 + 0.02 * s + 2.2**2)
+    d = diagnose(FrequencyResponse.from_continuous(H, w))
+    assert d.high_frequency_slope[0, 0] == 0.0
+    assert not any("improper" in m for m in d.warnings)
