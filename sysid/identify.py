@@ -47,7 +47,7 @@ from .data_checks import check_nonzero_outputs, check_weights
 from .errors import ConstraintError, FrequencyDataError, FrequencyGridError, OptionError
 from .frd import FrequencyResponse
 from .grids import check_distinct
-from .identification_result import IdentificationResult, StabilisationReport
+from .identification_result import IdentificationResult, ModelMatrices, StabilisationReport
 from .metrics import dc_error, frf_errors, spectral_radius
 from .residues import resonance_points
 from .state_space import evaluate_ss
@@ -251,7 +251,7 @@ def identify(
         res = _identify_relocation(frf, sub, svd, dc, ft, dc_data, weights, margin, stable, minimax_within)
         if not auto_algorithm:
             return _reported(res)
-        gain = unobserved_gain(res.model, frf)
+        gain = unobserved_gain(res.matrices, frf)
         if gain.max() <= UNOBSERVED_GAIN_LIMIT:
             return _reported(res)
         # the relocated poles found a resonance where the grid has no samples: compare with the subspace path
@@ -260,7 +260,7 @@ def identify(
             alt = identify(frf, order, dc_gain=dc_gain, stable=True, margin=margin, weights=weights, method=method,
                            q=q, r=r, fix_feedthrough=fix_feedthrough, solver=solver,
                            stabilise_method=stabilise_method, refit_c=refit_c, algorithm="subspace")
-        alt_gain = unobserved_gain(alt.model, frf)
+        alt_gain = unobserved_gain(alt.matrices, frf)
         if alt_gain.max() >= gain.max():
             return _reported(res)
         i = int(np.argmax(gain))
@@ -307,9 +307,7 @@ def identify(
     else:
         fit, C, err = refit(A, refit_c is True)
 
-    import control
-
-    model = control.ss(A, fit.B, C, fit.D, T, inputs=list(frf.inputs), outputs=list(frf.outputs))
+    model = ModelMatrices(A, fit.B, C, fit.D, T, tuple(frf.inputs), tuple(frf.outputs))
     dc_err = None
     if dc_data is not None:
         with np.errstate(all="ignore"):
@@ -325,8 +323,6 @@ def identify(
 
 def _identify_relocation(frf, sub, svd, dc, ft, dc_data, weights, margin, stable, minimax_within=None):
     """The ``algorithm="relocation"`` branch of :func:`identify` (see :mod:`sysid.relocation`)."""
-    import control
-
     from .relocation import fit_relocated
 
     T = frf.T
@@ -348,7 +344,7 @@ def _identify_relocation(frf, sub, svd, dc, ft, dc_data, weights, margin, stable
     rl = fit_relocated(frf.omega, z, G, T, sub.order, dc_gain=dc, feedthrough=ft, weights=w, start_poles=starts,
                        margin=mg, minimax_within=minimax_within)
     A, B, C, D = rl.A, rl.B, rl.C, rl.D
-    model = control.ss(A, B, C, D, T, inputs=list(frf.inputs), outputs=list(frf.outputs))
+    model = ModelMatrices(A, B, C, D, T, tuple(frf.inputs), tuple(frf.outputs))
     Gm = evaluate_ss(A, B, C, D, z)
     err = frf_errors(Gm, G)
     dc_err = None
@@ -516,7 +512,7 @@ def _reported(res: IdentificationResult) -> IdentificationResult:
             "--order auto)", RuntimeWarning, stacklevel=3)
     if not np.isfinite(res.max_error) or res.max_error <= UNRESOLVED_MIN_ERROR:
         return res
-    narrow = unresolved_resonances(res.model, res.data)
+    narrow = unresolved_resonances(res.matrices, res.data)
     if narrow.size:
         w, sigma, spacing = narrow[np.argmin(narrow[:, 1] / narrow[:, 2])]
         warnings.warn(
