@@ -238,6 +238,28 @@ class IdentificationResult:
             object.__setattr__(self, "_diagnostics", cached)
         return cached
 
+    @property
+    def between_error_per_output(self) -> np.ndarray:
+        """Estimated error per output between the data's samples (fraction of each output's data peak;
+        :func:`sysid.between.between_error`: the model against smooth interpolants of the samples at every
+        interval's midpoint and at its own resonances; computed on first use). Compare with
+        ``errors.max_rel_per_output``, the error on the samples: far above it, the samples do not pin the model
+        down between them."""
+        cached = self.__dict__.get("_between")
+        if cached is None:
+            from .between import between_error
+
+            m = self.matrices
+            cached = read_only(between_error(m.A, m.B, m.C, m.D, self.data.omega_d, self.data.H)) \
+                if self.data is not None else read_only(np.full(len(m.output_labels), np.nan))
+            object.__setattr__(self, "_between", cached)
+        return cached
+
+    @property
+    def between_error(self) -> float:
+        """The largest of :attr:`between_error_per_output`."""
+        return float(np.max(self.between_error_per_output))
+
     def summary(self) -> str:
         """Plain-text summary: order, method, errors, constraints, stability, and one line on the data's
         consistency (:attr:`diagnostics`)."""
@@ -255,6 +277,8 @@ class IdentificationResult:
             f"FRF error: max {self.max_error:.3e}, RMS {self.rms_error:.3e}"
             + (f", DC {self.dc_error:.3e}" if self.dc_error is not None else ""),
             f"max error per output: {per}",
+            "between the samples (estimate, sysid.between): " + ", ".join(
+                f"{name} {e:.3e}" for name, e in zip(self.matrices.output_labels, self.between_error_per_output)),
             f"enforced: {enf}; spectral radius {self.spectral_radius:.6f}",
         ]
         st = self.stabilisation
