@@ -23,7 +23,18 @@ import numpy as np
 from .residues import resonance_points
 from .state_space import evaluate_ss
 
-__all__ = ["between_error", "between_deviation", "between_points", "cubic_interpolant", "polar_interpolant"]
+__all__ = ["BETWEEN_RATIO", "BETWEEN_MIN_ERROR", "between_error", "between_deviation", "between_points", "cubic_interpolant", "polar_interpolant"]
+
+
+BETWEEN_RATIO = 3.0
+"""Ratio of the estimated error between the samples (:attr:`IdentificationResult.between_error_per_output`) to the
+error on them above which :func:`sysid.identify` warns that the samples do not pin the model down between them (with a
+resonance narrower than ``2 UNRESOLVED_WIDTH`` sample spacings as the likely cause, or the model nearly
+interpolating the data)."""
+
+BETWEEN_MIN_ERROR = 1e-3
+"""Estimated error between the samples (fraction of the peak) below which :func:`sysid.identify` does not warn about it,
+whatever the ratio: 0.1 % of the peak is within what a smooth interpolant of the samples can tell."""
 
 
 def between_points(omega_d: np.ndarray, lam: np.ndarray | None = None) -> np.ndarray:

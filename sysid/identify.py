@@ -47,6 +47,7 @@ import numpy as np
 from .data_checks import check_nonzero_outputs, check_weights
 from .errors import ConstraintError, FrequencyDataError, FrequencyGridError, OptionError
 from .frd import FrequencyResponse
+from .between import BETWEEN_MIN_ERROR, BETWEEN_RATIO
 from .grids import check_distinct
 from .identification_result import IdentificationResult, ModelMatrices, StabilisationReport
 from .metrics import dc_error, frf_errors, spectral_radius
@@ -506,16 +507,6 @@ def data_use(order: int, frf: FrequencyResponse) -> float:
     k_real = int(np.count_nonzero((wd == 0.0) | np.isclose(wd, np.pi, rtol=0.0, atol=1e-12)))
     return (order * (p + m) + p * m) / max(2 * K * p * m - k_real * p * m, 1)
 
-
-BETWEEN_RATIO = 3.0
-"""Ratio of the estimated error between the samples (:attr:`IdentificationResult.between_error_per_output`) to the
-error on them above which :func:`identify` warns that the samples do not pin the model down between them (with a
-resonance narrower than ``2 UNRESOLVED_WIDTH`` sample spacings as the likely cause, or the model nearly
-interpolating the data)."""
-
-BETWEEN_MIN_ERROR = 1e-3
-"""Estimated error between the samples (fraction of the peak) below which :func:`identify` does not warn about it,
-whatever the ratio: 0.1 % of the peak is within what a smooth interpolant of the samples can tell."""
 
 _ADVISING = contextvars.ContextVar("sysid_identify_advising", default=False)
 

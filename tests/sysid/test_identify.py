@@ -6,7 +6,7 @@ from pathlib import Path
 import control
 import numpy as np
 import pytest
-from sysid_synth import freqresp, pole_mismatch, random_system
+from sysid_synth import freqresp, noisy_resonant_system, pole_mismatch, random_system
 
 import sysid
 from sysid import (ConstraintError, FrequencyGridError, FrequencyResponse, IdentificationResult, OrderError,
@@ -610,26 +610,12 @@ def test_the_default_fit_does_not_depend_on_the_units(kind, f_omega, f_out):
 
 # --------------------------------------------------------------------------------------------- between the samples
 def _noisy_twelve_states(seed=13, noise=0.003):
-    """A 12-state system (six resonances, damping ratios 2 - 10 %, random residues) sampled with ``noise`` complex
-    noise on McKelvey's grid (M = 64, T = 1); returns the data, the truth on 7999 points strictly between 0 and pi
-    and the data's peak."""
-    rng = np.random.default_rng(seed)
+    """:func:`sysid_synth.noisy_resonant_system` as a FrequencyResponse (McKelvey's grid, M = 64, T = 1), the truth
+    on 7999 points strictly between 0 and pi, and the data's peak."""
     wd, w = mckelvey_grid(64, 1.0)
-    wn, zeta = np.sort(rng.uniform(0.2, 3.0, 6)), rng.uniform(0.02, 0.1, 6)
-    up = -zeta * wn + 1j * wn * np.sqrt(1 - zeta**2)
-    poles = np.concatenate([up, np.conj(up)])
-    r = rng.standard_normal(6) + 1j * rng.standard_normal(6)
-    res = np.concatenate([r, np.conj(r)])
-
-    def H(om):
-        s = 1j * np.where(np.isinf(om), 0.0, om)
-        return np.where(np.isinf(om), 0.0, (res[None, :] / (s[:, None] - poles[None, :])).sum(axis=1))
-
-    G = H(w)
-    G = G + noise * np.abs(G).max() * (rng.standard_normal(G.size) + 1j * rng.standard_normal(G.size)) / np.sqrt(2)
-    G[0], G[-1] = G[0].real, 0.0
     dense = np.linspace(0.0, np.pi, 8001)[1:-1]
-    return FrequencyResponse(G, wd, 1.0), dense, H(2.0 * np.tan(dense / 2.0)), np.abs(G).max()
+    G, truth = noisy_resonant_system(w, 2.0 * np.tan(dense / 2.0), seed=seed, noise=noise)
+    return FrequencyResponse(G, wd, 1.0), dense, truth, np.abs(G).max()
 
 
 def test_the_error_between_the_samples_is_estimated_and_reported():
@@ -653,7 +639,7 @@ def test_the_error_between_the_samples_is_estimated_and_reported():
 
 
 def test_the_resonance_warning_advises_a_lower_order_only_when_it_helps():
-    from sysid.identify import BETWEEN_RATIO
+    from sysid.between import BETWEEN_RATIO
 
     # (1) order 8 on 1 % noisy order-4 data: a resonance 0.02 spacings wide; the warning advises order 6, and
     # following it lowers the estimate between the samples (0.33 -> 0.015) and the true error (0.35 -> 0.017)
