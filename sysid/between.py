@@ -23,7 +23,8 @@ import numpy as np
 from .residues import resonance_points
 from .state_space import evaluate_ss
 
-__all__ = ["BETWEEN_RATIO", "BETWEEN_MIN_ERROR", "between_error", "between_deviation", "between_points", "cubic_interpolant", "polar_interpolant"]
+__all__ = ["BETWEEN_RATIO", "BETWEEN_MIN_ERROR", "between_error", "between_deviation", "between_points",
+           "cubic_interpolant", "polar_interpolant"]
 
 
 BETWEEN_RATIO = 3.0

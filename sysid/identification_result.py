@@ -271,7 +271,8 @@ class IdentificationResult:
                     f"r={self.r}), T={self.T:.6g}")
         else:
             head = f"order {self.order} ({self.method}, q={self.q}, r={self.r}), T={self.T:.6g}"
-        per = ", ".join(f"{name} {e:.3e}" for name, e in zip(self.matrices.output_labels, self.errors.max_rel_per_output))
+        labels = self.matrices.output_labels
+        per = ", ".join(f"{name} {e:.3e}" for name, e in zip(labels, self.errors.max_rel_per_output))
         lines = [
             head,
             f"FRF error: max {self.max_error:.3e}, RMS {self.rms_error:.3e}"
