@@ -190,9 +190,16 @@ def main(argv=None):
     ap.add_argument("--data", default="", help="comma-separated FrequencyResponse .npz files to add (e.g. the "
                     "held-out FRFs of bench/heldout_frfs.py); --cases '' runs them alone")
     ap.add_argument("--out", type=Path, default=None, help="also write the Markdown to this file")
+    ap.add_argument("--methods", default="", help="comma-separated prefixes of the methods to run (e.g. "
+                    "'default,VF'); default all")
+    ap.add_argument("--perturb", action="store_true", help="multiply the data by 1 + 2 eps (one rounding): how "
+                    "much the errors move under round-off")
     args = ap.parse_args(argv)
     orders = [int(x) for x in args.orders.split(",")]
     cases = [c for c in args.cases.split(",") + args.data.split(",") if c]
+    global METHODS
+    if args.methods:
+        METHODS = [(name, fn) for name, fn in METHODS if any(name.startswith(m) for m in args.methods.split(","))]
 
     warm = load(cases[0])  # warm-up: imports, cvxpy compilation of the subspace path's refits
     for _, fn in METHODS:
@@ -210,6 +217,9 @@ def main(argv=None):
     compact = []
     for path in cases:
         frf = load(path)
+        if args.perturb:
+            frf = sysid.FrequencyResponse(np.asarray(frf.H) * (1 + 2 * np.finfo(float).eps), frf.omega_d, frf.T,
+                                          inputs=list(frf.inputs), outputs=list(frf.outputs))
         case = label(path)
         for n in orders:
             got = {}
@@ -263,8 +273,12 @@ def main(argv=None):
                      f"{'' if old is None else f'{old[1] / v[1]:.2f}'} | {'yes' if ok else 'NO'} | "
                      f"{gd[0]:.3g}, {gd[1]:.3g} | {gv[0]:.3g}, {gv[1]:.3g} |")
     times = [t for _, _, _, _, _, t, _, _ in summary]
-    lines += ["", f"default at or below VF on {wins} of {2 * len(summary)} (case, order, output) points; "
-              f"default s / ROM: max {max(times):.2f}, median {np.median(times):.2f}."]
+    if times:
+        vf_times = [got["VF (skrf, stable)"][1]["time"] for _, _, got in compact
+                    if "VF (skrf, stable)" in got and "default (relocation)" in got]
+        lines += ["", f"default at or below VF on {wins} of {2 * len(summary)} (case, order, output) points; "
+                  f"default s / ROM: max {max(times):.2f}, median {np.median(times):.2f}; default / VF time: "
+                  f"median {np.median(np.array(times) / np.array(vf_times)):.1f}."]
     text = "\n".join(lines)
     print(text)
     if args.out:

@@ -35,6 +35,7 @@ from .simulate import markov_parameters, rediscretise, rom_response, rom_simulat
 from .order import OrderSweep, order_sweep
 from .order_limits import max_order, min_order
 from .identify import IdentificationResult, StabilisationReport, identify
+from .identification_result import ModelMatrices
 from .diagnostics import DataDiagnostics, diagnose
 from .refit import BDFit, CDFit, fit_alternating, fit_bd, fit_cd
 from .stability import StabiliseResult, stabilise
@@ -95,6 +96,7 @@ __all__ = [
     "identify",
     "IdentificationResult",
     "StabilisationReport",
+    "ModelMatrices",
     "diagnose",
     "DataDiagnostics",
     # convex refits and stability (sysid.refit, sysid.stability)

@@ -9,13 +9,75 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from .arrays import freeze_array_fields
+from .arrays import freeze_array_fields, read_only
 from .frd import FrequencyResponse
 from .metrics import FitErrors
 from .state_space import evaluate_ss
 from .subspace import SubspaceResult
 
-__all__ = ["IdentificationResult", "StabilisationReport"]
+__all__ = ["IdentificationResult", "StabilisationReport", "ModelMatrices"]
+
+
+@dataclass(frozen=True)
+class ModelMatrices:
+    """A discrete state-space model as plain arrays: what :func:`sysid.identify` builds, turned into a
+    ``control.StateSpace`` only when :attr:`IdentificationResult.model` is first read (python-control and
+    the matplotlib it imports cost about 1.5 s of imports, and fitting does not need them).
+
+    Attributes
+    ----------
+    A, B, C, D : ndarray, shapes (n, n), (n, m), (p, n), (p, m), real
+    dt : float
+        Sampling period ``T``.
+    input_labels, output_labels : tuple of str
+    """
+
+    A: np.ndarray
+    B: np.ndarray
+    C: np.ndarray
+    D: np.ndarray
+    dt: float
+    input_labels: tuple
+    output_labels: tuple
+
+    def __post_init__(self):
+        freeze_array_fields(self)
+
+    def to_control(self):
+        """The ``control.StateSpace`` (``dt``, named inputs and outputs)."""
+        import control
+
+        return control.ss(self.A, self.B, self.C, self.D, self.dt, inputs=list(self.input_labels),
+                          outputs=list(self.output_labels))
+
+    @classmethod
+    def of(cls, model) -> "ModelMatrices":
+        """The matrices of a ``control.StateSpace`` (or of another :class:`ModelMatrices`)."""
+        if isinstance(model, cls):
+            return model
+        return cls(*(np.array(getattr(model, k), dtype=float) for k in "ABCD"), float(model.dt),
+                   tuple(model.input_labels), tuple(model.output_labels))
+
+
+class _LazyModel:
+    """Data descriptor of :attr:`IdentificationResult.model`: holds a :class:`ModelMatrices` (or a
+    ``control.StateSpace``) and builds the ``control.StateSpace`` on first read."""
+
+    def __set_name__(self, owner, name):
+        self._slot = "_" + name
+
+    def __get__(self, obj, objtype=None):
+        if obj is None:
+            raise AttributeError("model has no default")   # dataclasses: a required field
+        value = obj.__dict__[self._slot]
+        if isinstance(value, ModelMatrices):
+            value = value.to_control()
+            obj.__dict__[self._slot] = value
+        return value
+
+    def __set__(self, obj, value):
+        obj.__dict__["_model_matrices"] = ModelMatrices.of(value)
+        obj.__dict__[self._slot] = value
 
 
 @dataclass(frozen=True)
@@ -58,7 +120,9 @@ class IdentificationResult:
     Attributes
     ----------
     model : control.StateSpace
-        Discrete model, ``dt = T``, named inputs and outputs of the data.
+        Discrete model, ``dt = T``, named inputs and outputs of the data (built on first read; the
+        constructor also takes a :class:`ModelMatrices`, and :attr:`matrices` gives the arrays without
+        importing python-control).
     order : int
     method : str
         ``"mckelvey1"`` or ``"mckelvey2"``.
@@ -100,7 +164,7 @@ class IdentificationResult:
         Details of the relocation path (winning start, residue fit, candidates); None for ``"subspace"``.
     """
 
-    model: Any = field(repr=False)
+    model: Any = _LazyModel()
     order: int
     method: str
     hankel_sv: np.ndarray = field(repr=False)
@@ -121,21 +185,31 @@ class IdentificationResult:
     relocation: Any = field(default=None, repr=False)
 
     def __post_init__(self):
-        freeze_array_fields(self)   # the arrays of a frozen result are read-only too
+        for name in self.__dataclass_fields__:   # the arrays of a frozen result are read-only too (the model's
+            value = self.matrices if name == "model" else getattr(self, name)   # own, in ModelMatrices)
+            if isinstance(value, np.ndarray):
+                object.__setattr__(self, name, read_only(value))
 
     def __reduce__(self):
         # control.StateSpace (0.10) cannot be pickled; ship its matrices and rebuild it (process pools)
-        m = self.model
-        spec = (np.asarray(m.A), np.asarray(m.B), np.asarray(m.C), np.asarray(m.D), m.dt,
-                list(m.input_labels), list(m.output_labels))
         fields = {f: getattr(self, f) for f in self.__dataclass_fields__ if f != "model"}
-        return (_rebuild_result, (spec, fields))
+        return (_rebuild_result, (self.matrices, fields))
+
+    def __repr__(self):
+        shown = ", ".join(f"{f}={getattr(self, f)!r}" for f, d in self.__dataclass_fields__.items()
+                          if d.repr and f != "model")
+        return f"IdentificationResult({shown})"
+
+    @property
+    def matrices(self) -> ModelMatrices:
+        """The model's ``A``, ``B``, ``C``, ``D``, ``dt`` and labels as arrays (no python-control import)."""
+        return self.__dict__["_model_matrices"]
 
     def evaluate(self, omega_d: Any) -> np.ndarray:
         """Model response ``G(exp(1j omega_d))``, shape (p, m, K), for discrete frequencies (rad/sample)."""
         z = np.exp(1j * np.asarray(omega_d, dtype=float).reshape(-1))
-        m = self.model
-        return evaluate_ss(np.asarray(m.A), np.asarray(m.B), np.asarray(m.C), np.asarray(m.D), z)
+        m = self.matrices
+        return evaluate_ss(m.A, m.B, m.C, m.D, z)
 
     def evaluate_continuous(self, omega: Any) -> np.ndarray:
         """Model response at continuous frequencies ``omega`` (U_inf / c units, ``inf`` allowed), shape (p, m, K).
@@ -164,6 +238,28 @@ class IdentificationResult:
             object.__setattr__(self, "_diagnostics", cached)
         return cached
 
+    @property
+    def between_error_per_output(self) -> np.ndarray:
+        """Estimated error per output between the data's samples (fraction of each output's data peak;
+        :func:`sysid.between.between_error`: the model against smooth interpolants of the samples at every
+        interval's midpoint and at its own resonances; computed on first use). Compare with
+        ``errors.max_rel_per_output``, the error on the samples: far above it, the samples do not pin the model
+        down between them."""
+        cached = self.__dict__.get("_between")
+        if cached is None:
+            from .between import between_error
+
+            m = self.matrices
+            cached = read_only(between_error(m.A, m.B, m.C, m.D, self.data.omega_d, self.data.H)) \
+                if self.data is not None else read_only(np.full(len(m.output_labels), np.nan))
+            object.__setattr__(self, "_between", cached)
+        return cached
+
+    @property
+    def between_error(self) -> float:
+        """The largest of :attr:`between_error_per_output`."""
+        return float(np.max(self.between_error_per_output))
+
     def summary(self) -> str:
         """Plain-text summary: order, method, errors, constraints, stability, and one line on the data's
         consistency (:attr:`diagnostics`)."""
@@ -175,12 +271,15 @@ class IdentificationResult:
                     f"r={self.r}), T={self.T:.6g}")
         else:
             head = f"order {self.order} ({self.method}, q={self.q}, r={self.r}), T={self.T:.6g}"
-        per = ", ".join(f"{name} {e:.3e}" for name, e in zip(self.model.output_labels, self.errors.max_rel_per_output))
+        labels = self.matrices.output_labels
+        per = ", ".join(f"{name} {e:.3e}" for name, e in zip(labels, self.errors.max_rel_per_output))
         lines = [
             head,
             f"FRF error: max {self.max_error:.3e}, RMS {self.rms_error:.3e}"
             + (f", DC {self.dc_error:.3e}" if self.dc_error is not None else ""),
             f"max error per output: {per}",
+            "between the samples (estimate, sysid.between): " + ", ".join(
+                f"{name} {e:.3e}" for name, e in zip(self.matrices.output_labels, self.between_error_per_output)),
             f"enforced: {enf}; spectral radius {self.spectral_radius:.6f}",
         ]
         st = self.stabilisation
@@ -197,8 +296,8 @@ class IdentificationResult:
         """Model response as a :class:`FrequencyResponse` on the data grid (or on ``omega_d``)."""
         wd = self.data.omega_d if omega_d is None else np.asarray(omega_d, dtype=float)
         return FrequencyResponse(
-            self.evaluate(wd), wd, self.T, inputs=list(self.model.input_labels),
-            outputs=list(self.model.output_labels), metadata={"source": "sysid.identify", "order": self.order},
+            self.evaluate(wd), wd, self.T, inputs=list(self.matrices.input_labels),
+            outputs=list(self.matrices.output_labels), metadata={"source": "sysid.identify", "order": self.order},
         )
 
     def continuous(self):
@@ -220,8 +319,5 @@ def _diagnostics_line(d) -> str:
     return f"data: {verdict}; " + "; ".join(parts)
 
 
-def _rebuild_result(spec, fields):
-    import control
-
-    A, B, C, D, dt, inputs, outputs = spec
-    return IdentificationResult(model=control.ss(A, B, C, D, dt, inputs=inputs, outputs=outputs), **fields)
+def _rebuild_result(matrices, fields):
+    return IdentificationResult(model=matrices, **fields)

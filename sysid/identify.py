@@ -38,6 +38,7 @@ constraints were enforced, and what the stabilisation cost.
 
 from __future__ import annotations
 
+import contextvars
 import warnings
 from typing import Any
 
@@ -46,8 +47,9 @@ import numpy as np
 from .data_checks import check_data_scale, check_flag, check_nonzero_outputs, check_weights
 from .errors import ConstraintError, FrequencyDataError, FrequencyGridError, OptionError
 from .frd import FrequencyResponse
+from .between import BETWEEN_MIN_ERROR, BETWEEN_RATIO
 from .grids import check_distinct, check_period_resolves
-from .identification_result import IdentificationResult, StabilisationReport
+from .identification_result import IdentificationResult, ModelMatrices, StabilisationReport
 from .metrics import dc_error, frf_errors, spectral_radius
 from .residues import resonance_points
 from .state_space import evaluate_ss
@@ -55,7 +57,7 @@ from .subspace import from_basis, hankel_svd, order_hint
 
 __all__ = ["identify", "IdentificationResult", "StabilisationReport", "unobserved_gain", "UNOBSERVED_GAIN_LIMIT",
            "resolve_algorithm", "unresolved_resonances", "UNRESOLVED_WIDTH", "UNRESOLVED_MIN_ERROR", "data_use",
-           "INTERPOLATION_RATIO"]
+           "INTERPOLATION_RATIO", "BETWEEN_RATIO", "BETWEEN_MIN_ERROR"]
 
 
 def _resolve_dc(dc_gain: Any, frf: FrequencyResponse, dc_data: np.ndarray | None) -> np.ndarray | None:
@@ -257,22 +259,30 @@ def identify(
     if ft is not None:
         ft = np.array(ft, dtype=float)
 
+    def refit_at(n):   # the same fit at another order (the warnings' advice, _reported)
+        return identify(frf, n, dc_gain=dc_gain, stable=stable, weights=weights, method=method, margin=margin,
+                        q=q, r=r, stabilise_method=stabilise_method, fix_feedthrough=fix_feedthrough, solver=solver,
+                        refit_c=refit_c, algorithm="auto" if auto_algorithm else algorithm,
+                        minimax_within=minimax_within)
+
     if algorithm == "relocation":
         res = _identify_relocation(frf, sub, svd, dc, ft, dc_data, weights, margin, stable, minimax_within)
         if not auto_algorithm:
-            return _reported(res)
-        gain = unobserved_gain(res.model, frf)
+            return _reported(res, refit_at)
+        gain = unobserved_gain(res.matrices, frf)
         if gain.max() <= UNOBSERVED_GAIN_LIMIT:
-            return _reported(res)
+            return _reported(res, refit_at)
         # the relocated poles found a resonance where the grid has no samples: compare with the subspace path
+        token = _ADVISING.set(True)   # (no advice on a model that is only compared)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
             alt = identify(frf, order, dc_gain=dc_gain, stable=True, margin=margin, weights=weights, method=method,
                            q=q, r=r, fix_feedthrough=fix_feedthrough, solver=solver,
                            stabilise_method=stabilise_method, refit_c=refit_c, algorithm="subspace")
-        alt_gain = unobserved_gain(alt.model, frf)
+        _ADVISING.reset(token)
+        alt_gain = unobserved_gain(alt.matrices, frf)
         if alt_gain.max() >= gain.max():
-            return _reported(res)
+            return _reported(res, refit_at)
         i = int(np.argmax(gain))
         warnings.warn(
             f"the pole-relocation model's gain between the data's frequencies reaches {gain[i]:.3g} times the data's "
@@ -280,7 +290,7 @@ def identify(
             f"({alt_gain.max():.3g} times) is returned instead. Sample that band more densely (a smaller T puts "
             "more frequencies at high omega) or pass algorithm='relocation' to keep the relocated model",
             RuntimeWarning, stacklevel=2)
-        return _reported(alt)
+        return _reported(alt, refit_at)
 
     def refit(A, with_c=False):
         """``(fit, C, errors)``: the constrained refit of B, D (and C when ``with_c``) for this ``A``."""
@@ -317,9 +327,7 @@ def identify(
     else:
         fit, C, err = refit(A, refit_c is True)
 
-    import control
-
-    model = control.ss(A, fit.B, C, fit.D, T, inputs=list(frf.inputs), outputs=list(frf.outputs))
+    model = ModelMatrices(A, fit.B, C, fit.D, T, tuple(frf.inputs), tuple(frf.outputs))
     dc_err = None
     if dc_data is not None:
         with np.errstate(all="ignore"):
@@ -330,13 +338,11 @@ def identify(
         model=model, order=sub.order, method=sub.method, hankel_sv=svd.sv, errors=err, max_error=err.max_rel,
         rms_error=err.rms_rel, dc_error=dc_err, enforced=enforced, spectral_radius=spectral_radius(A),
         stabilisation=report, subspace=sub, refit=fit, T=T, q=svd.q, r=svd.r, data=frf,
-    ))
+    ), refit_at)
 
 
 def _identify_relocation(frf, sub, svd, dc, ft, dc_data, weights, margin, stable, minimax_within=None):
     """The ``algorithm="relocation"`` branch of :func:`identify` (see :mod:`sysid.relocation`)."""
-    import control
-
     from .relocation import fit_relocated
 
     T = frf.T
@@ -358,7 +364,7 @@ def _identify_relocation(frf, sub, svd, dc, ft, dc_data, weights, margin, stable
     rl = fit_relocated(frf.omega, z, G, T, sub.order, dc_gain=dc, feedthrough=ft, weights=w, start_poles=starts,
                        margin=mg, minimax_within=minimax_within)
     A, B, C, D = rl.A, rl.B, rl.C, rl.D
-    model = control.ss(A, B, C, D, T, inputs=list(frf.inputs), outputs=list(frf.outputs))
+    model = ModelMatrices(A, B, C, D, T, tuple(frf.inputs), tuple(frf.outputs))
     Gm = evaluate_ss(A, B, C, D, z)
     err = frf_errors(Gm, G)
     dc_err = None
@@ -512,10 +518,16 @@ def data_use(order: int, frf: FrequencyResponse) -> float:
     return (order * (p + m) + p * m) / max(2 * K * p * m - k_real * p * m, 1)
 
 
-def _reported(res: IdentificationResult) -> IdentificationResult:
+_ADVISING = contextvars.ContextVar("sysid_identify_advising", default=False)
+
+
+def _reported(res: IdentificationResult, refit_at=None) -> IdentificationResult:
     """Warn when the model nearly interpolates the data (:data:`INTERPOLATION_RATIO`) or has a resonance the data
-    cannot resolve (:data:`UNRESOLVED_WIDTH`); return ``res``."""
-    if res.data is None:
+    cannot resolve (:data:`UNRESOLVED_WIDTH`), or its estimated error between the samples is far above the error
+    on them (:data:`BETWEEN_RATIO`); return ``res``. ``refit_at(n)``: the same fit at order ``n``, tried before the
+    warning advises a lower order (the advice is given only when that order's estimate between the samples is
+    lower)."""
+    if res.data is None or _ADVISING.get():
         return res
     use = data_use(res.order, res.data)
     if use > INTERPOLATION_RATIO:
@@ -526,15 +538,58 @@ def _reported(res: IdentificationResult) -> IdentificationResult:
             "--order auto)", RuntimeWarning, stacklevel=3)
     if not np.isfinite(res.max_error) or res.max_error <= UNRESOLVED_MIN_ERROR:
         return res
-    narrow = unresolved_resonances(res.model, res.data)
+    narrow = unresolved_resonances(res.matrices, res.data, width=2 * UNRESOLVED_WIDTH)
+    between = res.between_error_per_output
+    on = np.asarray(res.errors.max_rel_per_output)
+    far = bool(np.any((between > BETWEEN_RATIO * on) & (between > BETWEEN_MIN_ERROR)))
+    if not far:   # a narrow resonance that the estimate does not see between the samples is no cause for alarm
+        return res
+    i = int(np.argmax(between / np.maximum(on, np.finfo(float).tiny)))
+    est = (f"its error between the samples is estimated at {between[i]:.2g} of the peak against {on[i]:.2g} on them "
+           f"({list(res.data.outputs)[i]}, sysid.between)")
     if narrow.size:
+        advice = _order_advice(res, refit_at)   # a lower order may remove the resonance: tried before advised
         w, sigma, spacing = narrow[np.argmin(narrow[:, 1] / narrow[:, 2])]
         warnings.warn(
-            f"the order-{res.order} model has a resonance at omega = {w:.4g} (U/c) of half-width {sigma:.3g}, "
+            f"the order-{res.order} model has a resonance at omega = {w:.4g} of half-width {sigma:.3g}, "
             f"{sigma / spacing:.2g} of the data's spacing there ({spacing:.3g}): invisible at the samples, so its "
-            "response between them is not determined by the data (it may be far off there while matching every "
-            "sample); lower the order, or sample that band more densely", RuntimeWarning, stacklevel=3)
+            f"response between them is not determined by the data; {est}. {advice}", RuntimeWarning, stacklevel=3)
+    else:   # no resonance to blame: the data are sparse for what the response does there (e.g. a fast phase)
+        from .between import between_deviation
+
+        m = res.matrices
+        pts, dev = between_deviation(m.A, m.B, m.C, m.D, res.data.omega_d, res.data.H)
+        wd = pts[int(np.argmax(dev[i].max(axis=0)))]
+        where = 2.0 / res.T * np.tan(wd / 2.0)
+        warnings.warn(f"the order-{res.order} model is not pinned down between the samples: {est}. The samples are "
+                      f"sparse for what the response does between them: sample more densely (worst at omega = "
+                      f"{where:.4g}; with the bilinear grid a smaller T puts more samples at high omega)",
+                      RuntimeWarning, stacklevel=3)
     return res
+
+
+def _order_advice(res: IdentificationResult, refit_at) -> str:
+    """What to do about an error between the samples far above the error on them: a lower order when the fit at
+    ``order - 2`` has a lower estimate between the samples (tried here), else denser sampling."""
+    dense = "sample that band more densely"
+    if refit_at is None or res.order <= 2:
+        return dense[0].upper() + dense[1:]
+    token = _ADVISING.set(True)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            low = refit_at(res.order - 2)
+        e_low = low.between_error
+    except Exception:   # the lower order does not fit these data (order limits, constraints): no advice on it
+        return dense[0].upper() + dense[1:]
+    finally:
+        _ADVISING.reset(token)
+    e = res.between_error
+    if e_low < 0.8 * e:   # a material improvement (a fifth), not a reshuffle of the same miss
+        return (f"Order {low.order} lowers that estimate to {e_low:.2g} (on the samples {low.max_error:.2g}): lower "
+                f"the order, or {dense}")
+    return (f"A lower order does not help (order {low.order}: {e_low:.2g} between the samples); {dense} (or choose "
+            "the order with sysid.order_sweep)")
 
 
 def _has_pole_at_constraint(A: np.ndarray, dc, ft) -> bool:

@@ -31,6 +31,7 @@ import numpy as np
 import scipy.linalg
 
 from .arrays import freeze_array_fields
+from .between import BETWEEN_MIN_ERROR, BETWEEN_RATIO, between_error
 from .errors import OrderError
 from .state_space import lstsq_bd_phi, modal_form, resolvent_C
 from .subspace import HankelSVD, hankel_svd
@@ -50,6 +51,10 @@ class OrderSweep:
         ``k = min(q p, r m)`` for Algorithm 1, ``q p`` for Algorithm 2; not limited to ``N``).
     max_error, rms_error : ndarray, shape (N,)
         Relative FRF errors of each order fitted to all data (definitions in :mod:`sysid.metrics`).
+    between_error : ndarray, shape (N,)
+        Estimated error between the samples of each order fitted to all data (:func:`sysid.between.between_error`,
+        worst output); the hold-out rule passes over orders where it exceeds ``BETWEEN_RATIO`` times ``max_error``
+        (and ``BETWEEN_MIN_ERROR``) while any other order is left (:data:`sysid.between.BETWEEN_RATIO`).
     holdout_error : ndarray, shape (N,) or None
         RMS relative error on the odd-indexed frequencies of the model identified on the even-indexed ones
         (NaN where the half data set cannot support the order).
@@ -77,22 +82,24 @@ class OrderSweep:
     q: int
     r: int | None
     elapsed: float
+    between_error: np.ndarray | None = field(default=None, repr=False)
 
     def __post_init__(self):
         freeze_array_fields(self)   # the arrays of a frozen result are read-only too
 
     def table(self) -> str:
         """Plain-text table: order, singular value, max/RMS error, hold-out error, spectral radius."""
-        rows = ["order  sing.value   max_err     rms_err     holdout     rho"]
+        rows = ["order  sing.value   max_err     rms_err     holdout     between     rho"]
         for i, n in enumerate(self.orders):
             ho = self.holdout_error[i] if self.holdout_error is not None else np.nan
+            bt = self.between_error[i] if self.between_error is not None else np.nan
             rows.append(f"{n:5d}  {self.singular_values[n - 1]:.3e}  {self.max_error[i]:.3e}  "
-                        f"{self.rms_error[i]:.3e}  {ho:.3e}  {self.spectral_radius[i]:.4f}")
+                        f"{self.rms_error[i]:.3e}  {ho:.3e}  {bt:.3e}  {self.spectral_radius[i]:.4f}")
         return "\n".join(rows)
 
 
 def _sweep_errors(svd: HankelSVD, orders: np.ndarray, z_fit: np.ndarray, G_fit: np.ndarray,
-                  z_val: np.ndarray | None, G_val: np.ndarray):
+                  z_val: np.ndarray | None, G_val: np.ndarray, with_between: bool = False):
     """For each order: A, C from the SVD, B, D by closed-form LS on (z_fit, G_fit), errors on (z_val, G_val).
 
     ``z_val=None`` validates on the fitting data. ``A`` for every order comes from ONE QR of
@@ -107,6 +114,7 @@ def _sweep_errors(svd: HankelSVD, orders: np.ndarray, z_fit: np.ndarray, G_fit: 
     rms = np.full(orders.size, np.nan)
     mx = np.full(orders.size, np.nan)
     rho = np.full(orders.size, np.nan)
+    between = np.full(orders.size, np.nan)
     Nmax = min(N, svd.max_order)
     Q, R = np.linalg.qr(svd.U[:-p, :Nmax])
     QtU2 = Q.T @ svd.U[p:, :Nmax]
@@ -129,9 +137,11 @@ def _sweep_errors(svd: HankelSVD, orders: np.ndarray, z_fit: np.ndarray, G_fit: 
             rms[i] = np.linalg.norm(dH) / nrm_val
             mx[i] = np.max(np.abs(dH).max(axis=(1, 2)) / peak)
             rho[i] = np.max(np.abs(lam))
+            if z_val is None and with_between:
+                between[i] = np.max(between_error(A, B, C, D, np.abs(np.angle(z_fit)), G_fit))
     rms[~np.isfinite(rms)] = np.nan
     mx[~np.isfinite(mx)] = np.nan
-    return mx, rms, rho
+    return mx, rms, rho, between
 
 
 def order_sweep(
@@ -188,7 +198,7 @@ def order_sweep(
             f"the largest order is {svd.max_order}; lower max_order or use more frequencies"
         )
     orders = np.arange(1, max_order + 1)
-    mx, rms, rho = _sweep_errors(svd, orders, z, G, None, G)
+    mx, rms, rho, between = _sweep_errors(svd, orders, z, G, None, G, with_between=True)
 
     s = svd.sv
     floor = np.finfo(float).tiny
@@ -213,15 +223,18 @@ def order_sweep(
             except OrderError:
                 svd_h = None
             if svd_h is not None:
-                _, ho_err, _ = _sweep_errors(svd_h, orders, z[even], G[:, :, even], z[odd], G[:, :, odd])
-                finite = np.isfinite(ho_err)
+                _, ho_err, _, _ = _sweep_errors(svd_h, orders, z[even], G[:, :, even], z[odd], G[:, :, odd])
+                # orders whose estimated error between the samples is far above their error on them are not
+                # suggested (when any other is left): the samples do not pin them down
+                pinned = ~((between > BETWEEN_RATIO * mx) & (between > BETWEEN_MIN_ERROR))
+                finite = np.isfinite(ho_err) & (pinned if np.any(np.isfinite(ho_err) & pinned) else True)
                 if finite.any():
                     best = np.min(ho_err[finite])
                     ok = finite & (ho_err <= (1.0 + holdout_tol) * best + holdout_atol)
                     order_ho = int(orders[np.argmax(ok)])
     suggested = order_ho if order_ho is not None else order_gap
     return OrderSweep(
-        orders=orders, singular_values=s, max_error=mx, rms_error=rms, holdout_error=ho_err,
+        orders=orders, singular_values=s, max_error=mx, rms_error=rms, holdout_error=ho_err, between_error=between,
         spectral_radius=rho, order_gap=order_gap, order_holdout=order_ho, suggested=suggested,
         method=svd.method, q=svd.q, r=svd.r, elapsed=time.perf_counter() - t0,
     )

@@ -75,6 +75,10 @@ def socp_minimax(Q, g, E, f, tol=1e-9, Qb=None, ub=None, within=None):
     st.verbose = False
     st.tol_gap_abs = st.tol_gap_rel = st.tol_feas = tol  # relative to the unit-scaled data
     st.max_iter = 200
+    # no iterative refinement of each KKT solve: it took 40 % of the solve time on these small dense
+    # programmes (T4, N_r = 25: 0.196 -> 0.116 s for the fit's eight programmes, objectives equal to 2e-10,
+    # the iteration counts equal to +-1; measured 2026-12-03); the equalities are projected exactly afterwards
+    st.iterative_refinement_enable = False
     y, status = _clarabel(Pm, q, Am, bv, cones, st, N)
     if y is None or within is None:
         return y, status

@@ -4,7 +4,7 @@ import warnings
 
 import numpy as np
 import pytest
-from sysid_synth import freqresp, random_system
+from sysid_synth import freqresp, noisy_resonant_system, random_system
 
 from sysid import FrequencyResponse, OrderError, OrderSweep, identify, mckelvey_grid, order_sweep
 
@@ -85,3 +85,18 @@ def test_bad_max_order(max_order, match):
 def test_default_max_order():
     sw = order_sweep(frf_of(3, 1, M=16))
     assert sw.orders[-1] == 15  # min(40, M - 1)
+
+
+def test_the_sweep_reports_the_error_between_the_samples_and_suggests_a_pinned_order():
+    # the true order of a noisy 12-state system (tests/sysid/test_identify.py): the subspace models of orders 9-20
+    # are estimated more than BETWEEN_RATIO times farther off between the samples than on them; the suggestion is
+    # none of those (the rule skips them; here the hold-out minimum, order 8, is pinned as well)
+    from sysid.between import BETWEEN_MIN_ERROR, BETWEEN_RATIO
+
+    wd, w = mckelvey_grid(64, 1.0)
+    frf = FrequencyResponse(noisy_resonant_system(w, w[:1])[0], wd, 1.0)
+    sw = order_sweep(frf, 20)
+    far = (sw.between_error > BETWEEN_RATIO * sw.max_error) & (sw.between_error > BETWEEN_MIN_ERROR)
+    assert sw.between_error.shape == sw.orders.shape and np.all(np.isfinite(sw.between_error))
+    assert far.sum() >= 5 and not far[sw.suggested - 1]
+    assert "between" in sw.table().splitlines()[0]

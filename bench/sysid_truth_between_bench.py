@@ -1,0 +1,135 @@
+"""Between the samples against the truth, at the order the project recommends: sysid's default fit and vector
+fitting side by side on data whose true function is known.
+
+Run: ``python bench/sysid_truth_between_bench.py`` (about a minute on the 2-core machine). Prints one Markdown table.
+
+Data (McKelvey's grid, M = 64 intervals, T = 1, so 65 samples with omega = 0 and inf; the truth on 7999 points of
+``omega_d`` strictly between 0 and pi, i.e. about 125 per interval):
+
+- ``sears``: the Sears function with a delay, ``2 pi S(k) exp(-i k)``, ``k = omega / 2`` (an analytic aerofoil
+  function with a branch point at zero frequency: no finite order is exact), noise-free;
+- ``sears 1 %``: the same with 1 % complex noise;
+- ``order 4, 1 %``: a 4-state system (tests/sysid/test_identify.py) with 1 % noise;
+- ``12 states, 0.3 %`` and ``12 states, 1 %``: six resonances with damping ratios 2 - 10 %
+  (tests/sysid/sysid_synth.py ``noisy_resonant_system``).
+
+For each: the order ``sysid.order_sweep(frf).suggested`` (hold-out rule, passing over orders not pinned down
+between the samples), then ``sysid.identify(frf, n, dc_gain="match", stable=True)`` and stable vector fitting
+(scikit-rf, ``bench/sysid_peers_bench.py``'s ``run_vf``: best stable fit of the log/linear starts, ``enforce_dc``)
+at that order. Columns: max error on the samples and between them against the truth, in % of the data's peak,
+and the default's estimate between the samples (``result.between_error``, no truth used).
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import warnings
+from pathlib import Path
+
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
+import numpy as np  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "bench"))
+sys.path.insert(0, str(ROOT / "tests" / "sysid"))
+
+import sysid  # noqa: E402
+from sysid_synth import noisy_resonant_system  # noqa: E402
+
+WD, W = sysid.mckelvey_grid(64, 1.0)
+DENSE = np.linspace(0.0, np.pi, 8001)[1:-1]
+W_DENSE = 2.0 * np.tan(DENSE / 2.0)
+
+
+def _noise(G, level, seed):
+    rng = np.random.default_rng(seed)
+    G = G + level * np.abs(G).max() * (rng.standard_normal(G.size) + 1j * rng.standard_normal(G.size)) / np.sqrt(2)
+    G[0], G[-1] = G[0].real, 0.0
+    return G
+
+
+def sears(omega):
+    from aeroelastic.theodorsen import sears_function
+
+    om = np.asarray(omega, dtype=float)
+    out = np.zeros(om.shape, dtype=complex)
+    fin = np.isfinite(om) & (om > 0)
+    out[fin] = 2 * np.pi * sears_function(om[fin] / 2) * np.exp(-1j * om[fin] / 2)
+    out[om == 0] = 2 * np.pi
+    return out
+
+
+def order4(omega):
+    om = np.asarray(omega, dtype=float)
+    s = 1j * np.where(np.isinf(om), 0.0, om)
+    return np.where(np.isinf(om), 0.0, 2 * np.pi * (0.13 / (s + 0.26) + 1 / (s + 2)) + 1.8 / (s**2 + 0.6 * s + 9))
+
+
+def cases():
+    yield "sears", sears(W), sears(W_DENSE)
+    yield "sears 1 %", _noise(sears(W), 0.01, 1), sears(W_DENSE)
+    yield "order 4, 1 %", _noise(order4(W), 0.01, 3), order4(W_DENSE)
+    for level in (0.003, 0.01):
+        G, truth = noisy_resonant_system(W, W_DENSE, noise=level)
+        yield f"12 states, {100 * level:g} %", G, truth
+
+
+def main():
+    from sysid_peers_bench import run_vf
+
+    rows = ["| data | order (sweep) | default: samples | default: between (truth) | default: estimate | "
+            "VF: samples | VF: between (truth) | default / VF between |",
+            "| --- | ---: | --- | --- | --- | --- | --- | --- |"]
+    for name, G, truth in cases():
+        frf = sysid.FrequencyResponse(G, WD, 1.0, outputs=["y"], inputs=["u"])
+        peak = np.abs(G).max()
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            n = sysid.order_sweep(frf, 20).suggested
+            res = sysid.identify(frf, n, dc_gain="match", stable=True)
+            vf = run_vf(frf, n)
+        d_on = res.max_error
+        d_btw = np.abs(res.evaluate(DENSE)[0, 0] - truth).max() / peak
+        v_on = np.abs(vf["H"] - frf.H).max() / peak
+        v_btw = np.abs(_vf_at(frf, n, DENSE) - truth).max() / peak   # the same pick as run_vf, on the dense points
+        rows.append(f"| {name} | {n} | {100 * d_on:.3g} | {100 * d_btw:.3g} | {100 * res.between_error:.3g} | "
+                    f"{100 * v_on:.3g} | {100 * v_btw:.3g} | {d_btw / v_btw:.2f} |")
+        print(rows[-1], flush=True)
+    print("\n".join(rows))
+
+
+def _vf_at(frf, n, omega_d):
+    """Stable VF (best of the log / linear starts on the samples, as ``run_vf``) evaluated at ``omega_d``."""
+    import skrf
+    from skrf.vectorFitting import VectorFitting
+
+    fin = np.isfinite(frf.omega)
+    f = frf.omega[fin] / (2 * np.pi)
+    H = np.asarray(frf.H)[0, 0]
+    peak = np.abs(H).max()
+    nw = skrf.Network(frequency=skrf.Frequency.from_f(f, unit="hz"), s=(H[fin] / peak).reshape(-1, 1, 1))
+    best = None
+    for spacing in ("log", "lin"):
+        vf = VectorFitting(nw)
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                vf.vector_fit(n_poles_real=n % 2, n_poles_cmplx=n // 2, init_pole_spacing=spacing,
+                              fit_constant=True, fit_proportional=False, enforce_dc=True)
+        except Exception:
+            continue
+        if not np.all(vf.poles.real < 0):
+            continue
+        e = np.abs(vf.get_model_response(0, 0, f) * peak - H[fin]).max()
+        if best is None or e < best[0]:
+            best = (e, vf)
+    wd = np.asarray(omega_d)
+    return best[1].get_model_response(0, 0, (2.0 / frf.T) * np.tan(wd / 2) / (2 * np.pi)) * peak
+
+
+if __name__ == "__main__":
+    main()
