@@ -12,9 +12,10 @@ from .atmosphere import FlightPoint, alleviation_factor
 from .flexible import FlexibleSection
 from .system import GustSystem, gust_system
 from .tuned_gust import TunedGustResult, tuned_gust
+from .turbulence import TurbulenceResult, continuous_turbulence, von_karman
 
 __all__ = [
     "FlightPointError", "GustError", "LoadsModelError", "SpectrumError",
     "FlightPoint", "alleviation_factor", "FlexibleSection", "GustSystem", "gust_system",
-    "TunedGustResult", "tuned_gust",
+    "TunedGustResult", "tuned_gust", "TurbulenceResult", "continuous_turbulence", "von_karman",
 ]
