@@ -13,9 +13,11 @@ from .flexible import FlexibleSection
 from .system import GustSystem, gust_system
 from .tuned_gust import TunedGustResult, tuned_gust
 from .turbulence import TurbulenceResult, continuous_turbulence, von_karman
+from .plots import correlated_loads_plot, gust_history_plot, load_vs_H_plot, psd_plot, turbulence_ellipse
 
 __all__ = [
     "FlightPointError", "GustError", "LoadsModelError", "SpectrumError",
     "FlightPoint", "alleviation_factor", "FlexibleSection", "GustSystem", "gust_system",
     "TunedGustResult", "tuned_gust", "TurbulenceResult", "continuous_turbulence", "von_karman",
+    "correlated_loads_plot", "gust_history_plot", "load_vs_H_plot", "psd_plot", "turbulence_ellipse",
 ]

@@ -275,7 +275,7 @@ def _from_system(system: GustSystem, point, outputs, L, f_max, rtol):
     trunc_a = 0.5 * (low_a + high_a) / var                # relative error of sqrt: half that of the integral
     trunc_m = 0.5 * ((low_m + high_m) / mom + (low_a + high_a) / var)
     quad_a, quad_m = 0.5 * err_a, 0.5 * (err_m + err_a)
-    plotO = np.geomspace(max(lo, 1e-3 / (1.339 * L)), min(hi, 1e3 / c * max(scale, 1.0)), 600)
+    plotO = np.geomspace(max(lo, 1e-3 / (1.339 * L)), min(hi, 10.0 * max(scale, 1.0) / c), 600)
     psd = np.abs(system.frequency_response(plotO * c)[rows] / U) ** 2 * von_karman(plotO, L)
     return _result(names, rows, system.scale, system.units, a_bar, n0, cross, quad_a, trunc_a, quad_m, trunc_m,
                    plotO, psd, "model", f_max, point)
