@@ -124,3 +124,19 @@ def test_bad_models():
         loads.tuned_gust(control.ss(s.A, s.B, s.C, s.D, True, inputs=["gust"]), PT)
     with pytest.raises(loads.FlightPointError, match="loads.FlightPoint"):
         loads.tuned_gust(s, (0.5, 3000.0, 2.0))
+
+
+def test_half_mode_form_equals_full_modal_form():
+    from loads.one_minus_cosine import gust_input, modal_states, slopes_rowwise
+
+    gs = loads.gust_system(_resonant(), PT)
+    H = np.full(9, 6.0)
+    s = np.array([0.0, 1e-9, 1.0, 5.0, 11.9, 12.0, 13.0, 40.0, 300.0])
+    full = (modal_states(gs.lam, gs.b, H, s) @ gs.C.T).real + gust_input(H, s)[:, None] * gs.d
+    assert np.abs(full - outputs_at(gs, H, s)).max() < 1e-13 * np.abs(full).max()
+    # the slope against a central difference (step 1e-6: truncation 1e-12, round-off 1e-10)
+    h = 1e-6
+    rows = np.zeros(9, int)
+    fd = (outputs_at(gs, H, s + h)[:, 0] - outputs_at(gs, H, np.maximum(s - h, 0.0))[:, 0]) / (
+        s + h - np.maximum(s - h, 0.0))
+    assert np.allclose(slopes_rowwise(gs, H, s, rows)[2:], fd[2:], atol=1e-8)
