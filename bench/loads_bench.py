@@ -28,7 +28,7 @@ import numpy as np
 import loads
 import sysid
 from loads.atmosphere import FT
-from loads.tuned_gust import _initial_tail
+from loads.tuned_gust import initial_tail
 
 ROOT = Path(__file__).resolve().parents[1]
 LTD_SECONDS_PER_GUST = 80.0 / 5     # docs/performance.md: six gusts (five columns) in one 80 s Radau march
@@ -58,8 +58,8 @@ def main(argv=None):
     c = pt.chord_m
     # every gradient the search evaluated, with its march length (2H + tail, convective units)
     n = tg.n_gradients
-    Hs = np.geomspace(30 * FT, 350 * FT, n)      # lengths: spread as the search's (a grid of 24 plus refinements)
-    length = 2 * Hs / c + _initial_tail(tg.system, Hs / c)
+    Hs = tg.H_evaluated
+    length = 2 * Hs / c + initial_tail(tg.system, Hs / c)
     ltd = float(np.sum(LTD_SECONDS_PER_GUST * length / LTD_MARCH_LENGTH))
     print(f"tuned-gust search of Cl, both signs, H 30 .. 350 ft: {n} gust gradients, {t_search * 1e3:.1f} ms CPU; "
           f"peak Cl {tg.peak['Cl']:.5g} at H = {tg.critical_H['Cl'] / FT:.1f} ft")

@@ -33,7 +33,7 @@ from .errors import GustError, LoadsModelError
 from .one_minus_cosine import outputs_at
 from .system import GustSystem, gust_system
 
-__all__ = ["TunedGustResult", "tuned_gust", "peak_over_time", "GOLDEN_STEPS", "ILLINOIS_STEPS", "MAX_SAMPLES"]
+__all__ = ["TunedGustResult", "tuned_gust", "peak_over_time", "initial_tail", "GOLDEN_STEPS", "ILLINOIS_STEPS", "MAX_SAMPLES"]
 
 GOLDEN_STEPS = 24
 """Golden-section steps of the time refinement: the bracket of two samples shrinks by 0.618^24 = 1e-5, so the
@@ -85,6 +85,8 @@ class TunedGustResult:
     n_gradients : int
         Distinct gust gradients evaluated by the search (each would be one march of a time-domain solver; one
         gust sign suffices, the response being linear).
+    H_evaluated : ndarray, shape (n_gradients,)
+        Those gradients (m), sorted.
     point : FlightPoint
     system : GustSystem
     """
@@ -105,6 +107,7 @@ class TunedGustResult:
     gust: dict = field(repr=False)
     all_outputs: tuple = ()
     n_gradients: int = 0
+    H_evaluated: np.ndarray = field(default=None, repr=False)
     point: FlightPoint | None = field(default=None, repr=False)
     system: GustSystem | None = field(default=None, repr=False)
 
@@ -160,8 +163,9 @@ def _sample_step(system: GustSystem, Hc: np.ndarray) -> np.ndarray:
     return step
 
 
-def _initial_tail(system: GustSystem, Hc: np.ndarray) -> np.ndarray:
-    """A first tail after the gust: ``2 H``, and two periods of the slowest lightly damped mode."""
+def initial_tail(system: GustSystem, Hc: np.ndarray) -> np.ndarray:
+    """The first tail after the gust (convective), shape of ``Hc`` (chords): ``2 H``, and at least two periods of
+    the slowest oscillatory mode (doubled by :func:`peak_over_time` until its certificate holds)."""
     lam = system.lam
     tail = 2.0 * Hc
     osc = (np.abs(lam.imag) > 1e-12)
@@ -194,7 +198,7 @@ def peak_over_time(system: GustSystem, Hc: Any, rows: Sequence[int], *, max_doub
     rows = np.asarray(rows, dtype=int).reshape(-1)
     m = Hc.size
     step = _sample_step(system, Hc)
-    tail = _initial_tail(system, Hc)
+    tail = initial_tail(system, Hc)
     value = np.zeros(m)
     time = np.zeros(m)
     todo = np.arange(m)
@@ -454,7 +458,7 @@ def tuned_gust(model: Any, point: FlightPoint, *, outputs: Sequence[str] | None 
         dim[name] = peak[name] * float(system.scale[rows[j]])
         units[name] = system.units[rows[j]]
         htol[name] = float(width[j])
-        s_end = max(2.0 * H / c + float(_initial_tail(system, np.array([H / c]))[0]), 1.5 * float(t_star[0]))
+        s_end = max(2.0 * H / c + float(initial_tail(system, np.array([H / c]))[0]), 1.5 * float(t_star[0]))
         step = float(_sample_step(system, np.array([H / c]))[0])
         n = int(min(max(np.ceil(s_end / step) + 1, 400), 4000))
         s = np.linspace(0.0, s_end, n)
@@ -464,7 +468,8 @@ def tuned_gust(model: Any, point: FlightPoint, *, outputs: Sequence[str] | None 
         hist[name] = _ro((outputs_at(system, np.full(n, H / c), s) * amp * sgn).T)
         gusts[name] = _ro(gust_input(H / c, s) * amp * sgn * point.tas)
     return TunedGustResult(tuple(names), peak, crit, sign, tpk, corr, dim, units, htol, _ro(Hg), _ro(F.T), times,
-                           hist, gusts, tuple(system.outputs), int(np.unique(allH).size), point, system)
+                           hist, gusts, tuple(system.outputs), int(np.unique(allH).size), _ro(np.unique(allH)), point,
+                           system)
 
 
 def _ro(a):
