@@ -3,7 +3,7 @@
 Measured side by side in one run (CPU time, ``time.process_time``; best of ``--repeat``):
 
 1. the tuned-gust search of one output (Cl) over H = 30 .. 350 ft, both signs, from the paper's T2 ROM (the
-   docs/data FRF identified at order 12, stable, DC matched) at M 0.5, 3000 m, c = 2 m;
+   docs/data FRF, NACA 0010 at M 0.735, identified at order 12, stable, DC matched) at M 0.735, 7000 m, c = 2 m;
 2. the LTD marches the same search would need: one per gust gradient it evaluated (a negative gust is the
    negative response), each as long as the search's horizon for that H (2H plus the tail). The LTD cost is not
    re-measured here: docs/performance.md and docs/paper-reproduction.md measured, on the paper grid (181 x 60),
@@ -51,7 +51,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
     frf = sysid.FrequencyResponse.load(ROOT / "docs/data/frf-T2.npz")
     rom = sysid.identify(frf, 12, dc_gain="match", stable=True)
-    pt = loads.FlightPoint(0.5, 3000.0, 2.0)
+    pt = loads.FlightPoint(0.735, 7000.0, 2.0)       # T2's Mach (NACA 0010, M 0.735)
     print(f"ROM: T2 order 12, max FRF error {rom.max_error:.3g}; point: {pt.summary()}")
 
     t_search, tg = _cpu(lambda: loads.tuned_gust(rom, pt, outputs=["Cl"]), args.repeat)
