@@ -124,8 +124,10 @@ def gust_system(model: Any, point: FlightPoint, *, moment_axes=(), moment_refere
 
     Parameters
     ----------
-    model : sysid.IdentificationResult, control.StateSpace, aeroelastic.MotionModel or loads.FlexibleSection
-        With an input named ``"gust"`` (gust angle at the leading edge, rad; convective time ``c / U``).
+    model : sysid.IdentificationResult, control.StateSpace, aeroelastic.MotionModel, loads.FlexibleSection or GustSystem
+        With an input named ``"gust"`` (gust angle at the leading edge, rad; convective time ``c / U``). A
+        :class:`GustSystem` built at ``point`` is returned as it is (so that one flight point's tuned gusts and
+        turbulence share one diagonalisation).
     point : FlightPoint
     moment_axes : sequence of float
         Extra moment outputs ``Cm`` about these axes (chords from the leading edge), named by
@@ -151,6 +153,11 @@ def gust_system(model: Any, point: FlightPoint, *, moment_axes=(), moment_refere
                                f"{type(point).__name__}")
     from .flexible import FlexibleSection
 
+    if isinstance(model, GustSystem):
+        if model.point != point or np.size(moment_axes):
+            raise LoadsModelError("a GustSystem is reused only at its own flight point and as built (no moment_axes); "
+                                  "build another with loads.gust_system(model, point, ...)")
+        return model
     scales: dict[str, tuple[float, str]] = {}
     if isinstance(model, FlexibleSection):
         A, B, C, D, inputs, outputs, scales = model.state_space(point)

@@ -140,3 +140,12 @@ def test_half_mode_form_equals_full_modal_form():
     fd = (outputs_at(gs, H, s + h)[:, 0] - outputs_at(gs, H, np.maximum(s - h, 0.0))[:, 0]) / (
         s + h - np.maximum(s - h, 0.0))
     assert np.allclose(slopes_rowwise(gs, H, s, rows)[2:], fd[2:], atol=1e-8)
+
+
+def test_a_gust_system_is_reused_at_its_point_only():
+    gs = loads.gust_system(_resonant(), PT)
+    assert loads.gust_system(gs, PT) is gs
+    a = loads.tuned_gust(gs, PT, outputs=["Cl"])
+    assert a.peak["Cl"] == pytest.approx(loads.tuned_gust(_resonant(), PT, outputs=["Cl"]).peak["Cl"], rel=1e-14)
+    with pytest.raises(loads.LoadsModelError, match="its own flight point"):
+        loads.tuned_gust(gs, loads.FlightPoint(0.5, 0.0, 2.0))
