@@ -109,6 +109,13 @@ def _ss_parts(model: Any):
             f"convective time, a 'gust' input), an aeroelastic.MotionModel with a gust model or a "
             f"loads.FlexibleSection; got {type(model).__name__}")
     dt = model.dt
+    from aeroelastic.coupling import STATE_OUTPUTS
+
+    if not dt and set(STATE_OUTPUTS) <= set(model.output_labels):
+        raise LoadsModelError(
+            "this looks like an aeroelastic.coupled_model system (outputs plunge, pitch, ... ), whose time is "
+            "omega_alpha t, not the convective c/U that loads takes; give loads.FlexibleSection(aero, mass, a, x_alpha, "
+            "r_alpha2, omega_h, omega_alpha), which couples the section at each flight point")
     if dt is True or dt is None:
         raise LoadsModelError("the StateSpace has an unspecified time step (dt=True/None); give dt = T (convective "
                               "time c/U) for a discrete ROM or dt = 0 for a continuous one")

@@ -96,3 +96,10 @@ def test_above_flutter_is_refused(jones_aero):
                                 omega_alpha=25.0, damping=0.0)
     with pytest.raises(loads.LoadsModelError, match="unstable"):
         loads.tuned_gust(sec, loads.FlightPoint(0.6, 0.0, 2.0))
+
+
+def test_a_coupled_model_in_structural_time_is_refused(jones_aero):
+    sec = ae.TypicalSection(mu=20, a=-0.5, x_alpha=0.1, r_alpha2=0.25, omega_ratio=0.5)
+    sys = ae.coupled_model(jones_aero, sec, 1.0, gust=True)
+    with pytest.raises(loads.LoadsModelError, match="loads.FlexibleSection"):
+        loads.tuned_gust(sys, PT)
