@@ -223,7 +223,16 @@ def _from_system(system: GustSystem, point, outputs, L, f_max, rtol):
     hi = max(1e6 / (1.339 * L), 1e4 * scale / c)
     if f_max is not None:
         hi = 2.0 * math.pi * f_max / U
-    H0 = np.abs(system.frequency_response([0.0])[rows, 0]) / U
+    at_zero = np.abs(system.lam) <= 1e-12 * scale
+    if np.any(at_zero):
+        reach = np.abs(system.C[np.ix_(rows, np.flatnonzero(at_zero))] * system.b[at_zero]).max(axis=1)
+        bad = [n for n, r in zip(names, reach) if r > 0.0]
+        if bad:
+            raise SpectrumError(f"A_bar of {bad} diverges at low frequency: the model has a pole at zero (a free "
+                                "rigid-body motion, e.g. an unsprung plunge) that these outputs see, so |H|^2 grows "
+                                "like 1 / Omega^2; give the section a spring, or ask for outputs it does not reach "
+                                "(accelerations, loads)")
+    H0 = np.abs(system.frequency_response([lo * c])[rows, 0]) / U     # (at lo: a pole at 0 unseen by an output)
     big = np.abs(system.frequency_response(np.geomspace(lo * c, hi * c, 400))[rows]).max(axis=1) / U
     if f_max is None:
         feed = np.abs(d) / U > 1e-10 * np.maximum(big, 1e-300)
@@ -253,6 +262,8 @@ def _from_system(system: GustSystem, point, outputs, L, f_max, rtol):
         cur = integrals(n)
         err_a = np.abs(np.diag(cur[0]) - np.diag(prev[0])) / np.maximum(np.diag(cur[0]), 1e-300)
         err_m = np.abs(cur[1] - prev[1]) / np.maximum(cur[1], 1e-300)
+        small = np.diag(cur[0]) <= 1e-24 * np.diag(cur[0]).max(initial=0.0)     # unreached outputs
+        err_a, err_m = np.where(small, 0.0, err_a), np.where(small, 0.0, err_m)
         prev = cur
         if err_a.max() <= rtol and err_m.max() <= rtol:
             break
@@ -270,21 +281,40 @@ def _from_system(system: GustSystem, point, outputs, L, f_max, rtol):
         high_m = Hhi**2 * U**2 * hi**2 * K * 1.5 * hi ** (-2.0 / 3.0)
     else:
         high_a = high_m = np.zeros(len(rows))
+    zero = _unreached(var, names)
+    var, mom = np.where(zero, 0.0, var), np.where(zero, 0.0, mom)
+    sv, sm = np.where(zero, 1.0, var), np.where(zero | (mom <= 0), 1.0, mom)
     a_bar = np.sqrt(var)
-    n0 = np.sqrt(mom / var) / (2.0 * math.pi)
-    trunc_a = 0.5 * (low_a + high_a) / var                # relative error of sqrt: half that of the integral
-    trunc_m = 0.5 * ((low_m + high_m) / mom + (low_a + high_a) / var)
-    quad_a, quad_m = 0.5 * err_a, 0.5 * (err_m + err_a)
+    n0 = np.sqrt(mom / sv) / (2.0 * math.pi)
+    trunc_a = np.where(zero, 0.0, 0.5 * (low_a + high_a) / sv)     # relative error of sqrt: half the integral's
+    trunc_m = np.where(zero, 0.0, 0.5 * ((low_m + high_m) / sm + (low_a + high_a) / sv))
+    quad_a = np.where(zero, 0.0, 0.5 * err_a)
+    quad_m = np.where(zero, 0.0, 0.5 * (err_m + err_a))
     plotO = np.geomspace(max(lo, 1e-3 / (1.339 * L)), min(hi, 10.0 * max(scale, 1.0) / c), 600)
     psd = np.abs(system.frequency_response(plotO * c)[rows] / U) ** 2 * von_karman(plotO, L)
     return _result(names, rows, system.scale, system.units, a_bar, n0, cross, quad_a, trunc_a, quad_m, trunc_m,
                    plotO, psd, "model", f_max, point)
 
 
+def _unreached(var: np.ndarray, names) -> np.ndarray:
+    """Outputs the gust does not reach (zero variance, to round-off of the largest), with a RuntimeWarning: their
+    A_bar is 0 and their N0 and correlations, undefined, are set to 0 (never NaN)."""
+    top = float(np.max(var, initial=0.0))
+    zero = ~(var > 1e-24 * top) | ~(var > 0.0)
+    if np.any(zero):
+        warnings.warn(f"output(s) {[n for n, z in zip(names, zero) if z]} are not reached by the gust (zero "
+                      "response): A_bar = 0, and N0 and the correlations with them, undefined, are set to 0",
+                      RuntimeWarning, stacklevel=4)
+    return zero
+
+
 def _result(names, rows, scales, units, a_bar, n0, cross, quad_a, trunc_a, quad_m, trunc_m, Om, psd, source, f_max,
             point):
     us = point.turbulence_intensity()
-    corr = cross / np.outer(a_bar, a_bar)
+    zero = a_bar == 0.0
+    safe = np.where(zero, 1.0, a_bar)
+    corr = np.where(zero[:, None] | zero[None, :], 0.0, cross / np.outer(safe, safe))
+    np.fill_diagonal(corr, 1.0)
     for name, qa, ta, qm, tm in zip(names, quad_a, trunc_a, quad_m, trunc_m):
         if max(qa, ta, qm, tm) > WARN_ERROR:
             warnings.warn(f"continuous turbulence of {name} ({source}): estimated relative errors A_bar quadrature "
@@ -345,8 +375,9 @@ def _from_data(frf, point, outputs, L, f_max, moment_axes, moment_reference):
     # Richardson-type estimate: the same rule on every second point
     var2 = np.trapezoid(np.abs(G[:, ::2]) ** 2 * Phi[::2], Om[::2], axis=-1)
     mom2 = np.trapezoid(mom_int[:, ::2], Om[::2], axis=-1)
-    quad_a = 0.5 * np.abs(var - var2) / 3.0 / var
-    quad_m = 0.5 * (np.abs(mom - mom2) / 3.0 / mom + np.abs(var - var2) / 3.0 / var)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        quad_a = 0.5 * np.abs(var - var2) / 3.0 / var
+        quad_m = 0.5 * (np.abs(mom - mom2) / 3.0 / mom + np.abs(var - var2) / 3.0 / var)
     K = _tail_coefficient(L)
     low_a = np.abs(G[:, 0]) ** 2 * (L / math.pi) * Om[0]
     low_m = np.abs(G[:, 0]) ** 2 * (L / math.pi) * U**2 * Om[0] ** 3 / 3.0
@@ -355,10 +386,15 @@ def _from_data(frf, point, outputs, L, f_max, moment_axes, moment_reference):
         high_m = np.abs(G[:, -1]) ** 2 * U**2 * Om[-1] ** 2 * K * 1.5 * Om[-1] ** (-2.0 / 3.0)
     else:
         high_a = high_m = np.zeros(len(rows))
+    zero = _unreached(var, names)
+    var, mom = np.where(zero, 0.0, var), np.where(zero, 0.0, mom)
+    sv, sm = np.where(zero, 1.0, var), np.where(zero | (mom <= 0), 1.0, mom)
     a_bar = np.sqrt(var)
-    n0 = np.sqrt(mom / var) / (2.0 * math.pi)
-    trunc_a = 0.5 * (low_a + high_a) / var
-    trunc_m = 0.5 * ((low_m + high_m) / mom + (low_a + high_a) / var)
+    n0 = np.sqrt(mom / sv) / (2.0 * math.pi)
+    trunc_a = np.where(zero, 0.0, 0.5 * (low_a + high_a) / sv)
+    trunc_m = np.where(zero, 0.0, 0.5 * ((low_m + high_m) / sm + (low_a + high_a) / sv))
+    quad_a = np.where(zero, 0.0, quad_a)
+    quad_m = np.where(zero, 0.0, quad_m)
     q, cc = point.q, point.chord_m
     scales = [q * cc if n == "Cl" else (q * cc * cc if n.startswith("Cm") else 1.0) for n in names_all]
     units = ["N/m" if n == "Cl" else ("N m/m" if n.startswith("Cm") else "-") for n in names_all]

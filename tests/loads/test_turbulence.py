@@ -126,3 +126,24 @@ def test_bad_input(kw, err, match):
     sys, _, _ = _jones_sears_model()
     with pytest.raises(err, match=match):
         loads.continuous_turbulence(sys, PT, **({"f_max_hz": 20.0} | kw))
+
+
+def test_an_unreached_output_gets_zeros_not_nan():
+    sys, _, _ = _jones_sears_model()
+    two = control.ss(sys.A, sys.B, np.vstack([sys.C, 0 * np.asarray(sys.C)]), np.vstack([sys.D, 0 * np.asarray(sys.D)]),
+                     inputs=["gust"], outputs=["Cl", "Cm"])
+    with pytest.warns(RuntimeWarning, match="not reached by the gust"):
+        ct = loads.continuous_turbulence(two, PT, f_max_hz=20.0)
+    assert ct.a_bar["Cm"] == 0.0 and ct.n0["Cm"] == 0.0 and ct.rho("Cl", "Cm") == 0.0
+    assert np.all(np.isfinite(ct.correlation)) and ct.a_bar["Cl"] > 0
+
+
+def test_a_free_rigid_body_mode_makes_a_bar_diverge():
+    A = np.array([[0.0, 1.0], [0.0, -0.5]])
+    sys = control.ss(A, [[0.0], [1.0]], [[1.0, 0.0], [0.0, 1.0]], [[0.0], [0.0]], inputs=["gust"],
+                     outputs=["plunge", "plunge_rate"])
+    with pytest.raises(loads.SpectrumError, match="pole at zero"):
+        loads.continuous_turbulence(sys, PT)
+    ct = loads.continuous_turbulence(sys, PT, outputs=["plunge_rate"])    # the rate is bounded
+    assert ct.a_bar["plunge_rate"] > 0
+    assert np.isfinite(ct.truncation_error["plunge_rate"]) and np.isfinite(ct.n0["plunge_rate"])
