@@ -117,7 +117,7 @@ def load_vs_H_plot(tuned: TunedGustResult, outputs: Sequence[str] | None = None,
         if o not in tuned.outputs:
             raise LoadsModelError(f"output {o!r} was not searched ({list(tuned.outputs)})")
         j = tuned.outputs.index(o)
-        line, = ax.plot(tuned.H_grid / FT, tuned.peak_vs_H[j] / tuned.peak[o], "-", marker=".", label=o)
+        line, = ax.plot(tuned.H_grid / FT, tuned.peak_vs_H[j] / max(tuned.peak[o], 1e-300), "-", marker=".", label=o)
         ax.plot([tuned.critical_H[o] / FT], [1.0], "*", color=line.get_color(), ms=12)
     ax.set_xlabel("gust gradient H [ft]")
     ax.set_ylabel("peak |load| / tuned peak")
