@@ -55,6 +55,9 @@ class FlexibleSection:
         Section parameters out of range (checked by :class:`aeroelastic.TypicalSection`).
     LoadsModelError
         ``aero`` without a gust model.
+    aeroelastic.AeroModelError
+        Data whose metadata put them about another axis than the elastic axis (see
+        :func:`aeroelastic.to_elastic_axis`), or not a model or data.
     """
 
     aero: Any
@@ -81,8 +84,9 @@ class FlexibleSection:
         # checks a, x_alpha, r_alpha2, damping (mu and the ratio are placeholders here)
         sec = self.typical_section(mu=1.0)
         object.__setattr__(self, "damping", sec.damping)
-        from aeroelastic.coupling import as_motion_model
+        from aeroelastic.coupling import as_motion_model, check_axis
 
+        check_axis(self.aero, sec)          # data about another axis than the elastic axis: AeroModelError
         model = as_motion_model(self.aero)
         if not model.has_gust:
             raise LoadsModelError("the aerodynamic model has no gust input; fit data with inputs ['gust', 'plunge', "

@@ -103,3 +103,9 @@ def test_a_coupled_model_in_structural_time_is_refused(jones_aero):
     sys = ae.coupled_model(jones_aero, sec, 1.0, gust=True)
     with pytest.raises(loads.LoadsModelError, match="loads.FlexibleSection"):
         loads.tuned_gust(sys, PT)
+
+
+def test_data_about_another_axis_are_refused():
+    data = jones_frf(np.linspace(0.0, 5.0, 41), -0.5)               # about the quarter chord
+    with pytest.raises(ae.AeroModelError, match="to_elastic_axis"):
+        loads.FlexibleSection(data, mass=100.0, a=-0.2, x_alpha=0.1, r_alpha2=0.3, omega_h=10.0, omega_alpha=30.0)
