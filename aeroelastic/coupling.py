@@ -11,7 +11,9 @@ and the polynomial part reads ``M0 q + (2/V) M1 q' + (4/V^2) M2 q''`` (``'`` = d
 Blocks (python-control):
 
 - structure ``S``: inputs ``[Cl, Cm]``, states ``[h, alpha, h', alpha']``, outputs
-  ``[h, alpha, h', alpha', h'', alpha'', Cl, Cm]`` with ``q'' = Ms^-1 (V^2 diag(1, 2) / (pi mu) [Cl, Cm] - Ks q)``
+  ``[h, alpha, h', alpha', h'', alpha'', Cl, Cm]`` with
+  ``q'' = Ms^-1 (V^2 diag(1, 2) / (pi mu) [Cl, Cm] - Ks q - Ds q')`` (``Ds`` the structural damping,
+  :attr:`TypicalSection.damping_matrix`, zero by default)
   (see :mod:`aeroelastic.section`) and the loads passed through;
 - motion aerodynamics ``Am``: inputs ``[h, alpha, h', alpha', h'', alpha'']`` (and zero columns for the loads),
   outputs ``[Cl, Cm]``;
@@ -33,7 +35,7 @@ from .errors import AeroModelError, SpeedError
 from .fit import MotionModel, fit_motion
 from .section import TypicalSection, check_section
 
-__all__ = ["coupled_model", "state_matrix", "as_motion_model", "check_speed", "STATE_OUTPUTS", "FIT_OPTIONS"]
+__all__ = ["coupled_model", "state_matrix", "as_motion_model", "check_speed", "check_axis", "data_axis", "STATE_OUTPUTS", "FIT_OPTIONS"]
 
 STATE_OUTPUTS = ["plunge", "pitch", "plunge_rate", "pitch_rate", "plunge_acc", "pitch_acc"]
 FIT_OPTIONS = ("gust_order", "T", "optimise", "poles")
@@ -68,6 +70,41 @@ def check_speed(speed: Any) -> float:
             "coefficients are per dynamic pressure, undefined at zero speed; use a small speed for the still-air limit)"
         )
     return V
+
+
+def data_axis(aero: Any) -> float | None:
+    """The pitch pivot and moment axis (chords from the leading edge) that data say they are about, or None.
+
+    Read from ``aero.metadata``: ``"axis"`` (set by :func:`aeroelastic.change_axes`) or ``"a"`` (semichords aft of
+    mid-chord, set by :mod:`aeroelastic.theodorsen`'s data). A :class:`MotionModel` carries no axis: None.
+    """
+    from collections.abc import Mapping
+
+    md = getattr(aero, "metadata", None)
+    if not isinstance(md, Mapping):
+        return None
+    try:
+        if "axis" in md:
+            return float(md["axis"])
+        if "a" in md:
+            return 0.5 * (1.0 + float(md["a"]))
+    except (TypeError, ValueError):
+        return None
+    return None
+
+
+def check_axis(aero: Any, section: TypicalSection) -> None:
+    """:class:`AeroModelError` when data say they are about another axis than ``section.elastic_axis``.
+
+    The coupled equations take pitch and ``Cm`` about the elastic axis; data about another axis (e.g. the
+    quarter chord while ``a = -0.2``) would give a wrong flutter speed without a word.
+    """
+    x = data_axis(aero)
+    if x is not None and abs(x - section.elastic_axis) > 1e-9:
+        raise AeroModelError(
+            f"the data are about the axis {x:.6g} chords from the leading edge but the section's elastic axis is at "
+            f"{section.elastic_axis:.6g} (a = {section.a:g}); bring the data to it with "
+            "aeroelastic.to_elastic_axis(frf, section) (or change_axes) first")
 
 
 def as_motion_model(aero: Any, order: int = 4, **fit_kw) -> MotionModel:
@@ -125,6 +162,7 @@ def coupled_model(aero: Any, section: TypicalSection, speed: float, *, gust: boo
     import control
 
     check_section(section)
+    check_axis(aero, section)
     if not isinstance(gust, (bool, np.bool_, type(None))):
         raise AeroModelError(f"gust must be True, False or None (default: when the model has a gust input); got "
                              f"{gust!r}")
@@ -135,13 +173,13 @@ def coupled_model(aero: Any, section: TypicalSection, speed: float, *, gust: boo
     if gust and not model.has_gust:
         raise AeroModelError("gust=True but the aerodynamic model has no gust input; fit data with a 'gust' input")
 
-    Ms, Ks, Lm = section.mass_matrix, section.stiffness_matrix, section.load_matrix
+    Ms, Ks, Lm, Ds = section.mass_matrix, section.stiffness_matrix, section.load_matrix, section.damping_matrix
     Mi = np.linalg.inv(Ms)
     Z2, I2 = np.zeros((2, 2)), np.eye(2)
     # structure: states [q, q'], inputs [Cl, Cm]
-    A_s = np.block([[Z2, I2], [-Mi @ Ks, Z2]])
+    A_s = np.block([[Z2, I2], [-Mi @ Ks, -Mi @ Ds]])
     B_s = np.vstack([Z2, V**2 * Mi @ Lm])
-    C_s = np.vstack([np.hstack([I2, Z2]), np.hstack([Z2, I2]), np.hstack([-Mi @ Ks, Z2]), np.zeros((2, 4))])
+    C_s = np.vstack([np.hstack([I2, Z2]), np.hstack([Z2, I2]), np.hstack([-Mi @ Ks, -Mi @ Ds]), np.zeros((2, 4))])
     D_s = np.vstack([Z2, Z2, V**2 * Mi @ Lm, I2])
     S = control.ss(A_s, B_s, C_s, D_s, inputs=["Cl", "Cm"], outputs=STATE_OUTPUTS + ["Cl", "Cm"],
                    states=["h", "alpha", "h'", "alpha'"])
@@ -171,7 +209,7 @@ def state_matrix(aero: Any, section: TypicalSection, speed: float) -> np.ndarray
 
     Eliminating the algebraic loop by hand: with ``M0e = M0 + sum_j A_j`` and the lag part ``(A_l, B_l, C_l)``,
 
-    ``(Ms - 4 Lm M2) q'' = (V^2 Lm M0e - Ks) q + 2 V Lm M1 q' + V^2 Lm C_l x_l``,
+    ``(Ms - 4 Lm M2) q'' = (V^2 Lm M0e - Ks) q + (2 V Lm M1 - Ds) q' + V^2 Lm C_l x_l``,
     ``x_l' = (V / 2)(A_l x_l + B_l q)``,
 
     with ``Lm = diag(1, 2) / (pi mu)`` (:attr:`TypicalSection.load_matrix`). ``Ms - 4 Lm M2`` is the mass matrix
@@ -186,9 +224,9 @@ def state_matrix(aero: Any, section: TypicalSection, speed: float) -> np.ndarray
     lag = model.lag_model()
     Al, Bl, Cl, Dl = (np.asarray(x) for x in (lag.A, lag.B, lag.C, lag.D))
     nl = Al.shape[0]
-    Ms, Ks, Lm = section.mass_matrix, section.stiffness_matrix, section.load_matrix
+    Ms, Ks, Lm, Ds = section.mass_matrix, section.stiffness_matrix, section.load_matrix, section.damping_matrix
     Mt = Ms - 4.0 * Lm @ model.M2
-    rhs = np.hstack([V**2 * Lm @ (model.M0 + Dl) - Ks, 2.0 * V * Lm @ model.M1, V**2 * Lm @ Cl])
+    rhs = np.hstack([V**2 * Lm @ (model.M0 + Dl) - Ks, 2.0 * V * Lm @ model.M1 - Ds, V**2 * Lm @ Cl])
     A = np.zeros((4 + nl, 4 + nl))
     A[0:2, 2:4] = np.eye(2)
     A[2:4] = np.linalg.solve(Mt, rhs)

@@ -7,7 +7,10 @@ cheaper to build than through python-control in a sweep; a test checks that the 
 (``Im lambda != 0``) or divergence (a real root) is the first speed where the largest real part crosses zero.
 The crossing is bracketed on the speed grid and refined with :func:`scipy.optimize.brentq` on
 ``max Re lambda(V)`` -- no p-k iteration: the aerodynamic model is already a state-space model valid for any
-``lambda``.
+``lambda``. The section's structural damping (:attr:`TypicalSection.damping`, modal ratios) enters the state
+matrix, so a damped section flutters where a root's total damping (aerodynamic plus structural) reaches zero,
+above the undamped speed when the flutter mode's aerodynamic damping falls with speed (the V-g reading: the
+structural ``g = 2 zeta`` is what the aerodynamic ``g`` must exceed).
 """
 
 from __future__ import annotations
@@ -22,7 +25,7 @@ from scipy import optimize
 
 from sysid.arrays import read_only
 
-from .coupling import as_motion_model, state_matrix
+from .coupling import as_motion_model, check_axis, state_matrix
 from .errors import SpeedError
 from .fit import MotionModel
 from .section import TypicalSection, check_section
@@ -148,6 +151,7 @@ def root_locus_response(aero: Any, section: TypicalSection, speeds: Any, *, orde
         Data that cannot be fitted (see :func:`fit_motion`).
     """
     check_section(section)
+    check_axis(aero, section)
     model = as_motion_model(aero, order)
     V = _check_speeds(speeds)
     E = np.array([_eigs(model, section, v) for v in V])
@@ -222,6 +226,7 @@ def flutter(aero: Any, section: TypicalSection, speeds: Any = None, *, order: in
         Data that cannot be fitted (see :func:`fit_motion`).
     """
     check_section(section)
+    check_axis(aero, section)
     tol = _check_tol(tol)
     model = as_motion_model(aero, order, **fit_kw)
     if speeds is None:
@@ -321,6 +326,7 @@ def divergence_speed(aero: Any, section: TypicalSection, *, order: int = 4) -> f
     from scipy.linalg import eigvals
 
     check_section(section)
+    check_axis(aero, section)
     model = as_motion_model(aero, order)
     lam = eigvals(section.stiffness_matrix, section.load_matrix @ model.M0)
     lam = lam[np.isfinite(lam)]

@@ -11,7 +11,7 @@ import numpy as np
 from sysid.arrays import read_only
 from sysid.simulate import first_uneven_step
 
-from .coupling import check_speed, as_motion_model, coupled_model
+from .coupling import check_axis, check_speed, as_motion_model, coupled_model
 from .errors import AeroModelError
 from .fit import real_array
 from .section import TypicalSection
@@ -151,6 +151,7 @@ def gust_response(aero: Any, section: TypicalSection, speed: float, gust: Any, t
         The coupled section is unstable at ``speed`` (above its flutter or divergence speed): the history grows
         without bound, and the warning gives the growth rate.
     """
+    check_axis(aero, section)
     model = as_motion_model(aero, order, **fit_kw)
     if not model.has_gust:
         raise AeroModelError("the aerodynamic model has no 'gust' input; give data with inputs ['gust', 'plunge', 'pitch']")

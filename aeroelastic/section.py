@@ -15,20 +15,28 @@ they read, for ``q = [h, alpha]`` (``'`` = d/d tau)::
 
 (the first row divided by ``m b omega_alpha^2``, the second by ``m b^2 omega_alpha^2``).
 
-The structure is undamped (no structural damping term, as in the classical flutter examples this package is
-checked against): every flutter speed is that of the undamped section, a conservative bound for a damped one.
+Structural damping (optional, default none as in the classical flutter examples this package is checked
+against): modal damping ratios ``zeta_1``, ``zeta_2`` of the two in-vacuo modes (ascending frequency), added as
+the classical (Caughey) damping matrix ``Ds`` that leaves those modes uncoupled, each decaying with its ratio::
+
+    Ms q'' + Ds q' + Ks q = (V^2 / (pi mu)) diag(1, 2) [Cl, Cm]
+    R Ds = (R Ms) Phi diag(2 zeta_i w_i) Phi^T (R Ms),   R = diag(1, 1/2),   Phi^T (R Ms) Phi = I
+
+(``R`` makes ``R Ms`` and ``R Ks`` symmetric: the second row of the equations was divided by ``b`` more than the
+first). An undamped section's flutter speed is a conservative bound for a damped one.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from .errors import SectionError
 
-__all__ = ["TypicalSection", "check_section"]
+__all__ = ["TypicalSection", "check_section", "A_RANGE"]
 
 
 def _num(name: str, v, *, positive: bool = False) -> float:
@@ -54,8 +62,9 @@ class TypicalSection:
     mu : float
         Mass ratio ``m / (pi rho b^2)`` (> 0).
     a : float
-        Elastic axis aft of mid-chord, in semichords (``-1 <= a <= 1`` on the chord; values off the chord are
-        allowed, e.g. Isogai's ``a = -2``, but must be finite).
+        Elastic axis aft of mid-chord, in semichords: ``-1 <= a <= 1`` on the chord; ahead of the leading edge down
+        to ``a = -3`` (a chord ahead; Isogai's swept-wing section has ``a = -2``); behind the trailing edge
+        (``a > 1``) is refused.
     x_alpha : float
         Centre of mass aft of the elastic axis, in semichords.
     r_alpha2 : float
@@ -63,12 +72,16 @@ class TypicalSection:
         (the moment of inertia about the centre of mass is positive).
     omega_ratio : float
         ``omega_h / omega_alpha`` (uncoupled plunge over pitch frequency, > 0).
+    damping : float or (float, float)
+        Modal (structural) damping ratios of the two in-vacuo modes, ascending frequency, each in ``[0, 1)``; one
+        number applies to both. Default 0 (undamped). Stored as a tuple of two floats.
 
     Raises
     ------
     SectionError
-        A parameter is not a finite number, ``mu``, ``r_alpha2`` or ``omega_ratio`` is not positive, or
-        ``r_alpha2 <= x_alpha^2``.
+        A parameter is not a finite number, ``mu``, ``r_alpha2`` or ``omega_ratio`` is not positive,
+        ``r_alpha2 <= x_alpha^2``, the elastic axis lies outside ``-3 <= a <= 1`` (behind the trailing edge, or
+        more than a chord ahead of the leading edge), or a damping ratio outside ``[0, 1)``.
 
     Examples
     --------
@@ -84,11 +97,18 @@ class TypicalSection:
     x_alpha: float
     r_alpha2: float
     omega_ratio: float
+    damping: Any = 0.0
 
     def __post_init__(self) -> None:
         sa = object.__setattr__
         sa(self, "mu", _num("mu", self.mu, positive=True))
         sa(self, "a", _num("a", self.a))
+        if not A_RANGE[0] <= self.a <= A_RANGE[1]:
+            raise SectionError(
+                f"a = {self.a!r} puts the elastic axis {'behind the trailing edge' if self.a > 1 else 'more than a chord ahead of the leading edge'}"
+                f" (a is in semichords aft of mid-chord: -1 is the leading edge, 1 the trailing edge); allowed "
+                f"{A_RANGE[0]:g} <= a <= {A_RANGE[1]:g}; check the units (semichords, not chords or percent)")
+        sa(self, "damping", _damping(self.damping))
         sa(self, "x_alpha", _num("x_alpha", self.x_alpha))
         sa(self, "r_alpha2", _num("r_alpha2", self.r_alpha2, positive=True))
         sa(self, "omega_ratio", _num("omega_ratio", self.omega_ratio, positive=True))
@@ -115,6 +135,20 @@ class TypicalSection:
         return np.diag([2.0 * self.omega_ratio**2, self.r_alpha2])
 
     @property
+    def damping_matrix(self) -> np.ndarray:
+        """``Ds``, shape (2, 2): modal damping of the in-vacuo modes (see the module notes); zeros when undamped."""
+        if self.damping == (0.0, 0.0):
+            return np.zeros((2, 2))
+        R = np.diag([1.0, 0.5])
+        M, K = R @ self.mass_matrix, R @ self.stiffness_matrix
+        from scipy.linalg import eigh
+
+        w2, Phi = eigh(K, M)                      # ascending, Phi^T M Phi = I
+        w = np.sqrt(np.maximum(w2, 0.0))
+        Dm = M @ Phi @ np.diag(2.0 * np.asarray(self.damping) * w) @ Phi.T @ M
+        return np.linalg.solve(R, Dm)
+
+    @property
     def load_matrix(self) -> np.ndarray:
         """``diag(1, 2) / (pi mu)``: generalised forces per ``V^2 [Cl, Cm]``, shape (2, 2)."""
         return np.diag([1.0, 2.0]) / (np.pi * self.mu)
@@ -128,6 +162,23 @@ class TypicalSection:
         r2, xa, s2 = self.r_alpha2, self.x_alpha, self.omega_ratio**2
         w2 = np.roots([r2 - xa**2, -r2 * (1 + s2), r2 * s2])
         return np.sort(np.sqrt(w2.real))
+
+
+A_RANGE = (-3.0, 1.0)
+"""Elastic-axis positions :class:`TypicalSection` takes, semichords aft of mid-chord (trailing edge at 1)."""
+
+
+def _damping(v) -> tuple:
+    """``v`` (a number or a pair) as two damping ratios in ``[0, 1)``, or :class:`SectionError`."""
+    vals = np.atleast_1d(np.asarray(v, dtype=object)).ravel().tolist() if not isinstance(v, (int, float)) else [v]
+    if len(vals) == 1:
+        vals = vals * 2
+    if len(vals) != 2:
+        raise SectionError(f"damping must be one ratio or two (one per in-vacuo mode, ascending frequency), got {v!r}")
+    out = tuple(_num("damping", x) for x in vals)
+    if any(not 0.0 <= z < 1.0 for z in out):
+        raise SectionError(f"damping ratios must lie in [0, 1) (fractions of critical: 0.02 is 2 %), got {v!r}")
+    return out
 
 
 def check_section(section) -> TypicalSection:

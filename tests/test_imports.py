@@ -1,6 +1,6 @@
 """The import graph of the packages: no import circle between modules, no private name taken across modules.
 
-Reads every ``*.py`` of ``cfd``, ``sysid``, ``studies``, ``aeroelastic`` and ``bench`` with :mod:`ast` (imports
+Reads every ``*.py`` of ``cfd``, ``sysid``, ``studies``, ``aeroelastic``, ``loads`` and ``bench`` with :mod:`ast` (imports
 inside functions count too: a circle that only a late import hides is still a circle). A name is private when
 it starts with one underscore (dunders such as ``__version__`` are not). Tests may use private names.
 """
@@ -17,7 +17,7 @@ changing ``cfd`` would recompute every stored result): it goes when ``cfd.Unstea
 itself."""
 
 ROOT = Path(__file__).resolve().parents[1]
-PACKAGES = ("cfd", "sysid", "studies", "aeroelastic", "bench")
+PACKAGES = ("cfd", "sysid", "studies", "aeroelastic", "loads", "bench")
 
 
 def _module_name(path: Path) -> str:
@@ -156,3 +156,11 @@ def test_each_package_lists_its_public_names(package):
     assert exposed <= listed, f"exposed but not in __all__: {sorted(exposed - listed)}"
     for name in listed:   # resolvable (studies imports its two entry points on first use)
         assert getattr(module, name) is not None
+
+
+def test_loads_uses_neither_cfd_nor_studies(modules):
+    """loads builds on sysid's ROMs and aeroelastic's section only: a study may use loads, not the reverse, and
+    the CFD is reached through the ROMs it produced."""
+    bad = [f"{m}:{line} imports {t}" for m, t, _, line in _imports(modules)
+           if m.startswith("loads") and t.split(".")[0] in ("cfd", "studies")]
+    assert not bad, "\n".join(bad)
