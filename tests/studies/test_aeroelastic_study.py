@@ -8,11 +8,11 @@ import pytest
 
 import aeroelastic as ae
 from aeroelastic import theodorsen as th
-from studies.aeroelastic_schema import DEFAULT_OMEGA, PIVOT, describe, motion_frf_piece
-from studies.aeroelastic_study import aeroelastic_plan, flutter_task, load_flutter
+from studies.sections.aeroelastic.schema import DEFAULT_OMEGA, PIVOT, describe, motion_frf_piece
+from studies.sections.aeroelastic.study import aeroelastic_plan, flutter_task, load_flutter
 from studies.config import StudyConfigError, loads_study
-from studies.pieces import PIECES, open_store
-from studies.results import load_results
+from studies.sections.gust_rom.pieces import PIECES, open_store
+from studies.store.results import load_results
 
 BASE = """
 name = "aero"
@@ -218,7 +218,7 @@ speeds = { min = 0.05, max = 3.0, n = 60 }
 
 @pytest.mark.slow
 def test_runner_computes_and_caches_the_aeroelastic_pieces(tmp_path):
-    from studies.runner import run_study
+    from studies.run.runner import run_study
 
     config = loads_study(RUNNER, source="aero.toml", base_dir=tmp_path)
     res = run_study(config, progress=False)

@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 import scipy.io
 
-from studies import provenance as prov
-from studies.cache import (
+from studies.store import provenance as prov
+from studies.store.cache import (
     CacheError,
     ResultStore,
     StoreReadError,
@@ -67,9 +67,9 @@ def test_keys(tmp_path):
     assert k != ResultStore(tmp_path, code={**CODE, "sources": "edited"}).key("frf", CONFIG)
     # the default code version: package version and the sources of the piece's packages
     default = ResultStore(tmp_path)
-    assert default.code_version("rom")["packages"] == ["cfd", "studies.config", "studies.config_reader",
-                                                       "studies.config_sections", "studies.numbers", "studies.pieces",
-                                                       "studies.schema", "studies.tasks", "sysid"]
+    assert default.code_version("rom")["packages"] == [
+        "cfd", "studies.config.entries", "studies.config.numbers", "studies.config.reader", "studies.config.schema",
+        "studies.config.study", "studies.sections.gust_rom.pieces", "studies.sections.gust_rom.tasks", "sysid"]
     assert default.code_version("frf")["packages"] == ["cfd"]
     with pytest.raises(CacheError, match="piece"):
         store.key("../x", CONFIG)
@@ -124,7 +124,7 @@ def test_corruption_is_detected_and_recomputed(tmp_path, caplog, damage):
         e.path.write_text(e.path.read_text().replace('"M": 256', '"M": 257'))
     else:
         e.path.write_bytes(b"\x00\xff not json")
-    with caplog.at_level(logging.WARNING, logger="studies.cache"):
+    with caplog.at_level(logging.WARNING, logger="studies.store.cache"):
         again = store.get_or_compute("frf", CONFIG, lambda: {"H": np.ones(2)})
     assert not again.hit and np.all(again["H"] == 1.0)
     assert any("corrupted entry" in r.getMessage() for r in caplog.records)
@@ -133,7 +133,7 @@ def test_corruption_is_detected_and_recomputed(tmp_path, caplog, damage):
 
 def _crash_on(step, root, value):
     """Child process: write an entry and die (os._exit) at ``step`` of the atomic write."""
-    import studies.files as files  # the store's atomic writer
+    import studies.store.files as files  # the store's atomic writer
 
     real_replace, real_fsync = os.replace, os.fsync
     calls = {"fsync": 0}
@@ -195,7 +195,7 @@ def test_concurrent_writers_same_key(tmp_path, caplog):
     procs = [_ctx.Process(target=_writer, args=(tmp_path, 25, s)) for s in (1, 2)]
     for p in procs:
         p.start()
-    with caplog.at_level(logging.WARNING, logger="studies.cache"):
+    with caplog.at_level(logging.WARNING, logger="studies.store.cache"):
         while any(p.is_alive() for p in procs):
             e = store.get("rom", CONFIG)  # a reader alongside: never a torn entry
             if e is not None:
@@ -264,7 +264,7 @@ def test_an_entry_of_another_payload_layout_is_recomputed(tmp_path, caplog):
     required = {"frf": ("H", "omega")}
     store = ResultStore(tmp_path, code=CODE, required=required)
     ResultStore(tmp_path, code=CODE).put("frf", CONFIG, {"H": np.ones(2)})  # no omega: another layout
-    with caplog.at_level(logging.WARNING, logger="studies.cache"):
+    with caplog.at_level(logging.WARNING, logger="studies.store.cache"):
         assert store.get("frf", CONFIG) is None
     assert any("arrays omega are missing" in r.getMessage() for r in caplog.records)
     store.put("frf", CONFIG, {}, {"status": "failed", "error": "diverged"})

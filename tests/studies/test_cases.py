@@ -6,7 +6,7 @@ import math
 import pytest
 
 import cfd
-from studies.cases import (
+from studies.config.cases import (
     GUST_CASES,
     TEST_CASES,
     CaseError,
@@ -127,7 +127,7 @@ def test_frozen_and_table():
 def test_the_study_mach_floor_is_the_solvers():
     from cfd.flow import MIN_MACH
 
-    from studies.case_types import MIN_MACH as STUDY_MIN_MACH
+    from studies.config.case_types import MIN_MACH as STUDY_MIN_MACH
 
     assert STUDY_MIN_MACH == MIN_MACH
 
@@ -135,6 +135,6 @@ def test_the_study_mach_floor_is_the_solvers():
 def test_the_study_step_limit_is_the_ltds():
     from cfd.ltd import MAX_STEPS
 
-    from studies.schema import MAX_STEPS as STUDY_MAX_STEPS
+    from studies.config.schema import MAX_STEPS as STUDY_MAX_STEPS
 
     assert STUDY_MAX_STEPS == MAX_STEPS

@@ -1,4 +1,4 @@
-"""The study subcommands (studies.commands) through their own parser: validation first, hand-over, exit codes."""
+"""The study subcommands (studies.cli.commands) through their own parser: validation first, hand-over, exit codes."""
 
 import argparse
 import json
@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from studies import commands
+from studies.cli import commands
 
 STUDIES = Path(__file__).resolve().parents[2] / "studies"
 
@@ -23,7 +23,7 @@ def run(argv):
 
 @pytest.fixture
 def fake_modules(monkeypatch):
-    """Replace studies.runner.run_study / studies.report.make_report by recorders of their calls."""
+    """Replace studies.run.runner.run_study / studies.report.make_report by recorders of their calls."""
     import importlib
 
     calls = []
@@ -38,7 +38,7 @@ def fake_modules(monkeypatch):
         monkeypatch.setattr(importlib.import_module(name), function, fake)
 
     # `lfdrom report` reads the store afterwards to say whether the study is complete: a complete one here
-    monkeypatch.setattr(importlib.import_module("studies.results"), "load_results",
+    monkeypatch.setattr(importlib.import_module("studies.store.results"), "load_results",
                         lambda config, **kw: types.SimpleNamespace(roms=[], sims=[], failed=[], missing=[], run=None,
                                                                    config=config))
     install.calls = calls
@@ -64,7 +64,7 @@ def test_run_dry_run(capsys):
 
 
 def test_bad_study_is_rejected_before_the_runner(tmp_path, capsys, fake_modules):
-    fake_modules("studies.runner", "run_study")
+    fake_modules("studies.run.runner", "run_study")
     bad = tmp_path / "bad.toml"
     bad.write_text('cases = ["T2"]\n[sweep]\norders = [40]\nM = [32]\n')
     assert run(["run", str(bad)]) == 2
@@ -75,8 +75,8 @@ def test_bad_study_is_rejected_before_the_runner(tmp_path, capsys, fake_modules)
 
 
 def test_run_hands_over_with_accepted_options(tmp_path, fake_modules, capsys):
-    fake_modules("studies.runner", "run_study")
-    fake_modules("studies.report", "make_report", params="config, **kw")
+    fake_modules("studies.run.runner", "run_study")
+    fake_modules("studies.report.make", "make_report", params="config, **kw")
     assert run(["run", str(STUDIES / "demo.toml"), "--out", str(tmp_path / "o"), "--quiet"]) == 0
     (name, config, kw), (rname, rconfig, rkw) = fake_modules.calls
     assert name == "run_study" and config.name == "demo"
@@ -90,7 +90,7 @@ def test_run_hands_over_with_accepted_options(tmp_path, fake_modules, capsys):
 
 
 def test_run_progress_option(fake_modules, tmp_path):
-    fake_modules("studies.runner", "run_study")
+    fake_modules("studies.run.runner", "run_study")
     base = ["run", str(STUDIES / "demo.toml"), "--out", str(tmp_path / "o"), "--no-report"]
     for extra, expected in (([], True), (["--progress", "lines"], "lines"), (["--progress", "pieces"], "pieces"),
                             (["--progress", "bar", "--quiet"], False)):
@@ -99,8 +99,8 @@ def test_run_progress_option(fake_modules, tmp_path):
 
 
 def test_run_writes_the_study_page(fake_modules):
-    fake_modules("studies.runner", "run_study", params="config, workers=None, **kw")
-    fake_modules("studies.report", "make_report", params="config, **kw")
+    fake_modules("studies.run.runner", "run_study", params="config, workers=None, **kw")
+    fake_modules("studies.report.make", "make_report", params="config, **kw")
     assert run(["run", str(STUDIES / "paper.toml"), "--quiet"]) == 0
     (_, config, kw), (_, rconfig, rkw) = fake_modules.calls
     assert kw["workers"] == "auto"  # the default: the runner sizes the pool
@@ -109,8 +109,8 @@ def test_run_writes_the_study_page(fake_modules):
 
 
 def test_run_failure_writes_no_report(fake_modules, capsys):
-    fake_modules("studies.runner", "run_study", fail=True)
-    fake_modules("studies.report", "make_report", params="config, **kw")
+    fake_modules("studies.run.runner", "run_study", fail=True)
+    fake_modules("studies.report.make", "make_report", params="config, **kw")
     assert run(["run", str(STUDIES / "demo.toml"), "--quiet"]) == 1
     assert [c[0] for c in fake_modules.calls] == ["run_study"]
     assert "the study runner failed: RuntimeError: boom" in capsys.readouterr().err
@@ -118,23 +118,23 @@ def test_run_failure_writes_no_report(fake_modules, capsys):
 
 @pytest.mark.parametrize("value, message", [("0", "give at least 1"), ("two", "a positive integer or auto")])
 def test_run_bad_workers(value, message, fake_modules, capsys):
-    fake_modules("studies.runner", "run_study")
+    fake_modules("studies.run.runner", "run_study")
     assert run(["run", str(STUDIES / "demo.toml"), "--workers", value, "--quiet"]) == 2
     assert message in capsys.readouterr().err and fake_modules.calls == []
 
 
 def test_failures_and_report(fake_modules, capsys):
-    fake_modules("studies.report", "make_report", fail=True)
+    fake_modules("studies.report.make", "make_report", fail=True)
     assert run(["report", str(STUDIES / "demo.toml"), "--quiet"]) == 1
     assert "RuntimeError: boom" in capsys.readouterr().err
-    fake_modules("studies.report", "make_report", params="config, **kw")
+    fake_modules("studies.report.make", "make_report", params="config, **kw")
     assert run(["report", str(STUDIES / "demo.toml")]) == 0
     assert fake_modules.calls[-1][2]["kw"]["progress"] is True
     assert fake_modules.calls[-1][2]["kw"]["page"] is None  # not given: the report's default page
 
 
 def test_report_page_and_prose_are_handed_over(fake_modules, tmp_path):
-    fake_modules("studies.report", "make_report", params="config, **kw")
+    fake_modules("studies.report.make", "make_report", params="config, **kw")
     page, prose = tmp_path / "paper.md", tmp_path / "prose.toml"
     prose.write_text('summary = "What the study found."\n')
     assert run(["report", str(STUDIES / "demo.toml"), "--quiet", "--page", str(page), "--prose", str(prose)]) == 0
@@ -154,14 +154,14 @@ def test_report_page_and_prose_are_handed_over(fake_modules, tmp_path):
     (["rom", "mine", "--naca", "0012", "--mach", "fast", "--order", "9"], "--mach: 'fast' is not a number"),
 ])
 def test_rom_validation(argv, match, capsys, fake_modules):
-    fake_modules("studies.runner", "run_study")
+    fake_modules("studies.run.runner", "run_study")
     assert run(argv + ["--quiet"]) == 2
     assert re.search(match, capsys.readouterr().err)
     assert fake_modules.calls == []
 
 
 def test_rom_one_point_study(tmp_path, fake_modules):
-    fake_modules("studies.runner", "run_study")
+    fake_modules("studies.run.runner", "run_study")
     # the fake runner stores nothing: no ROM to export is an incomplete run (exit 3), not a success
     assert run(["rom", "mine", "--naca", "0012", "--mach", "0.5", "--order", "12", "--M", "32", "--dc-gain",
                 "--stable", "--out", str(tmp_path), "--quiet"]) == commands.EXIT_INCOMPLETE
@@ -182,16 +182,16 @@ def test_rom_file_names(out, expected):
 
 
 def test_rom_reports_a_failed_identification(tmp_path, monkeypatch, capsys):
-    from studies.results import RomRecord
+    from studies.store.results import RomRecord
 
     def run_study(config, **kw):
         rec = RomRecord(case="T2", T=1.0, M=32, order=9, method="default", status="failed",
                         error="OrderError: too large")
         return types.SimpleNamespace(roms=[rec], missing=[], failed=[], config=config)
 
-    import studies.runner
+    import studies.run.runner
 
-    monkeypatch.setattr(studies.runner, "run_study", run_study)
+    monkeypatch.setattr(studies.run.runner, "run_study", run_study)
     assert run(["rom", "T2", "--order", "9", "--M", "32", "--out", str(tmp_path), "--quiet"]) == commands.EXIT_INCOMPLETE
     assert "the identification failed: OrderError: too large" in capsys.readouterr().err
     assert not list(tmp_path.glob("*.npz"))

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import sysid
-from studies.cases import TEST_CASES
+from studies.config.cases import TEST_CASES
 from studies.config import (
     T_PAPER,
     StudyConfig,

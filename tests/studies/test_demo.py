@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from studies import cli
-from studies.demo import gust_like_system, make_data, run_demo
+from studies.cli.demo import gust_like_system, make_data, run_demo
 
 
 def test_demo_writes_outputs_and_matches_dc(tmp_path):

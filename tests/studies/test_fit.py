@@ -9,8 +9,9 @@ import pytest
 import scipy.io
 
 import sysid
-from studies import cli, fit
-from studies.fit import FitInputError, fit_data, load_data
+from studies import cli
+from studies.cli import fit
+from studies.cli.fit import FitInputError, fit_data, load_data
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLE = ROOT / "docs" / "data" / "fit-example.csv"
@@ -139,7 +140,7 @@ def test_command_line_end_to_end(files, tmp_path, capsys):
     assert "order 4 (given)" in text and "wrote" in text
     for name in ("rom.npz", "rom.mat", "summary.md", "bode.png", "error.png", "hankel.png", "poles.png"):
         assert (out_dir / name).stat().st_size > 0, name
-    from studies.rom_export import load_rom_npz
+    from studies.store.rom_export import load_rom_npz
 
     model, meta = load_rom_npz(out_dir / "rom.npz")
     assert model.nstates == 4 and meta["order"] == 4 and meta["source"] == "data.csv"

@@ -8,13 +8,13 @@ import numpy as np
 import pytest
 from tinystudy import STUDY, copy_study
 
-from studies.cases import GUST_CASES
+from studies.config.cases import GUST_CASES
 from studies.config import StudyConfigError, loads_study
-from studies.nonlinear_schema import describe, march_amplitudes, march_end, nonlinear_piece
-from studies.nonlinear_study import compare_histories, load_linearity, nonlinear_plan
-from studies.pieces import open_store
+from studies.sections.nonlinear.schema import describe, march_amplitudes, march_end, nonlinear_piece
+from studies.sections.nonlinear.study import compare_histories, load_linearity, nonlinear_plan
+from studies.sections.gust_rom.pieces import open_store
 from studies.report import write_report
-from studies.runner import run_study
+from studies.run.runner import run_study
 
 PAPER_GUSTS = """
 name = "nl"
@@ -60,8 +60,8 @@ def test_amplitudes_and_the_gusts_own_angle_are_merged(tmp_path):
 
 
 def test_gusts_of_one_shape_share_their_marches(tmp_path):
-    from studies.nonlinear_schema import gust_shapes
-    from studies.nonlinear_study import _marches
+    from studies.sections.nonlinear.schema import gust_shapes
+    from studies.sections.nonlinear.study import _marches
 
     text = PAPER_GUSTS.replace('gusts = ["G1", "G3", "G4", "G6"]', 'gusts = ["G2", "G3"]')
     cfg = study(tmp_path, '[nonlinear]\ncases = ["T2"]\namplitudes = [1, 2]\n', text)
@@ -201,8 +201,8 @@ def test_report_section_has_the_table_and_the_figures(marched, tmp_path):
 
 
 def test_limits_are_the_largest_angle_within_each_level_and_the_slope_is_the_error_order():
-    from studies.nonlinear_report import linearity_limits
-    from studies.nonlinear_study import LinearityRecord
+    from studies.sections.nonlinear.report import linearity_limits
+    from studies.sections.nonlinear.study import LinearityRecord
 
     amps = [0.5, 1.0, 2.0, 5.0]
     # LTD error 0.0039 a^2 (third-order term: slope 2): 0.1 %, 0.39 %, 1.6 %, 9.75 %

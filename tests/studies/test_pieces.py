@@ -2,9 +2,9 @@
 
 import pytest
 
-from studies.cases import FlowCase, GustCase
-from studies.pieces import frf_piece, ltd_piece
-from studies.schema import CFDOptions, SimulationOptions
+from studies.config.cases import FlowCase, GustCase
+from studies.sections.gust_rom.pieces import frf_piece, ltd_piece
+from studies.config.schema import CFDOptions, SimulationOptions
 
 CASE = FlowCase("T2", "0010", 0.735)
 GUST = GustCase("G3", "one_minus_cosine", 10.0, 1.0)

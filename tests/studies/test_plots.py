@@ -1,4 +1,4 @@
-"""studies.plots: figures from plain arrays (Agg backend; the data drawn is read back from the artists)."""
+"""studies.report.plots: figures from plain arrays (Agg backend; the data drawn is read back from the artists)."""
 
 import matplotlib
 
@@ -10,8 +10,8 @@ import pytest  # noqa: E402
 from PIL import Image  # noqa: E402
 
 import sysid  # noqa: E402
-from studies import plots  # noqa: E402
-from studies.plots import PlotDataError  # noqa: E402
+from studies.report import plots  # noqa: E402
+from studies.report.plots import PlotDataError  # noqa: E402
 
 
 @pytest.fixture(autouse=True)

@@ -1,4 +1,4 @@
-"""studies.progress: events from inside the pieces, their display as lines or a bar, across worker processes,
+"""studies.run.progress: events from inside the pieces, their display as lines or a bar, across worker processes,
 and the runner's output for the tiny study (serial and with two worker processes)."""
 
 import io
@@ -8,10 +8,10 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from studies import progress as prog
-from studies.executors import ProcessPool
-from studies.progress import PieceReporter, ProgressDisplay, resolve_mode, task_key
-from studies.runner import run_study
+from studies.run import progress as prog
+from studies.run.executors import ProcessPool
+from studies.run.progress import PieceReporter, ProgressDisplay, resolve_mode, task_key
+from studies.run.runner import run_study
 from tinystudy import copy_study
 
 

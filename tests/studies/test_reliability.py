@@ -19,10 +19,12 @@ import pytest
 from tinystudy import N_POINTS, copy_study
 
 import sysid
-from studies import commands, executors, runner
+from studies.cli import commands
+from studies.run import executors
+from studies.run import runner
 from studies.config import MAX_STEPS, T_RANGE, StudyConfigError, loads_study, min_order
-from studies.results import RomRecord
-from studies.runner import RunInterrupted, RunSummary, run_study
+from studies.store.results import RomRecord
+from studies.run.runner import RunInterrupted, RunSummary, run_study
 
 REPO = Path(__file__).resolve().parents[2]
 STUDIES = REPO / "studies"
@@ -144,9 +146,9 @@ def recorder(monkeypatch):
         calls.append("make_report")
 
     monkeypatch.setattr(runner, "run_study", run_study)
-    import studies.report
+    import studies.report.make
 
-    monkeypatch.setattr(studies.report, "make_report", make_report)
+    monkeypatch.setattr(studies.report.make, "make_report", make_report)
     return types.SimpleNamespace(calls=calls, state=state)
 
 
@@ -272,7 +274,7 @@ def test_workers_are_capped_at_the_study_width(computed, tmp_path):
 WORKER_SCRIPT = textwrap.dedent("""
     import os, sys, time
     from pathlib import Path
-    from studies import executors
+    from studies.run import executors
 
     def sleeper(path):
         Path(path).write_text(str(os.getpid()))
@@ -393,7 +395,7 @@ def test_kill_9_then_rerun_equals_the_uninterrupted_run(computed, tmp_path):
     from tinystudy import STUDY
 
     from studies.config import load_study
-    from studies.results import load_results
+    from studies.store.results import load_results
 
     config, first, _ = computed
     (tmp_path / "tiny.toml").write_text(STUDY)
@@ -484,7 +486,7 @@ def test_no_gusts_no_step_limit():
 
 
 def test_grid_limits():
-    from studies.cases import CaseError, GridSpec
+    from studies.config.cases import CaseError, GridSpec
 
     with pytest.raises(CaseError, match="farfield = 1000 chords .* at most 200"):
         GridSpec(farfield=1000.0)

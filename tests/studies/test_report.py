@@ -15,7 +15,7 @@ import pytest  # noqa: E402
 from studies import report  # noqa: E402
 from studies.config import StudyConfigError, loads_study  # noqa: E402
 from studies.report import ReportError, make_report  # noqa: E402
-from studies.synthetic import synthetic_results  # noqa: E402
+from studies.cli.synthetic import synthetic_results  # noqa: E402
 
 STUDY = """
 name = "small"
@@ -236,7 +236,7 @@ def test_make_report_loads_with_the_store_override(small, tmp_path, monkeypatch)
         seen["store"] = config.store_dir
         return small
 
-    monkeypatch.setattr("studies.results.load_results", fake_load)
+    monkeypatch.setattr("studies.store.results.load_results", fake_load)
     page = make_report(small.config, output_dir=tmp_path, store_dir=tmp_path / "elsewhere", progress=True,
                        figures=False)
     assert seen["store"] == tmp_path / "elsewhere" and page.is_file()
@@ -246,7 +246,7 @@ def test_make_report_loads_with_the_store_override(small, tmp_path, monkeypatch)
     (lambda tmp: make_report(3.5), ReportError, "expected a StudyConfig, a study file or StudyResults"),
     (lambda tmp: make_report("missing.toml"), StudyConfigError, "no such study file"),
     (lambda tmp: make_report("x.toml", output_dir=tmp / "a", out_dir=tmp / "b"), ReportError, "disagree"),
-    (lambda tmp: report.write_report(object(), tmp), ReportError, "must be a studies.results.StudyResults"),
+    (lambda tmp: report.write_report(object(), tmp), ReportError, "must be a studies.store.results.StudyResults"),
 ])
 def test_bad_arguments(tmp_path, call, error, match):
     with pytest.raises(error, match=match):

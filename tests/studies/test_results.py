@@ -1,4 +1,4 @@
-"""studies.results: records read back from a synthetic store (no CFD), metrics, tables."""
+"""studies.store.results: records read back from a synthetic store (no CFD), metrics, tables."""
 
 import types
 
@@ -8,7 +8,7 @@ import pytest
 
 import sysid
 from studies.config import loads_study
-from studies.pieces import (
+from studies.sections.gust_rom.pieces import (
     failure_payload,
     frf_payload,
     frf_piece,
@@ -23,7 +23,7 @@ from studies.pieces import (
     steady_payload,
     steady_piece,
 )
-from studies.results import FRFRecord, RomRecord, StudyResults, load_results
+from studies.store.results import FRFRecord, RomRecord, StudyResults, load_results
 from sysid.history_metrics import envelope_errors, peak
 from sysid.metrics import rom_metrics
 
@@ -264,11 +264,11 @@ def test_rom_metrics_values():
 @pytest.mark.parametrize("piece, has_results", [("steady", False), ("frf", False), ("ltd", False), ("rom", True),
                                                 ("sim", True)])
 def test_metric_code_enters_the_rom_and_sim_keys(piece, has_results):
-    """The ROM pieces' metrics are computed by sysid (metrics, simulation) and studies.pieces (sim_metrics)."""
-    from studies.pieces import store_dependencies
+    """The ROM pieces' metrics are computed by sysid (metrics, simulation) and studies.sections.gust_rom.pieces (sim_metrics)."""
+    from studies.sections.gust_rom.pieces import store_dependencies
 
     deps = store_dependencies()[piece]
-    assert ("sysid" in deps and "studies.pieces" in deps and "studies.tasks" in deps) == has_results
+    assert ("sysid" in deps and "studies.sections.gust_rom.pieces" in deps and "studies.sections.gust_rom.tasks" in deps) == has_results
     assert "cfd" in deps and (deps == ("cfd",)) == (not has_results)
 
 

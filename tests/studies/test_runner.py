@@ -1,4 +1,4 @@
-"""studies.runner: a tiny study end to end on a coarse grid, resume, failures, interruption, executors, `lfdrom rom`."""
+"""studies.run.runner: a tiny study end to end on a coarse grid, resume, failures, interruption, executors, `lfdrom rom`."""
 
 import argparse
 import importlib.util
@@ -11,10 +11,12 @@ import numpy as np
 import pytest
 
 import sysid
-from studies import commands, runner, tasks
+from studies.cli import commands
+from studies.run import runner
+from studies.sections.gust_rom import tasks
 from studies.config import load_study
-from studies.results import load_results
-from studies.runner import RunnerError, auto_workers, run_study
+from studies.store.results import load_results
+from studies.run.runner import RunnerError, auto_workers, run_study
 from tinystudy import N_POINTS, copy_study
 
 @pytest.fixture
@@ -211,7 +213,7 @@ def test_lfdrom_rom_writes_npz_and_mat(computed, tmp_path, monkeypatch, capsys):
     status = commands.dispatch(p.parse_args(["rom", "T2", "--order", "4", "--M", "16", "--dc-gain", "--out", str(out),
                                              "--quiet"]))
     assert status == 0 and "wrote" in capsys.readouterr().out
-    from studies.rom_export import load_rom_npz
+    from studies.store.rom_export import load_rom_npz
     import scipy.io
 
     model, meta = load_rom_npz(tmp_path / "rom.npz")
@@ -229,7 +231,7 @@ def test_a_dead_worker_fails_its_tasks_and_the_run_ends_resumable(computed, tmp_
     from concurrent.futures import Future
     from concurrent.futures.process import BrokenProcessPool
 
-    from studies.executors import InlinePool
+    from studies.run.executors import InlinePool
 
     config, _, _ = computed
     study = copy_study(config, tmp_path, drop=("ltd", "rom", "sim"))
@@ -264,7 +266,7 @@ def test_a_dead_worker_fails_its_tasks_and_the_run_ends_resumable(computed, tmp_
 def test_interruption_counts_tasks_that_ended_before_it(computed, tmp_path, monkeypatch):
     """With one process a task runs inside submit: a Ctrl-C in the case's FRF task comes after its LTD task
     ended (its pieces stored) but before the runner took that task's reports; the message counts them."""
-    from studies.runner import RunInterrupted
+    from studies.run.runner import RunInterrupted
 
     config, _, _ = computed
     study = copy_study(config, tmp_path, drop=("frf", "ltd", "rom", "sim"))

@@ -1,4 +1,4 @@
-"""studies.tables: CSV / Markdown / LaTeX tables from lists of dicts."""
+"""studies.report.tables: CSV / Markdown / LaTeX tables from lists of dicts."""
 
 import csv
 import io
@@ -6,7 +6,7 @@ import math
 
 import pytest
 
-from studies.tables import Column, TableError, format_table, write_table, write_tables
+from studies.report.tables import Column, TableError, format_table, write_table, write_tables
 
 ROWS = [
     dict(case="T2", order=25, err=1.234567e-3, stable=True, note="a|b", gust=None),

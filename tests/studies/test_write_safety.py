@@ -18,9 +18,12 @@ matplotlib.use("Agg")
 
 import pytest  # noqa: E402
 
-from studies import files, plots, report, report_figures  # noqa: E402
+from studies import report  # noqa: E402
+from studies.report import figures as report_figures  # noqa: E402
+from studies.report import plots  # noqa: E402
+from studies.store import files  # noqa: E402
 from studies.config import loads_study  # noqa: E402
-from studies.files import (  # noqa: E402
+from studies.store.files import (  # noqa: E402
     NotWritableError,
     atomic_write_bytes,
     atomic_write_text,
@@ -28,9 +31,9 @@ from studies.files import (  # noqa: E402
     probe_writable,
 )
 from studies.report import ReportError, check_page, make_report, read_prose  # noqa: E402
-from studies.rom_export import export_rom_mat, export_rom_npz  # noqa: E402
-from studies.synthetic import synthetic_results  # noqa: E402
-from studies.tables import write_table, write_tables  # noqa: E402
+from studies.store.rom_export import export_rom_mat, export_rom_npz  # noqa: E402
+from studies.cli.synthetic import synthetic_results  # noqa: E402
+from studies.report.tables import write_table, write_tables  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -272,7 +275,7 @@ def test_atomic_writes_keep_the_permissions(tmp_path):
 
 
 def test_rom_export_does_not_import_the_store():
-    code = "import sys, studies.rom_export; assert 'studies.cache' not in sys.modules"
+    code = "import sys, studies.store.rom_export; assert 'studies.store.cache' not in sys.modules"
     subprocess.run([sys.executable, "-c", code], check=True, cwd=ROOT)
 
 
