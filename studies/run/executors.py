@@ -180,7 +180,7 @@ class ProcessPool:
             # wait=True joins the executor's manager thread (quick: its workers are gone), which closes its wake-up
             # pipe; left running (wait=False), on Python 3.11 it could close that pipe while the interpreter's exit
             # hook was writing to it: "OSError: [Errno 9] Bad file descriptor" printed after Ctrl-C (seen once in
-            # tests/studies/test_reliability.py::test_ctrl_c_on_lfdrom_run on 2026-12-03)
+            # tests/studies/run/test_reliability.py::test_ctrl_c_on_lfdrom_run on 2026-12-03)
             self.ex.shutdown(wait=True, cancel_futures=True)
             self._close_queue()
             return

@@ -11,7 +11,7 @@ import pytest
 
 from studies.cli import commands
 
-STUDIES = Path(__file__).resolve().parents[2] / "studies"
+STUDIES = Path(__file__).resolve().parents[3] / "studies"
 
 
 def run(argv):

@@ -26,7 +26,7 @@ from studies.config import MAX_STEPS, T_RANGE, StudyConfigError, loads_study, mi
 from studies.store.results import RomRecord
 from studies.run.runner import RunInterrupted, RunSummary, run_study
 
-REPO = Path(__file__).resolve().parents[2]
+REPO = Path(__file__).resolve().parents[3]
 STUDIES = REPO / "studies"
 
 BASE = """

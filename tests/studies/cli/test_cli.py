@@ -8,7 +8,7 @@ import pytest
 
 from studies import cli
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 
 
 @pytest.mark.parametrize("command", ["demo", "cases", "run", "report", "rom"])

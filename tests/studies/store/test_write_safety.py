@@ -35,7 +35,7 @@ from studies.store.rom_export import export_rom_mat, export_rom_npz  # noqa: E40
 from studies.cli.synthetic import synthetic_results  # noqa: E402
 from studies.report.tables import write_table, write_tables  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 
 STUDY = """
 name = "small"

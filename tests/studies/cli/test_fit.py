@@ -13,7 +13,7 @@ from studies import cli
 from studies.cli import fit
 from studies.cli.fit import FitInputError, fit_data, load_data
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 EXAMPLE = ROOT / "docs" / "data" / "fit-example.csv"
 
 # a continuous 2-output system of order 4 with known poles (U/c units): two real, one lightly damped pair

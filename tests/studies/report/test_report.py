@@ -212,7 +212,7 @@ def test_an_empty_store_does_not_replace_an_existing_page(tmp_path):
 def test_paper_prose_fills_every_slot():
     from studies.config import load_study
 
-    prose = load_study(Path(__file__).resolve().parents[2] / "studies" / "paper.toml").report.prose
+    prose = load_study(Path(__file__).resolve().parents[3] / "studies" / "paper.toml").report.prose
     slots = report.read_prose(prose, Path("/nonexistent/page.md"))
     assert set(slots) == set(report.SLOTS) and all(len(text) > 200 for text in slots.values())
 

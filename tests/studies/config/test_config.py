@@ -25,7 +25,7 @@ from studies.config import (
     steady_piece,
 )
 
-STUDIES = Path(__file__).resolve().parents[2] / "studies"
+STUDIES = Path(__file__).resolve().parents[3] / "studies"
 BASE = 'cases = ["T2"]\n[sweep]\norders = [9]\n'
 
 GOOD = """

@@ -185,7 +185,7 @@ def test_bad_options(computed, kw, match):
     ("demo.toml", 1, 1),
 ])
 def test_auto_workers(study, cpus, expected):
-    config = load_study(Path(__file__).resolve().parents[2] / "studies" / study)
+    config = load_study(Path(__file__).resolve().parents[3] / "studies" / study)
     assert auto_workers(config, cpus=cpus) == expected
     assert auto_workers(replace(config, gusts=()), cpus=cpus) == min(cpus, len(config.cases))
 
