@@ -306,14 +306,12 @@ def _plan(config: StudyConfig) -> str:
                      f" N_r {list(case_sweep.orders)}, T {[round(t, 6) for t in case_sweep.T]}, M {list(case_sweep.M)}")
     lines.append(f"  gusts: {', '.join(g.name for g in config.gusts) or '-'}; methods: "
                  f"{', '.join(m.name for m in config.methods)}")
-    if getattr(config, "aeroelastic", None) is not None:  # the [aeroelastic] section: studies.sections.aeroelastic.schema
-        from ..sections.aeroelastic.schema import describe
+    from ..sections.protocol import section
 
-        lines.append(describe(config.aeroelastic))
-    if getattr(config, "nonlinear", None) is not None:  # the [nonlinear] section: studies.sections.nonlinear.schema
-        from ..sections.nonlinear.schema import describe as describe_nonlinear
-
-        lines.append(describe_nonlinear(config.nonlinear))
+    for name, options in config.sections:  # [aeroelastic], [nonlinear], ...: studies.sections.protocol
+        text = section(name).describe(options)
+        if text:
+            lines.append(text)
     return "\n".join(lines)
 
 

@@ -15,17 +15,18 @@ on first use, so that ``import studies.config.cases`` stays light.
 """
 
 import importlib
+import pkgutil
 
 __all__ = ['StudyConfigError', 'StudyConfig', 'CaseSweep', 'MethodOptions', 'SimulationOptions', 'CFDOptions',
            'ReportOptions', 'SweepPoint', 'load_study', 'loads_study', 'parse_study', 'as_config', 'parse_number',
-           'normalise_float', 'canonical_json', 'config_hash', 'max_order', 'steady_piece', 'frf_piece', 'rom_piece',
-           'ltd_piece', 'sim_piece', 'T_PAPER', 'T_RANGE', 'MAX_STEPS', 'MAX_M', 'min_order', 'march_memory_bytes',
+           'normalise_float', 'canonical_json', 'config_hash', 'max_order', 'T_PAPER', 'T_RANGE', 'MAX_STEPS', 'MAX_M', 'min_order', 'march_memory_bytes',
            'TOP_KEYS', 'GRID_KEYS', 'SWEEP_KEYS', 'CASE_KEYS', 'GUST_KEYS', 'METHOD_KEYS', 'SIMULATION_KEYS',
            'CFD_KEYS', 'REPORT_KEYS']
 
 
 def __getattr__(name):
-    if name.startswith("_"):
+    # not for the package's own modules: ``from . import plots`` inside it must import the module, not this
+    if name.startswith("_") or name in {m.name for m in pkgutil.iter_modules(__path__)}:
         raise AttributeError(f"module 'studies.config' has no attribute {name!r}")
     try:
         return getattr(importlib.import_module("studies.config.study"), name)

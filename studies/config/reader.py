@@ -30,9 +30,10 @@ __all__ = [
     "REPORT_KEYS",
 ]
 
-# the keys each table of a study file allows (the schema is in the docstring of studies.config)
+# the keys each table of a study file allows (the schema is in the docstring of studies.config.study); the
+# registered sections add their own top-level tables (studies.sections.protocol.Section.table)
 TOP_KEYS = ("name", "description", "output", "store", "cases", "gusts", "grid", "sweep", "method", "methods",
-            "simulation", "cfd", "report", "aeroelastic", "nonlinear")
+            "simulation", "cfd", "report")
 GRID_KEYS = ("ni", "nj", "n_surface", "farfield")
 SWEEP_KEYS = ("orders", "T", "M_base", "M")
 CASE_KEYS = ("name", "naca", "mach", "alpha_deg", "grid", "orders", "T", "M")

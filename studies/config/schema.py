@@ -233,10 +233,11 @@ class StudyConfig:
     simulation : SimulationOptions
     cfd : CFDOptions
     report : ReportOptions
-    aeroelastic : studies.sections.aeroelastic.study.AeroelasticOptions or None
-        The ``[aeroelastic]`` section (None: the study has none).
-    nonlinear : studies.sections.nonlinear.schema.NonlinearOptions or None
-        The ``[nonlinear]`` section (None: the study has none).
+    sections : tuple of (str, object)
+        The options of the study's sections that have a table (``[aeroelastic]``, ``[nonlinear]``, ...), as
+        ``(section name, options)`` pairs in the order of the registered sections
+        (:mod:`studies.sections.protocol`); a section the study does not have is absent. ``config.<name>`` reads
+        a registered section's options (None when absent): ``config.aeroelastic``.
     """
 
     name: str
@@ -251,8 +252,34 @@ class StudyConfig:
     simulation: SimulationOptions = field(default_factory=SimulationOptions)
     cfd: CFDOptions = field(default_factory=CFDOptions)
     report: ReportOptions = field(default_factory=ReportOptions)
-    aeroelastic: Optional[object] = None
-    nonlinear: Optional[object] = None
+    sections: tuple = ()
+
+    def __getattr__(self, name: str):
+        # config.<section name>: that section's options, None when the study does not have it
+        if name.startswith("_") or name == "sections":
+            raise AttributeError(name)
+        from ..sections.protocol import section_names
+
+        if name in section_names():
+            return self.section(name)
+        raise AttributeError(f"'StudyConfig' object has no attribute {name!r}")
+
+    def section(self, name: str):
+        """The options of the section ``name`` (e.g. ``"aeroelastic"``), or None when the study does not have it."""
+        for key, options in self.sections:
+            if key == name:
+                return options
+        return None
+
+    def with_section(self, name: str, options) -> "StudyConfig":
+        """A copy with the options of section ``name`` replaced (None: removed); sections keep their order."""
+        from dataclasses import replace
+
+        kept = [(key, value) for key, value in self.sections if key != name]
+        if options is not None:
+            position = [key for key, _ in self.sections].index(name) if name in dict(self.sections) else len(kept)
+            kept.insert(position, (name, options))
+        return replace(self, sections=tuple(kept))
 
     def case(self, name: str) -> CaseSweep:
         """The case sweep named ``name`` (case-insensitive)."""
@@ -285,10 +312,8 @@ class StudyConfig:
             simulation=dataclass_dict(self.simulation),
             cfd=dict(gust_method=self.cfd.gust_method, outputs=list(self.cfd.outputs)),
         )
-        if self.aeroelastic is not None:  # absent otherwise: the hashes of studies without it are unchanged
-            out["aeroelastic"] = self.aeroelastic.canonical()
-        if self.nonlinear is not None:  # likewise
-            out["nonlinear"] = self.nonlinear.canonical()
+        for name, options in self.sections:  # absent otherwise: the hashes of studies without them are unchanged
+            out[name] = options.canonical()
         return out
 
     def canonical_json(self) -> str:

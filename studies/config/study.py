@@ -56,6 +56,10 @@ Schema (every key optional unless marked; see ``studies/demo.toml`` and ``studie
     paper = true                   # paper mode: captions name the paper's figures, slots quote its claims
                                    # (default: on when a case is one of T1-T6)
 
+Each registered section with a table (:mod:`studies.sections.protocol`: ``[aeroelastic]``, ``[nonlinear]``, ...)
+parses its own table after the core ones, with the study's cases, gusts and settings at hand for its up-front
+checks; its options are ``StudyConfig.sections`` (``config.aeroelastic``).
+
 A case entry may override ``orders``, ``T`` and ``M`` (replacing the ``[sweep]`` axis for that case) and
 ``grid`` (on top of ``[grid]``). Axes are sorted and de-duplicated. List positions in keys are 0-based
 (``cases[1].mach``).
@@ -69,8 +73,10 @@ changing ``N_r`` keeps the FRF.
 
 from __future__ import annotations
 
+import importlib
 import math
 import tomllib
+import warnings
 from pathlib import Path
 from typing import Any, Mapping
 
@@ -94,7 +100,7 @@ from .reader import (
 from .entries import parse_case_entry, parse_report_table
 from .hashing import canonical_json, config_hash
 from .numbers import normalise_float, parse_number
-from ..sections.gust_rom.pieces import frf_piece, ltd_piece, rom_piece, sim_piece, steady_piece
+from ..sections.protocol import StudyTables, sections
 from .schema import (
     ALGORITHMS,
     DISCRETISATIONS,
@@ -134,11 +140,6 @@ __all__ = [
     "canonical_json",
     "config_hash",
     "max_order",
-    "steady_piece",
-    "frf_piece",
-    "rom_piece",
-    "ltd_piece",
-    "sim_piece",
     "T_PAPER",
     "T_RANGE",
     "MAX_STEPS",
@@ -157,8 +158,20 @@ __all__ = [
 ]
 # The names above that this module does not define are re-exported from their homes: studies.config.reader
 # (StudyConfigError and the keys each table allows), studies.config.schema (the configuration objects and limits),
-# studies.config.numbers, studies.config.hashing, studies.sections.gust_rom.pieces (the store's piece keys) and sysid.order_limits (max_order,
-# min_order). studies.config.reader reads the values and studies.config.entries the case entries and [report].
+# studies.config.numbers, studies.config.hashing and sysid.order_limits (max_order, min_order).
+# studies.config.reader reads the values and studies.config.entries the case entries and [report]. The piece keys
+# (steady_piece, frf_piece, ...) are the gust-ROM section's (studies.sections.gust_rom.pieces); read here they
+# still work, with a DeprecationWarning (__getattr__ below).
+
+_PIECE_KEYS = ("steady_piece", "frf_piece", "rom_piece", "ltd_piece", "sim_piece")
+
+
+def __getattr__(name):
+    if name in _PIECE_KEYS:
+        warnings.warn(f"studies.config.{name} moved to studies.sections.gust_rom.pieces.{name}: import it from "
+                      "there (the old name is kept for one release)", DeprecationWarning, stacklevel=2)
+        return getattr(importlib.import_module("studies.sections.gust_rom.pieces"), name)
+    raise AttributeError(f"module 'studies.config.study' has no attribute {name!r}")
 
 
 def march_memory_bytes(steps: int, gusts: int) -> tuple:
@@ -252,7 +265,8 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
     """Validate a study given as a dictionary (the parsed TOML); see :func:`load_study`."""
     P = ConfigReader(source)
     data = P.table(dict(data), None)
-    P.check_keys(data, TOP_KEYS, "")
+    registered = sections()
+    P.check_keys(data, TOP_KEYS + tuple(s.table for s in registered if s.table is not None), "")
     base = Path(base_dir) if base_dir is not None else Path.cwd()
 
     name = P.string(data.get("name", default_name), "name")
@@ -468,17 +482,10 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
     store = data.get("store")
     store_dir = (base / P.string(store, "store")).resolve() if store is not None else output_dir / "store"
     report = parse_report_table(P, data.get("report", {}), base)
-    aero = None
-    if "aeroelastic" in data:  # the [aeroelastic] section: studies.sections.aeroelastic.schema
-        from ..sections.aeroelastic.schema import parse_aeroelastic
-
-        aero = parse_aeroelastic(data["aeroelastic"], P.err, tuple(sweeps), tuple(gusts))
-    nonlinear = None
-    if "nonlinear" in data:  # the [nonlinear] section: studies.sections.nonlinear.schema
-        from ..sections.nonlinear.schema import parse_nonlinear
-
-        nonlinear = parse_nonlinear(data["nonlinear"], P.err, tuple(sweeps), tuple(gusts), sim)
+    # the sections' tables ([aeroelastic], [nonlinear], ...): studies.sections.protocol
+    study = StudyTables(cases=tuple(sweeps), gusts=tuple(gusts), simulation=sim, cfd=cfd)
+    options = tuple((s.name, s.parse(data[s.table], P.err, study)) for s in registered
+                    if s.table is not None and s.table in data)
     return StudyConfig(name=name, description=description, source=source, output_dir=output_dir,
                        store_dir=store_dir, cases=tuple(sweeps), gusts=tuple(gusts), M_base=M_base,
-                       methods=tuple(methods), simulation=sim, cfd=cfd, report=report, aeroelastic=aero,
-                       nonlinear=nonlinear)
+                       methods=tuple(methods), simulation=sim, cfd=cfd, report=report, sections=options)

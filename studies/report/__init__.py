@@ -14,6 +14,7 @@ on first use.
 """
 
 import importlib
+import pkgutil
 
 __all__ = ['ReportError', 'make_report', 'report_paths', 'write_report', 'read_prose', 'check_page', 'findings',
            'rom_rows', 'sim_rows', 'summary_rows', 'method_rows', 'cost_rows', 'rom_columns', 'sim_columns',
@@ -22,7 +23,8 @@ __all__ = ['ReportError', 'make_report', 'report_paths', 'write_report', 'read_p
 
 
 def __getattr__(name):
-    if name.startswith("_"):
+    # not for the package's own modules: ``from . import plots`` inside it must import the module, not this
+    if name.startswith("_") or name in {m.name for m in pkgutil.iter_modules(__path__)}:
         raise AttributeError(f"module 'studies.report' has no attribute {name!r}")
     try:
         return getattr(importlib.import_module("studies.report.make"), name)

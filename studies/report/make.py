@@ -25,7 +25,10 @@ header of the pages written before it) is never overwritten unless ``force_page=
 The figures and tables are built by :mod:`studies.report.plots` and :mod:`studies.report.tables` from the plain rows of
 :func:`rom_rows`, :func:`sim_rows`, :func:`summary_rows` and :func:`cost_rows`.
 
-The work is split along its concepts: :mod:`studies.report.rows` (rows and tables from the results),
+The page is the registered study sections' parts, in their order (:mod:`studies.sections.protocol`): the
+gust-ROM section's (:mod:`studies.sections.gust_rom.report`: its tables, figures and the page's head and prose
+slots), then ``[aeroelastic]``'s, ``[nonlinear]``'s... when the study has them. The gust-ROM part is split along
+its concepts: :mod:`studies.report.rows` (rows and tables from the results),
 :mod:`studies.report.figures` (the table of figure families and the loop that draws them, with the figure
 cache), :mod:`studies.report.page` (the Markdown page: sections, prose slots, the study's tables). This module
 keeps the entry points, :func:`make_report`, :func:`write_report` and :func:`report_paths`, and re-exports the
@@ -39,14 +42,13 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Optional, Sequence
 
-from . import plots  # noqa: F401 - studies.report.plots, as before the split (tests patch its save_figure)
+from ..sections.protocol import ReportContext, active_sections
 from ..store.files import atomic_write_text
-from .figures import (ERROR_RANGE, FIGURE_MANIFEST, FIGURE_SPECS, PAPER_FRF_FIGURES, PAPER_HISTORY_FIGURES,
-                             is_paper_study, report_figures)
-from .page import PAPER_CLAIMS, SLOTS, ReportError, check_page, findings, page_markdown, read_prose
-from .rows import (TABLE_NAMES, cost_rows, method_rows, report_tables, rom_columns, rom_rows, sim_columns,
-                          sim_rows, summary_columns, summary_rows)
-from .tables import write_tables
+from . import plots  # noqa: F401 - studies.report.plots, as before the split (tests patch its save_figure)
+from .figures import ERROR_RANGE, FIGURE_MANIFEST, FIGURE_SPECS, PAPER_FRF_FIGURES, PAPER_HISTORY_FIGURES
+from .page import PAPER_CLAIMS, SLOTS, ReportError, check_page, findings, read_prose
+from .rows import (cost_rows, method_rows, rom_columns, rom_rows, sim_columns, sim_rows, summary_columns,
+                   summary_rows)
 
 __all__ = [
     "ReportError",
@@ -149,38 +151,15 @@ def write_report(results, out_dir, *, page=None, prose=None, progress: bool = Fa
     check_page(page_path, force_page=force_page)
     slots = read_prose(prose, page_path)
     config = results.config
-    fig_dir, tab_dir = out_dir / "figures", out_dir / "tables"
-    tab_dir.mkdir(parents=True, exist_ok=True)
+    (out_dir / "tables").mkdir(parents=True, exist_ok=True)
     page_dir = page_path.parent
     page_dir.mkdir(parents=True, exist_ok=True)
 
-    say(f"report {config.name}: tables in {tab_dir}")
-    tables = report_tables(results)
-    for name in TABLE_NAMES:
-        rows, columns = tables[name]
-        if rows:
-            write_tables(rows, tab_dir / name, columns, formats,
-                         caption=f"{config.name}: {name}", label=f"tab:{config.name}-{name}")
-
-    say(f"report {config.name}: figures in {fig_dir}")
-    if paper is None:
-        paper = is_paper_study(config)
-    drawn = None
-    if figures:
-        drawn = report_figures(results, tables, fig_dir, dpi=dpi, paper=paper, redraw=redraw, say=say)
-    else:
-        say(f"report {config.name}: figures not drawn (figures=False)")
-
-    text = page_markdown(results, tables, drawn, slots, page_dir=page_dir, tab_dir=tab_dir, title=title,
-                         paper=paper)
-    if getattr(config, "aeroelastic", None) is not None:  # the [aeroelastic] section: studies.sections.aeroelastic.report
-        from ..sections.aeroelastic.report import aeroelastic_section
-
-        text += "\n" + aeroelastic_section(results, out_dir, page_dir, figures=figures, dpi=dpi, say=say)
-    if getattr(config, "nonlinear", None) is not None:  # the [nonlinear] section: studies.sections.nonlinear.report
-        from ..sections.nonlinear.report import nonlinear_section
-
-        text += "\n" + nonlinear_section(results, out_dir, page_dir, figures=figures, dpi=dpi, say=say)
+    # the page: each section's part, in the order of the registered sections (studies.sections.protocol)
+    context = ReportContext(results=results, out_dir=out_dir, page_dir=page_dir, page_path=page_path,
+                            figures=figures, dpi=dpi, say=say, slots=slots, title=title, paper=paper,
+                            formats=tuple(formats), redraw=redraw)
+    text = "\n".join(section.report(context) for section in active_sections(config))
     atomic_write_text(page_path, text)
     say(f"report {config.name}: {page_path}")
     return page_path
@@ -275,7 +254,7 @@ def make_report(study_or_path, output_dir=None, *, store_dir=None, page=None, pr
 
         results = load_results(config)
     page, folder = report_paths(results.config, folder, page)
-    nothing = not (results.steady or results.frf or results.ltd or results.roms or results.sims or results.failed)
+    nothing = not (results.failed or any(section.has_results(results) for section in active_sections(results.config)))
     if nothing and Path(page).exists() and not force_page:
         # e.g. make_report("studies/paper.toml") on a checkout without the paper's store: the committed page
         # would become "0 of 33 identifications done"

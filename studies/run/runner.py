@@ -1,6 +1,6 @@
 """The study runner: a validated study in, every missing piece computed into the results store, results out.
 
-Pipeline of a case (``studies.config`` names the pieces, ``studies.store.cache`` keys and stores them)::
+Pipeline of a case in the gust-ROM section (:mod:`studies.sections.gust_rom`)::
 
     mesh -> steady ------------------> linearise -> LFD FRF per T on mckelvey_grid(M_base, T)
                                                  \\-> LTD history per gust (x0, dt, t_end of the study)
@@ -9,13 +9,15 @@ Pipeline of a case (``studies.config`` names the pieces, ``studies.store.cache``
 
 Tasks and executors
 -------------------
-The work is split into tasks (:mod:`studies.sections.gust_rom.tasks`) that each compute and store pieces: one ``steady`` task
-per case, then (once its steady flow is stored) one task per FRF (case, T) and one per case for its LTD
-histories, then one ROM task per case. This module plans them, submits each when what it needs is stored, and
-reports progress (:mod:`studies.run.progress`: a line per finished piece, and from inside the steady, FRF and LTD
-tasks their Newton steps, sweep shifts and time steps, from the ROM tasks their sweep points, as lines or as a
-bar on a terminal); independent tasks run in parallel on an executor of :mod:`studies.run.executors` (this
-process, local processes or a Dask cluster).
+Each section of the study (:mod:`studies.sections.protocol`) plans the tasks that compute and store what the
+store lacks (the gust-ROM section: one ``steady`` task per case, then, once its steady flow is stored, one task
+per FRF (case, T) and one per case for its LTD histories, then one ROM task per case; ``[aeroelastic]`` and
+``[nonlinear]`` add theirs after the steady flow). This module starts each task when the tasks it waits for
+have ended (:class:`studies.sections.protocol.Task`: ``after``, ``needs_ok``), skips the tasks whose steady flow
+(or other needed piece) failed, and reports progress (:mod:`studies.run.progress`: a line per finished piece, and
+from inside the steady, FRF and LTD tasks their Newton steps, sweep shifts and time steps, from the ROM tasks
+their sweep points, as lines or as a bar on a terminal); independent tasks run in parallel on an executor of
+:mod:`studies.run.executors` (this process, local processes or a Dask cluster).
 
 Resume, failures, force
 -----------------------
@@ -38,20 +40,17 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Optional
 
-from ..sections.aeroelastic.schema import AEROELASTIC_PIECES
-from ..sections.aeroelastic.study import aeroelastic_plan, flutter_task, motion_frf_task
-from ..sections.nonlinear.schema import NONLINEAR_PIECES
-from ..sections.nonlinear.study import nonlinear_plan, nonlinear_task
-from ..config.study import as_config
-from .executors import RunnerError, make_pool
-from ..store.files import atomic_write_bytes
-from ..sections.gust_rom.pieces import PIECES, error_text, frf_piece, ltd_piece, open_store, rom_piece, sim_piece, steady_piece
-from .progress import ProgressDisplay, resolve_mode, set_sink, task_key
-from ..store.results import StudyResults, load_results
 from ..config.schema import StudyConfig
-from ..sections.gust_rom.tasks import frf_task, ltd_task, needs_compute, pinned_store, rom_task, steady_task
+from ..config.study import as_config
+from ..sections.protocol import active_sections, piece_kinds
+from ..store.entries import error_text, open_store
+from ..store.files import atomic_write_bytes
+from ..store.results import StudyResults, load_results
+from .compute import pinned_store
+from .executors import RunnerError, make_pool
+from .progress import ProgressDisplay, resolve_mode, set_sink
 
-__all__ = ["run_study", "RunSummary", "RunInterrupted", "auto_workers", "RunnerError", "PIECES"]
+__all__ = ["run_study", "RunSummary", "RunInterrupted", "auto_workers", "RunnerError"]
 
 
 @dataclass(frozen=True)
@@ -126,10 +125,9 @@ def auto_workers(config: StudyConfig, cpus: Optional[int] = None) -> int:
 
 
 def _width(config: StudyConfig) -> int:
-    """Parallel tasks of the study's widest stage: per case, one per ``T`` and one for its gusts."""
-    return (sum(max(1, len(case_sweep.T) + (1 if config.gusts else 0)) for case_sweep in config.cases)
-            + len(getattr(config.aeroelastic, "cases", ()))  # [aeroelastic]: one motion FRF per case
-            + len(getattr(config.nonlinear, "cases", ())) * len(getattr(config.nonlinear, "gusts", ())))
+    """Parallel tasks of the study's widest stage: the sum of its sections' (:meth:`Section.width`; the gust-ROM
+    section: per case, one per ``T`` and one for its gusts)."""
+    return sum(section.width(config) for section in active_sections(config))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -257,131 +255,96 @@ LOST_WORKER = ("a worker process died (killed, e.g. out of memory) and the pool 
                "run again to compute the rest: ")
 
 
+def _ordered(config: StudyConfig, tasks: list) -> list:
+    """The tasks in the order they start when ready together: by case (the study's order), priority, plan order."""
+    position = {case_sweep.case.name: i for i, case_sweep in enumerate(config.cases)}
+    return sorted(tasks, key=lambda task: (position.get(task.case, len(position)), task.priority))
+
+
 def _run(config: StudyConfig, pool, display: ProgressDisplay, force: bool, state: dict) -> StudyResults:
     root = str(config.store_dir)
     base = open_store(config)
-    codes = {p: base.code_version(p) for p in PIECES + AEROELASTIC_PIECES + NONLINEAR_PIECES}
+    codes = {p: base.code_version(p) for p in piece_kinds()}
     store = pinned_store(root, codes)
 
-    # what is needed, per case
-    plan = {}
-    n_cfd = n_id = 0
-    for case_sweep in config.cases:
-        case = case_sweep.case
-        need_steady = needs_compute(store, "steady", steady_piece(case), force)
-        frfs = [T for T in case_sweep.T
-                if needs_compute(store, "frf", frf_piece(case, T, config.M_base, config.cfd), force)]
-        ltds = [gust.name for gust in config.gusts
-                if needs_compute(store, "ltd", ltd_piece(case, gust, config.simulation, config.cfd), force)]
-        n_rom = n_sim = 0
-        for point in config.points():
-            if point.case.name != case.name:
-                continue
-            n_rom += needs_compute(store, "rom", rom_piece(point, config.M_base, config.cfd), force)
-            n_sim += sum(needs_compute(store, "sim", sim_piece(point, gust, config.M_base, config.simulation,
-                                                                config.cfd), force)
-                         for gust in config.gusts)
-        plan[case.name] = dict(steady=need_steady, frf=frfs, ltd=ltds, rom=n_rom, sim=n_sim)
-        n_cfd += need_steady + len(frfs) + len(ltds)
-        n_id += n_rom + n_sim
-    aero = aeroelastic_plan(config, store, force)  # [aeroelastic]: motion FRF and flutter pieces per case
-    n_cfd += sum(p["motion"] for p in aero.values())
-    n_id += sum(p["flutter"] for p in aero.values())
-    nonlinear = nonlinear_plan(config, store, force)  # [nonlinear]: one march per case, gust and amplitude
-    n_cfd += sum(len(v) for v in nonlinear.values())
-    # ROM/sim counts are upper bounds known now; pieces of failed CFD are skipped
+    # what is needed: each section's plan (studies.sections.protocol)
+    sections = active_sections(config)
+    plans = [section.plan(config, store, force) for section in sections]
+    n_cfd = sum(plan.cfd_pieces for plan in plans)
+    n_id = sum(plan.rom_pieces for plan in plans)  # upper bounds known now; pieces of failed CFD are skipped
+    tasks = _ordered(config, [task for plan in plans for task in plan.tasks])
     tracker = _Progress(display, n_cfd + n_id)
     tracker.say(f"study {config.name!r}: {len(config.cases)} case(s), {len(config.points())} sweep point(s), "
                 f"{len(config.gusts)} gust(s); to compute: {n_cfd} CFD piece(s), up to {n_id} ROM piece(s) "
                 f"[{pool.name}; store {root}]")
 
-    pending = {}  # future -> (kind, case, progress key)
+    pending = {}  # future -> index of its task
     task_failures: list = []  # tasks that failed outside their pieces (their pieces were not stored)
+    status = ["waiting"] * len(tasks)  # waiting, running, ok, failed, skipped
+    named: dict = {}  # task name -> indices of the tasks that carry it
+    for i, task in enumerate(tasks):
+        for name in task.ids:
+            named.setdefault(name, []).append(i)
 
-    def fail_task(kind, case_name, e):
+    def fail_task(task, e):
         text = (LOST_WORKER if isinstance(e, BrokenProcessPool) else "") + error_text(e)
-        tracker.say(f"{kind} task of {case_name} failed: {text}")
-        task_failures.append(dict(kind=kind, case=case_name, error=text, write=isinstance(e, OSError)))
+        tracker.say(f"{task.kind} task of {task.case} failed: {text}")
+        task_failures.append(dict(kind=task.kind, case=task.case, error=text, write=isinstance(e, OSError)))
 
-    def submit(kind, case_name, fn, *args, key=None):
+    def submit(i) -> bool:
+        task = tasks[i]
         try:
-            pending[pool.submit(fn, *args)] = (kind, case_name, key)
+            pending[pool.submit(task.fn, *task.args)] = i
+            return True
         except BrokenProcessPool as e:  # a worker died before: this task cannot start, the others still end
-            display.task_done(key)
-            fail_task(kind, case_name, e)
+            display.task_done(task.progress_key)
+            fail_task(task, e)
+            return False
 
-    cfd_left = {name: 0 for name in plan}
+    def readiness(task):
+        """None: wait; False: skip (a task it needs did not end ok); True: start."""
+        for name in task.after + task.needs_ok:
+            if any(status[j] in ("waiting", "running") for j in named.get(name, ())):
+                return None
+        for name in task.needs_ok:
+            if any(status[j] != "ok" for j in named.get(name, ())):
+                return False
+        return True
 
-    def start_aero(name, motion_done=False):
-        aero_plan = aero.get(name)
-        if not aero_plan:
-            return
-        if aero_plan["motion"] and not motion_done:
-            submit("motion", name, motion_frf_task, config, name, root, codes, key=task_key("motion", name))
-        elif aero_plan["flutter"]:
-            submit("flutter", name, flutter_task, config, name, root, codes, force, key=task_key("flutter", name))
-
-    def start_cfd(name):
-        start_aero(name)
-        case_plan = plan[name]
-        # The LTD first: the tasks start in the order they are submitted, and on the paper grid the march of a
-        # case's gusts (2000 steps) costs about twice its 257-frequency sweep; the longer task first leaves a
-        # shorter one to end the run (the paper study's last task was a lone march with the other worker idle).
-        if case_plan["ltd"]:  # all the case's gusts in one march: one factorisation, block solves
-            submit("ltd", name, ltd_task, config, name, list(case_plan["ltd"]), root, codes,
-                   key=task_key("ltd", name))
-            cfd_left[name] += 1
-        for T in case_plan["frf"]:
-            submit("frf", name, frf_task, config, name, T, root, codes, key=task_key("frf", name, T))
-            cfd_left[name] += 1
-        if cfd_left[name] == 0:
-            start_roms(name)
-
-    def start_roms(name):
-        if plan[name]["rom"] or plan[name]["sim"]:
-            submit("roms", name, rom_task, config, name, root, codes, force, key=task_key("roms", name))
-        start_nonlinear(name)
-
-    def start_nonlinear(name):  # after the case's linear pieces: an interrupted run has its ROMs first
-        by_gust: dict = {}
-        for gust, a in nonlinear.get(name, ()):
-            by_gust.setdefault(gust, []).append(a)
-        for gust, amps in by_gust.items():
-            submit("nonlinear", name, nonlinear_task, config, name, gust, amps, root, codes, force,
-                   key=task_key("nonlinear", f"{name} {gust}"))
+    def start_ready():
+        changed = True
+        while changed:
+            changed = False
+            for i, task in enumerate(tasks):
+                if status[i] != "waiting":
+                    continue
+                ready = readiness(task)
+                if ready is None:
+                    continue
+                changed = True
+                status[i] = "skipped" if ready is False else ("running" if submit(i) else "failed")
 
     try:
-        for name, case_plan in plan.items():
-            if case_plan["steady"]:
-                submit("steady", name, steady_task, config, name, root, codes, key=task_key("steady", name))
-            else:
-                start_cfd(name)
-
+        start_ready()
         while pending:
             done, _ = pool.wait(set(pending))
             for future in done:
-                kind, name, key = pending.pop(future)
-                display.task_done(key)
+                i = pending.pop(future)
+                task = tasks[i]
+                display.task_done(task.progress_key)
                 try:
                     reports = future.result()
                 except Exception as e:  # noqa: BLE001 - a task that failed outside its pieces (e.g. the store)
-                    fail_task(kind, name, e)
+                    fail_task(task, e)
                     reports = []
                 for report in reports:
                     tracker.piece(report)
                 state["computed"] = tracker.done
-                if kind == "steady":
-                    ok = reports and reports[0]["status"] == "ok"
-                    if ok:
-                        start_cfd(name)
-                    else:
-                        tracker.say(f"{name}: no steady flow, its FRFs, LTD histories and ROMs are skipped")
-                elif kind in ("frf", "ltd"):
-                    cfd_left[name] -= 1
-                    if cfd_left[name] == 0:
-                        start_roms(name)
-                elif kind == "motion" and reports and reports[0]["status"] == "ok":
-                    start_aero(name, motion_done=True)
+                ok = bool(reports) and reports[0]["status"] == "ok"
+                status[i] = "ok" if ok else "failed"
+                if not ok and task.failure_note:
+                    tracker.say(task.failure_note)
+            start_ready()
     except KeyboardInterrupt:
         # tasks that ended but were not handed back yet (with one process every task runs inside submit, so
         # an interruption can leave finished ones behind) stored their pieces too: count them for the message
@@ -391,10 +354,9 @@ def _run(config: StudyConfig, pool, display: ProgressDisplay, force: bool, state
 
     elapsed = time.perf_counter() - tracker.t0
     results = load_results(config, store_dir=config.store_dir)
-    n_ok_roms = sum(r.ok for r in results.roms)
+    said = [text for text in (section.summary(config, results) for section in sections) if text]
     tracker.say(f"done in {elapsed:.1f} s: {tracker.done} piece(s) computed ({tracker.failed} failed); "
-                f"{n_ok_roms}/{len(config.points())} ROMs ok, {len(results.sims)} ROM simulations, "
-                f"{len(results.missing)} piece(s) missing")
+                + "".join(f"{text}, " for text in said) + f"{len(results.missing)} piece(s) missing")
     _write_log(config, tracker, elapsed)
     summary = RunSummary(computed=tracker.done, failed_pieces=tracker.failed,
                          task_failures=tuple(task_failures), seconds=elapsed)

@@ -6,11 +6,12 @@ Keys
 sub-configuration (``studies.sections.gust_rom.pieces.steady_piece``, ``frf_piece``, ``rom_piece``, ``ltd_piece``,
 ``sim_piece``: an FRF's key holds the aerofoil, Mach, grid, T and M_base but not N_r, so changing N_r keeps
 the FRF) and ``code`` is :func:`studies.store.provenance.code_version` of the code the piece depends on: the
-lfdrom version and a sha256 of the Python sources of those packages and modules (``PIECE_DEPENDENCIES``:
-``cfd`` for the steady flow, FRF and LTD pieces; ``cfd``, ``sysid`` and the study modules that define
-and compute them for the ROM and ROM-simulation pieces). Editing ``cfd/`` thus invalidates everything,
-editing ``sysid/`` or the ROM tasks only the (cheap) identifications and ROM simulations. The git commit is recorded in the provenance,
-not in the key (see ``studies.store.provenance``).
+lfdrom version and a sha256 of the Python sources of those packages and modules (:func:`piece_dependencies`,
+declared by each study section with its piece kinds, :class:`studies.sections.protocol.PieceKind`: ``cfd`` for
+the steady flow, FRF and LTD pieces; ``cfd``, ``sysid`` and the study modules that define and compute them for the
+ROM and ROM-simulation pieces). Editing ``cfd/`` thus invalidates everything, editing ``sysid/`` or the ROM tasks
+only the (cheap) identifications and ROM simulations. The git commit is recorded in the provenance, not in the key
+(see ``studies.store.provenance``).
 
 Layout and atomicity
 --------------------
@@ -44,9 +45,8 @@ from typing import Any, Callable, Iterator, Mapping, Optional
 
 import numpy as np
 
-from ..sections.aeroelastic.schema import AEROELASTIC_DEPENDENCIES
-from ..sections.nonlinear.schema import NONLINEAR_DEPENDENCIES
 from ..config.hashing import canonical_json
+from ..sections.protocol import piece_kinds
 from .files import TEMP_PREFIX, atomic_write_bytes, jsonable
 from .provenance import code_version, provenance
 
@@ -55,9 +55,8 @@ __all__ = [
     "StoreReadError",
     "Entry",
     "ResultStore",
-    "PIECE_DEPENDENCIES",
+    "piece_dependencies",
     "DEFAULT_DEPENDENCIES",
-    "ROM_DEPENDENCIES",
     "FORMAT_VERSION",
     "atomic_write_bytes",
     "export_rom_npz",
@@ -69,29 +68,28 @@ log = logging.getLogger(__name__)
 
 FORMAT_VERSION = 1
 
-ROM_DEPENDENCIES = ("cfd", "sysid", "studies.config.study", "studies.config.reader", "studies.config.entries",
-                    "studies.config.numbers", "studies.config.schema", "studies.sections.gust_rom.pieces",
-                    "studies.sections.gust_rom.tasks")
-"""Sources of the ROM and ROM-simulation pieces: ``cfd`` and ``sysid``, the study file's parser (``studies.config.study``
-with its value reader and section parsers) and number parser (the values computed with), the configuration
-objects (method options, weights), the store schema (keys, payloads, the simulation metrics) and the tasks that
-compute them."""
 
-PIECE_DEPENDENCIES: Mapping[str, tuple] = {
-    "steady": ("cfd",),
-    "frf": ("cfd",),
-    "ltd": ("cfd",),
-    "rom": ROM_DEPENDENCIES,
-    "sim": ROM_DEPENDENCIES,
-    **AEROELASTIC_DEPENDENCIES,  # motion_frf, flutter: studies.sections.aeroelastic.schema
-    **NONLINEAR_DEPENDENCIES,  # nonlinear: studies.sections.nonlinear.schema
-}
-"""Packages and modules whose sources enter the key of each piece; other pieces depend on
-``DEFAULT_DEPENDENCIES``. The CFD pieces (expensive) depend on ``cfd`` only: the tasks' wrappers around
-``cfd`` are expected to be thin. The identification pieces (cheap) also depend on ``sysid`` (identification,
-simulation, metrics) and on the study modules that define and compute them (:data:`ROM_DEPENDENCIES`)."""
 
-DEFAULT_DEPENDENCIES = ROM_DEPENDENCIES
+def piece_dependencies() -> dict:
+    """Piece kind -> packages and modules whose sources enter its keys, as the registered study sections declare
+    them (:func:`studies.sections.protocol.piece_kinds`); other pieces depend on :data:`DEFAULT_DEPENDENCIES`.
+
+    The CFD pieces (expensive) depend on ``cfd`` only: the tasks' wrappers around ``cfd`` are expected to be thin.
+    The identification pieces (cheap) also depend on ``sysid`` (identification, simulation, metrics) and on the
+    study modules that define and compute them
+    (:data:`studies.sections.gust_rom.pieces.ROM_DEPENDENCIES`).
+    """
+    return {name: tuple(kind.dependencies) for name, kind in piece_kinds().items()}
+
+
+def __getattr__(name):
+    if name == "PIECE_DEPENDENCIES":  # the table of earlier releases: piece_dependencies()
+        return piece_dependencies()
+    raise AttributeError(f"module 'studies.store.cache' has no attribute {name!r}")
+
+
+DEFAULT_DEPENDENCIES = ("cfd", "sysid", "studies")
+"""Sources of a piece kind that no section declares: everything it may depend on."""
 
 _PIECE_RE = re.compile(r"^[a-z][a-z0-9_]{0,39}$")
 _ARRAY_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_.\-]{0,99}$")
@@ -168,7 +166,7 @@ class ResultStore:
     root : path-like
         Folder of the store (created when first written).
     dependencies : mapping, optional
-        Piece -> packages whose sources enter its key; default :data:`PIECE_DEPENDENCIES`.
+        Piece -> packages whose sources enter its key; default :func:`piece_dependencies`.
     code : dict, optional
         A fixed code version for every key instead of :func:`studies.store.provenance.code_version` (tests, or to
         pin a store to a release).
@@ -187,7 +185,7 @@ class ResultStore:
     def __init__(self, root, *, dependencies: Optional[Mapping[str, tuple]] = None, code: Optional[dict] = None,
                  required: Optional[Mapping[str, tuple]] = None):
         self.root = Path(root)
-        self.dependencies = dict(PIECE_DEPENDENCIES if dependencies is None else dependencies)
+        self.dependencies = dict(piece_dependencies() if dependencies is None else dependencies)
         self._code = code
         self._required = {piece: tuple(names) for piece, names in (required or {}).items()}
 

@@ -43,6 +43,8 @@ that reason); a failed LTD or ROM simulation is listed in :attr:`StudyResults.fa
 
 from __future__ import annotations
 
+import importlib
+import warnings
 from dataclasses import dataclass, field
 from typing import Any, Optional
 
@@ -53,26 +55,9 @@ from sysid.history_metrics import envelope_errors, peak
 from sysid.metrics import rom_metrics
 
 from ..config.study import as_config
-from ..sections.gust_rom.pieces import (
-    SIM_OUTPUTS,
-    error_text,
-    failure_payload,
-    frf_payload,
-    frf_piece,
-    is_failed,
-    ltd_payload,
-    ltd_piece,
-    open_store,
-    rom_payload,
-    rom_piece,
-    sim_metrics,
-    sim_payload,
-    sim_piece,
-    steady_payload,
-    steady_piece,
-    store_dependencies,
-)
-from ..config.schema import StudyConfig, SweepPoint
+from .entries import error_text, failure_payload, is_failed, open_store, store_dependencies
+from ..config.schema import StudyConfig
+from ..sections.protocol import active_sections
 
 __all__ = [
     "FRFRecord",
@@ -84,21 +69,27 @@ __all__ = [
     "open_store",
     "store_dependencies",
     "failure_payload",
-    "steady_payload",
-    "frf_payload",
-    "ltd_payload",
-    "rom_payload",
-    "sim_payload",
     "rom_metrics",
-    "sim_metrics",
     "peak",
     "envelope_errors",
     "is_failed",
     "error_text",
-    "SIM_OUTPUTS",
 ]
-# The store's payloads and keys live in studies.sections.gust_rom.pieces, the metrics in sysid.metrics, sysid.history_metrics and
-# studies.sections.gust_rom.pieces; they are re-exported here, where they used to be.
+# open_store, store_dependencies, failure_payload, is_failed and error_text are studies.store.entries', the metrics
+# sysid.metrics' and sysid.history_metrics'; they are re-exported here, where they used to be. The gust-ROM pieces'
+# payloads and keys (steady_payload, ..., sim_metrics, SIM_OUTPUTS) are studies.sections.gust_rom.pieces'; read here
+# they still work, with a DeprecationWarning (__getattr__ below).
+
+_GUST_ROM_NAMES = ("SIM_OUTPUTS", "frf_payload", "frf_piece", "ltd_payload", "ltd_piece", "rom_payload", "rom_piece",
+                   "sim_metrics", "sim_payload", "sim_piece", "steady_payload", "steady_piece")
+
+
+def __getattr__(name):
+    if name in _GUST_ROM_NAMES:
+        warnings.warn(f"studies.store.results.{name} moved to studies.sections.gust_rom.pieces.{name}: import it "
+                      "from there (the old name is kept for one release)", DeprecationWarning, stacklevel=2)
+        return getattr(importlib.import_module("studies.sections.gust_rom.pieces"), name)
+    raise AttributeError(f"module 'studies.store.results' has no attribute {name!r}")
 
 # ---------------------------------------------------------------------------------------------
 # Records
@@ -308,6 +299,9 @@ class StudyResults:
         Steady loads and solver data per case: ``cl``, ``cd``, ``cm``, ``iterations``, ``seconds``.
     run : studies.run.runner.RunSummary or None
         What the run that returned these results computed (None when read from the store alone).
+    sections : dict of str -> object
+        What other study sections read from the store (:attr:`studies.sections.protocol.SectionRead.records`),
+        by section name.
     """
 
     config: StudyConfig
@@ -319,6 +313,7 @@ class StudyResults:
     failed: list = field(default_factory=list)
     steady: dict = field(default_factory=dict)
     run: Any = None
+    sections: dict = field(default_factory=dict)
 
     @property
     def complete(self) -> bool:
@@ -388,10 +383,6 @@ def _union_keys(dicts) -> list:
     return keys
 
 
-def _fmt_T(T: float) -> str:
-    return f"T={T:.6g}"
-
-
 def load_results(study_or_path, *, store_dir=None) -> StudyResults:
     """Read a study's results from its store; computes nothing.
 
@@ -416,105 +407,19 @@ def load_results(study_or_path, *, store_dir=None) -> StudyResults:
     """
     config = as_config(study_or_path)
     store = open_store(config, store_dir)
-    outputs = list(config.cfd.outputs)
-    frfs: dict = {}
-    ltds: dict = {}
-    roms: list = []
-    sims: list = []
+    sections: dict = {}
+    fields: dict = {}
     missing: list = []
     failed: list = []
-    steady: dict = {}
-    case_fail: dict = {}   # case name -> reason (steady failed or missing)
-    frf_fail: dict = {}    # (case, T) -> reason
-    frf_entries: dict = {}
-
-    for case_sweep in config.cases:
-        c = case_sweep.case
-        e = store.get("steady", steady_piece(c))
-        if e is None:
-            missing.append(f"steady {c.name}")
-        elif is_failed(e):
-            reason = f"steady flow of {c.name} failed: {e.metadata.get('error')}"
-            failed.append(reason)
-            case_fail[c.name] = reason
-        else:
-            steady[c.name] = {k: e.metadata.get(k) for k in ("cl", "cd", "cm", "iterations", "converged", "seconds")}
-        for T in case_sweep.T:
-            e = store.get("frf", frf_piece(c, T, config.M_base, config.cfd))
-            if e is None:
-                if c.name not in case_fail:  # without a steady flow there is nothing to compute
-                    missing.append(f"frf {c.name} {_fmt_T(T)}")
-                continue
-            if is_failed(e):
-                reason = f"frequency response of {c.name} at {_fmt_T(T)} failed: {e.metadata.get('error')}"
-                failed.append(reason)
-                frf_fail[(c.name, T)] = reason
-                continue
-            md = e.metadata
-            frf = FrequencyResponse(e["H"], e["omega_d"], T, inputs=md.get("inputs", ["gust"]),
-                                    outputs=md.get("outputs", outputs), omega=e["omega"],
-                                    metadata={**md.get("lfd", {}), "case": c.name, "method": md.get("method", "auto")})
-            frfs[(c.name, T)] = FRFRecord(case=c.name, T=T, M=config.M_base, frf=frf,
-                                          seconds=float(md.get("seconds", float("nan"))),
-                                          method=str(md.get("method", "auto")), lfd=dict(md.get("lfd", {})))
-            frf_entries[(c.name, T)] = e
-        for g in config.gusts:
-            e = store.get("ltd", ltd_piece(c, g, config.simulation, config.cfd))
-            if e is None:
-                if c.name not in case_fail:
-                    missing.append(f"ltd {c.name} {g.name}")
-            elif is_failed(e):
-                failed.append(f"LTD response of {c.name} to {g.name} failed: {e.metadata.get('error')}")
-            else:
-                ltds[(c.name, g.name)] = LTDRecord(case=c.name, gust=g.name, t=e["t"], u=e["u"], cl=e["cl"],
-                                                   cm=e["cm"], seconds=float(e.metadata.get("seconds", float("nan"))))
-
-    for pt in config.points():
-        _read_point(store, config, pt, frfs, ltds, case_fail, frf_fail, roms, sims, missing, failed)
-    if getattr(config, "aeroelastic", None) is not None:  # the [aeroelastic] pieces: studies.sections.aeroelastic.study
-        from ..sections.aeroelastic.study import aeroelastic_status
-
-        aero_missing, aero_failed = aeroelastic_status(config, store)
-        missing += [m for m in aero_missing if m.split()[1] not in case_fail]
-        failed += aero_failed
-    if getattr(config, "nonlinear", None) is not None:  # the [nonlinear] pieces: studies.sections.nonlinear.study
-        from ..sections.nonlinear.study import nonlinear_status
-
-        nl_missing, nl_failed = nonlinear_status(config, store)
-        missing += [m for m in nl_missing if m.split()[1] not in case_fail]
-        failed += nl_failed
-
-    return StudyResults(config=config, frf=frfs, ltd=ltds, roms=roms, sims=sims, missing=missing, failed=failed,
-                        steady=steady)
-
-
-def _read_point(store, config: StudyConfig, pt: SweepPoint, frfs, ltds, case_fail, frf_fail, roms, sims, missing,
-                failed) -> None:
-    c = pt.case
-    ident = dict(case=c.name, T=pt.T, M=pt.M, order=pt.order, method=pt.method.name)
-    label = f"{c.name} {_fmt_T(pt.T)} M={pt.M} N_r={pt.order} {pt.method.name}"
-    e = store.get("rom", rom_piece(pt, config.M_base, config.cfd))
-    if e is None:
-        reason = frf_fail.get((c.name, pt.T)) or (case_fail.get(c.name) if (c.name, pt.T) not in frfs else None)
-        if reason is not None:
-            roms.append(RomRecord(status="failed", error=reason, **ident))
-        else:
-            missing.append(f"rom {label}")
-        return
-    if is_failed(e):
-        roms.append(RomRecord(status="failed", error=str(e.metadata.get("error")), **ident))
-        return
-    roms.append(RomRecord(status="ok", error=None, A=e["A"], B=e["B"], C=e["C"], D=e["D"], hankel_sv=e["hankel_sv"],
-                          frf_rom=e["frf_rom"], metrics=dict(e.metadata.get("metrics", {})), **ident))
-    for g in config.gusts:
-        s = store.get("sim", sim_piece(pt, g, config.M_base, config.simulation, config.cfd))
-        if s is None:
-            if (c.name, g.name) in ltds or not any(f.startswith(f"LTD response of {c.name} to {g.name} ")
-                                                   for f in failed):
-                missing.append(f"sim {label} {g.name}")
-            continue
-        if is_failed(s):
-            failed.append(f"ROM response of {label} to {g.name} failed: {s.metadata.get('error')}")
-            continue
-        sims.append(SimRecord(gust=g.name, t=s["t"], cl=s["cl"], cm=s["cm"], metrics=dict(s.metadata.get("metrics", {})),
-                              **ident))
+    unavailable: set = set()
+    for section in active_sections(config):  # studies.sections.protocol: each section reads its own pieces
+        part = section.read(config, store)
+        fields.update(part.fields)
+        if part.records is not None:
+            sections[section.name] = part.records
+        missing += part.missing
+        failed += part.failed
+        unavailable |= set(part.unavailable)
+    # a piece of a case whose steady flow failed cannot be computed: not missing
+    missing = [m for m in missing if len(m.split()) < 2 or m.split()[1] not in unavailable]
+    return StudyResults(config=config, missing=missing, failed=failed, sections=sections, **fields)

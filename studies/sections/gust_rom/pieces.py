@@ -1,11 +1,12 @@
-"""The results store's schema: the kinds of piece, their keys, their sources and their payloads.
+"""The gust-ROM section's pieces: their kinds, keys, sources and payloads.
 
-A study's results are stored piece by piece in a :class:`studies.store.cache.ResultStore`. Each piece has
+The gust-ROM pipeline's results are stored piece by piece in the study's :class:`studies.store.cache.ResultStore`.
+Each piece has
 
-- a kind (:data:`PIECES`): ``steady``, ``frf``, ``ltd``, ``rom``, ``sim``;
+- a kind (:data:`PIECES`, declared as :data:`PIECE_KINDS`): ``steady``, ``frf``, ``ltd``, ``rom``, ``sim``;
 - a key: the canonical JSON of its sub-configuration (the ``*_piece`` functions below: each holds only what
   changes that piece, so that changing ``N_r`` keeps the FRF) and the hash of the sources it depends on
-  (:data:`studies.store.cache.PIECE_DEPENDENCIES`, see :func:`store_dependencies`);
+  (:data:`PIECE_KINDS`, :data:`ROM_DEPENDENCIES`);
 - a payload ``(arrays, metadata)`` (the ``*_payload`` functions below).
 
 Store layout (written by the tasks through the ``*_payload`` functions, read by :mod:`studies.store.results`)
@@ -32,7 +33,6 @@ that reason); a failed LTD or ROM simulation is listed in :attr:`StudyResults.fa
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import Any, Mapping, Optional
 
 import numpy as np
@@ -40,12 +40,15 @@ import numpy as np
 from sysid import FrequencyResponse
 from sysid.history_metrics import history_errors
 
-from ...store.cache import PIECE_DEPENDENCIES, ResultStore
 from ...config.cases import FlowCase, GustCase
-from ...config.schema import CFDOptions, SimulationOptions, StudyConfig, SweepPoint, case_canonical
+from ...config.schema import CFDOptions, SimulationOptions, SweepPoint, case_canonical
+from ...store.entries import error_text, failure_payload, is_failed, open_store, store_dependencies
+from ..protocol import PieceKind
 
 __all__ = [
     "PIECES",
+    "PIECE_KINDS",
+    "ROM_DEPENDENCIES",
     "PAYLOAD_ARRAYS",
     "steady_piece",
     "frf_piece",
@@ -116,42 +119,32 @@ def sim_piece(point: SweepPoint, gust: GustCase, M_base: int, sim: SimulationOpt
                 **_scheme_key(sim))    # its errors are against that LTD
 
 
-def store_dependencies() -> dict:
-    """Piece -> packages and modules whose sources enter its key (:data:`studies.store.cache.PIECE_DEPENDENCIES`).
-
-    Returns
-    -------
-    dict of str -> tuple of str
-    """
-    return {piece: tuple(deps) for piece, deps in PIECE_DEPENDENCIES.items()}
-
-
 #: Arrays each piece's payload holds (the ``*_payload`` functions below); an entry of another layout is corrupt.
 PAYLOAD_ARRAYS = {"steady": ("q",), "frf": ("H", "omega_d", "omega"), "ltd": ("t", "u", "cl", "cm", "cd"),
                   "rom": ("A", "B", "C", "D", "hankel_sv", "frf_rom"), "sim": ("t", "cl", "cm")}
 
+ROM_DEPENDENCIES = ("cfd", "sysid", "studies.config.study", "studies.config.reader", "studies.config.entries",
+                    "studies.config.numbers", "studies.config.schema", "studies.sections.gust_rom.pieces",
+                    "studies.sections.gust_rom.tasks")
+"""Sources of the ROM and ROM-simulation pieces: ``cfd`` and ``sysid``, the study file's parser
+(:mod:`studies.config.study` with its value reader and case entries) and number parser (the values computed
+with), the configuration objects (method options, weights), this module (keys, payloads, the simulation metrics)
+and the tasks that compute them."""
 
-def open_store(config: StudyConfig, store_dir=None) -> ResultStore:
-    """The :class:`studies.store.cache.ResultStore` of a study (``store_dir`` overrides ``config.store_dir``), with
-    the keys of :func:`store_dependencies` and the payload layouts of :data:`PAYLOAD_ARRAYS`."""
-    return ResultStore(Path(store_dir) if store_dir is not None else config.store_dir,
-                       dependencies=store_dependencies(), required=PAYLOAD_ARRAYS)
+PIECE_KINDS = (PieceKind("steady", ("cfd",), PAYLOAD_ARRAYS["steady"]),
+               PieceKind("frf", ("cfd",), PAYLOAD_ARRAYS["frf"]),
+               PieceKind("ltd", ("cfd",), PAYLOAD_ARRAYS["ltd"]),
+               PieceKind("rom", ROM_DEPENDENCIES, PAYLOAD_ARRAYS["rom"]),
+               PieceKind("sim", ROM_DEPENDENCIES, PAYLOAD_ARRAYS["sim"]))
+"""The section's store kinds: the CFD pieces (expensive) depend on ``cfd`` only (the tasks' wrappers around it
+are thin), the identification pieces (cheap) on :data:`ROM_DEPENDENCIES`. ``store_dependencies``,
+``open_store``, ``error_text``, ``failure_payload`` and ``is_failed`` are :mod:`studies.store.entries`' (for every
+section), re-exported here as before."""
 
 
 # ---------------------------------------------------------------------------------------------
 # Payloads: (arrays, metadata) of each piece
 # ---------------------------------------------------------------------------------------------
-
-def error_text(exc: BaseException) -> str:
-    """``"ExceptionType: message"`` (first 2000 characters)."""
-    return f"{type(exc).__name__}: {exc}"[:2000]
-
-
-def failure_payload(exc_or_text, **extra) -> tuple:
-    """``(arrays, metadata)`` of a failed piece: no arrays, ``status = "failed"`` and the error text."""
-    text = exc_or_text if isinstance(exc_or_text, str) else error_text(exc_or_text)
-    return {}, dict(extra, status="failed", error=text)
-
 
 def steady_payload(sol, seconds: float) -> tuple:
     """``(arrays, metadata)`` of a ``cfd.SteadySolution``."""
@@ -188,11 +181,6 @@ def sim_payload(t, cl, cm, metrics: Mapping) -> tuple:
     """``(arrays, metadata)`` of a ROM gust history."""
     return ({"t": np.asarray(t, dtype=float), "cl": np.asarray(cl, dtype=float), "cm": np.asarray(cm, dtype=float)},
             dict(status="ok", metrics=dict(metrics)))
-
-
-def is_failed(entry) -> bool:
-    """Whether a store entry records a failure."""
-    return entry is not None and entry.metadata.get("status") == "failed"
 
 
 def sim_metrics(t, rom: Mapping[str, Any], ltd: Mapping[str, Any], seconds_rom: float, seconds_ltd: float) -> dict:

@@ -7,8 +7,8 @@ case (every identification and ROM simulation of that case, cheap next to the CF
 linear system from the stored steady state (a converged restart: one residual evaluation and a linearisation,
 a few seconds on the paper grid), so the large Jacobians are never stored nor shipped between processes.
 
-Each task opens the store with the code versions the main process pinned (:class:`PinnedStore`), stores
-every piece it computes (a piece that raises is stored as a failure) and returns
+Each task opens the store with the code versions the main process pinned (:class:`studies.run.compute.PinnedStore`),
+stores every piece it computes (a piece that raises is stored as a failure) and returns
 one report per piece (a dict: ``piece``, ``label``, ``status``, ``error``, ``seconds``, ``computed``). While
 they run, the steady, FRF and LTD tasks report from inside the solver (Newton steps, sweep shifts, time steps)
 through :mod:`studies.run.progress` when this process has a sink (observational: nothing of it is stored). The
@@ -22,20 +22,19 @@ from __future__ import annotations
 import math
 import time
 import warnings
-from typing import Callable
 
 import numpy as np
 
 from sysid.metrics import rom_metrics
 from sysid.simulate import rom_simulation
 
-from ...store.cache import ResultStore
+from ...config.schema import StudyConfig
+from ...run.compute import PinnedStore, compute_piece, needs_compute, piece_report, pinned_store
+from ...run.progress import piece_reporter, task_key
+from ...store.entries import is_failed
 from .pieces import (
-    PAYLOAD_ARRAYS,
-    failure_payload,
     frf_payload,
     frf_piece,
-    is_failed,
     ltd_payload,
     ltd_piece,
     rom_payload,
@@ -45,39 +44,13 @@ from .pieces import (
     sim_piece,
     steady_payload,
     steady_piece,
-    store_dependencies,
 )
-from ...run.progress import piece_reporter, task_key
-from ...config.schema import StudyConfig
 
 __all__ = ["PinnedStore", "pinned_store", "lfd_on_mckelvey_grid", "needs_compute", "steady_task", "frf_task",
            "ltd_task", "rom_task", "compute_piece", "piece_report", "load_linear_system",
            "load_steady_solution"]
-
-
-# ---------------------------------------------------------------------------------------------
-# Store with the code versions pinned by the main process (workers compute the same keys)
-# ---------------------------------------------------------------------------------------------
-
-class PinnedStore(ResultStore):
-    """A :class:`ResultStore` whose per-piece code versions are fixed (computed once, in the main process).
-
-    The sources' hash is computed once per process; pinning it keeps the keys of a run consistent across
-    worker processes even if a source file changes while the study runs.
-    """
-
-    def __init__(self, root, codes: dict):
-        super().__init__(root, dependencies=store_dependencies(), required=PAYLOAD_ARRAYS)
-        self._codes = dict(codes)
-
-    def code_version(self, piece: str) -> dict:
-        """The pinned code version of ``piece`` (or the store's own for a piece not pinned)."""
-        return dict(self._codes[piece]) if piece in self._codes else super().code_version(piece)
-
-
-def pinned_store(root, codes) -> ResultStore:
-    """The store at ``root`` with the code versions ``codes`` (piece -> ``ResultStore.code_version``) pinned."""
-    return PinnedStore(root, codes)
+# PinnedStore, pinned_store, needs_compute, compute_piece and piece_report are studies.run.compute's (every
+# section's tasks use them), re-exported here as before.
 
 
 # ---------------------------------------------------------------------------------------------
@@ -164,33 +137,6 @@ def _ltds(lin, gust_cases, sim, cfd_options, progress=None):
 # ---------------------------------------------------------------------------------------------
 # Tasks (top-level functions: picklable for process pools and Dask)
 # ---------------------------------------------------------------------------------------------
-
-def piece_report(piece, label, entry, seconds, computed=True) -> dict:
-    """The report of one stored piece (``piece``, ``label``, ``status``, ``error``, ``seconds``, ``computed``)."""
-    md = entry.metadata if entry is not None else {}
-    return dict(piece=piece, label=label, status=md.get("status", "ok"), error=md.get("error"),
-                seconds=float(seconds), computed=computed)
-
-
-def compute_piece(store, piece, cfg, compute: Callable[[], tuple], catch=True):
-    """Compute a piece with ``compute() -> (arrays, metadata)`` and store it (a failure is stored as such, unless
-    ``catch`` is False: then it raises). Returns ``(entry, seconds)``."""
-    t0 = time.perf_counter()
-    try:
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            arrays, metadata = compute()
-        notes = sorted({f"{w.category.__name__}: {w.message}"[:500] for w in caught})
-        if notes:
-            metadata = dict(metadata, warnings=notes)
-    except Exception as e:  # noqa: BLE001 - any failure of a piece is recorded and the study goes on
-        if not catch:
-            raise
-        arrays, metadata = failure_payload(e)
-    seconds = time.perf_counter() - t0
-    entry = store.put(piece, cfg, arrays, metadata, extra_provenance={"compute_s": seconds})
-    return entry, seconds
-
 
 def steady_task(config: StudyConfig, case_name: str, root: str, codes: dict) -> list:
     """The steady flow of one case, from the free stream.
@@ -358,14 +304,6 @@ def ltd_task(config: StudyConfig, case_name: str, gust_names: list, root: str, c
         reports.append(piece_report("ltd", f"ltd {case.name} {gust.name} ({steps}, {len(gusts)} gusts marched "
                                       "together)", entry, share))
     return reports
-
-
-def needs_compute(store, piece, cfg, force) -> bool:
-    """Whether a piece must be computed: ``force``, or not stored, or stored as a failure."""
-    if force:
-        return True
-    e = store.get(piece, cfg)
-    return e is None or is_failed(e)
 
 
 def _identify(frf, point, M_base):

@@ -15,15 +15,12 @@ from studies.config import (
     StudyConfig,
     StudyConfigError,
     canonical_json,
-    frf_piece,
     load_study,
     loads_study,
     max_order,
     parse_number,
-    rom_piece,
-    sim_piece,
-    steady_piece,
 )
+from studies.sections.gust_rom.pieces import frf_piece, rom_piece, sim_piece, steady_piece
 
 STUDIES = Path(__file__).resolve().parents[3] / "studies"
 BASE = 'cases = ["T2"]\n[sweep]\norders = [9]\n'

@@ -237,7 +237,7 @@ def test_a_march_the_solver_stops_is_kept_and_the_larger_angles_are_skipped(marc
     from tinystudy import copy_study
 
     cfg2 = copy_study(cfg, tmp_path)
-    cfg2 = replace(cfg2, nonlinear=replace(cfg2.nonlinear, amplitudes=(0.01, 2.0, 4.0)))
+    cfg2 = cfg2.with_section("nonlinear", replace(cfg2.nonlinear, amplitudes=(0.01, 2.0, 4.0)))
     real = cfd.unsteady_response
     calls = []
 
