@@ -19,7 +19,8 @@ import pkgutil
 
 __all__ = ['StudyConfigError', 'StudyConfig', 'CaseSweep', 'MethodOptions', 'SimulationOptions', 'CFDOptions',
            'ReportOptions', 'SweepPoint', 'load_study', 'loads_study', 'parse_study', 'as_config', 'parse_number',
-           'normalise_float', 'canonical_json', 'config_hash', 'max_order', 'T_PAPER', 'T_RANGE', 'MAX_STEPS', 'MAX_M', 'min_order', 'march_memory_bytes',
+           'normalise_float', 'canonical_json', 'config_hash', 'max_order', 'T_PAPER', 'T_RANGE', 'MAX_STEPS', 'MAX_M',
+           'min_order', 'march_memory_bytes',
            'TOP_KEYS', 'GRID_KEYS', 'SWEEP_KEYS', 'CASE_KEYS', 'GUST_KEYS', 'METHOD_KEYS', 'SIMULATION_KEYS',
            'CFD_KEYS', 'REPORT_KEYS']
 

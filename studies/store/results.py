@@ -11,8 +11,8 @@ Records
 - :class:`RomRecord` (case, T, M, order, method): one identification, ``status`` ``"ok"`` or ``"failed"``.
 - :class:`SimRecord` (case, T, M, order, method, gust): the ROM's gust history against the LTD one.
 
-Metrics (computed by the tasks with :func:`sysid.metrics.rom_metrics` and :func:`studies.sections.gust_rom.pieces.sim_metrics`,
-stored with the pieces)
+Metrics (computed by the tasks with :func:`sysid.metrics.rom_metrics` and
+:func:`studies.sections.gust_rom.pieces.sim_metrics`, stored with the pieces)
 ------------------------------------------------------------------------------------------------------------
 ``RomRecord.metrics`` (``X`` is each output of the study, ``Cl`` and ``Cm`` by default):
 
@@ -35,10 +35,10 @@ envelope (the largest positive and the largest negative load of a history, as lo
 - ``seconds_rom`` (re-discretisation and simulation) and ``seconds_ltd`` (the LTD march of that gust; when
   several gusts were marched together, their shared time divided by their number).
 
-The store layout (arrays and metadata of each piece) is documented in :mod:`studies.sections.gust_rom.pieces`. Every piece's
-metadata also holds ``status`` (``"ok"`` or ``"failed"``); a failed piece has no arrays and an
-``error`` (``"ExceptionType: message"``). A failed steady flow or FRF marks the ROMs that need it failed (with
-that reason); a failed LTD or ROM simulation is listed in :attr:`StudyResults.failed`.
+The store layout (arrays and metadata of each piece) is documented in :mod:`studies.sections.gust_rom.pieces`. Every
+piece's metadata also holds ``status`` (``"ok"`` or ``"failed"``); a failed piece has no arrays and an ``error``
+(``"ExceptionType: message"``). A failed steady flow or FRF marks the ROMs that need it failed (with that reason); a
+failed LTD or ROM simulation is listed in :attr:`StudyResults.failed`.
 """
 
 from __future__ import annotations

@@ -83,7 +83,8 @@ AEROELASTIC_PIECES = ("motion_frf", "flutter")
 
 AEROELASTIC_DEPENDENCIES = {
     "motion_frf": ("cfd",),
-    "flutter": ("cfd", "sysid", "aeroelastic", "studies.sections.aeroelastic.schema", "studies.sections.aeroelastic.study"),
+    "flutter": ("cfd", "sysid", "aeroelastic", "studies.sections.aeroelastic.schema",
+                "studies.sections.aeroelastic.study"),
 }
 """Packages and modules whose sources enter the keys of the aeroelastic pieces (merged into
 :data:`studies.store.cache.PIECE_DEPENDENCIES`)."""

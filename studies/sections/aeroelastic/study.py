@@ -4,7 +4,7 @@
 :func:`motion_frf_task` computes a flow case's motion frequency response (``cfd.lfd_response`` with inputs gust,
 plunge and pitch) once its steady flow is stored; :func:`flutter_task` then the flutter of every section with
 it (``aeroelastic.to_elastic_axis``, ``fit_motion``, ``flutter``, and ``gust_response`` for the study's gusts at
-the section's ``gust_speed``). Both store their pieces through :func:`studies.sections.gust_rom.tasks.compute_piece` (a piece that
+the section's ``gust_speed``). Both store their pieces through :func:`studies.run.compute.compute_piece` (a piece that
 raises is stored as a failure), so an interrupted run keeps what it stored and a second run computes nothing.
 :func:`load_flutter` reads the flutter pieces back as :class:`FlutterRecord`.
 """

@@ -1,7 +1,7 @@
 """The report's "Where the linear models hold" section: the nonlinear marches against the LTD and the ROMs.
 
-Reads the study's ``nonlinear`` pieces (:func:`studies.sections.nonlinear.study.load_linearity`; nothing is computed here)
-and writes
+Reads the study's ``nonlinear`` pieces (:func:`studies.sections.nonlinear.study.load_linearity`; nothing is computed
+here) and writes
 
 =========================================== ==========================================================
 where                                       what

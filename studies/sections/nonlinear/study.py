@@ -3,7 +3,7 @@
 
 :func:`nonlinear_task` marches the nonlinear Euler equations (``cfd.unsteady_response``) for one flow case, gust
 shape and amplitude once the case's steady flow is stored, and stores one ``nonlinear`` piece (through
-:func:`studies.sections.gust_rom.tasks.compute_piece`: a march that raises is stored as a failure, so an interrupted run keeps what
+:func:`studies.run.compute.compute_piece`: a march that raises is stored as a failure, so an interrupted run keeps what
 it stored and a second run computes nothing). :func:`load_linearity` reads the pieces back and compares each with
 the linear models of the same gust shape the study stored: the LTD history and the ROM histories, scaled from the
 gust's own angle to the march's (they are linear in the amplitude).
