@@ -416,9 +416,10 @@ def draw_figures(results, fig_dir: Path, dpi: int, say, paper: bool = False) -> 
     return figures
 
 
-FIGURE_CODE = ("studies.report.plots", "studies.report.plot_style", "studies.report.plot_data", "studies.report.figure_files",
-               "studies.report.frf_plots", "studies.report.hankel_plots", "studies.report.error_plots", "studies.report.history_plots",
-               "studies.report.heatmap_plots", "studies.report", "studies.report.figures", "studies.report.rows")
+FIGURE_CODE = ("studies.report.plots", "studies.report.plot_style", "studies.report.plot_data",
+               "studies.report.figure_files", "studies.report.frf_plots", "studies.report.hankel_plots",
+               "studies.report.error_plots", "studies.report.history_plots", "studies.report.heatmap_plots",
+               "studies.report.make", "studies.report.figures", "studies.report.rows")
 """The modules whose source is part of the figures' fingerprint."""
 
 
