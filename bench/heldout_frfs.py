@@ -24,9 +24,9 @@ import numpy as np  # noqa: E402
 
 import cfd  # noqa: E402
 import sysid  # noqa: E402
-from studies.grid_spec import PAPER_GRID  # noqa: E402
-from studies.schema import T_PAPER, CFDOptions  # noqa: E402
-from studies.tasks import lfd_on_mckelvey_grid  # noqa: E402
+from studies.config.grid_spec import PAPER_GRID  # noqa: E402
+from studies.config.schema import T_PAPER, CFDOptions  # noqa: E402
+from studies.sections.gust_rom.tasks import lfd_on_mckelvey_grid  # noqa: E402
 
 #: name -> (NACA code, Mach, incidence in degrees, description)
 CASES = {
@@ -38,7 +38,7 @@ M = 256
 
 def heldout_frf(name: str) -> sysid.FrequencyResponse:
     """The gust FRF of held-out case ``name`` (a key of :data:`CASES`), shape (2, 1, M + 1), ``T`` set: the
-    paper study's grid and path (``studies.tasks.lfd_on_mckelvey_grid``)."""
+    paper study's grid and path (``studies.sections.gust_rom.tasks.lfd_on_mckelvey_grid``)."""
     code, mach, alpha, _ = CASES[name]
     sol = cfd.solve_steady(cfd.c_grid(cfd.naca(code), **PAPER_GRID.kwargs()), mach, alpha)
     return lfd_on_mckelvey_grid(cfd.linearise(sol), T_PAPER, M, CFDOptions())[0]

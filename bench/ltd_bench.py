@@ -33,7 +33,7 @@ def timed(f):
 
 
 def paper_gusts(names):
-    from studies.cases import gust_case, to_gust
+    from studies.config.cases import gust_case, to_gust
 
     return [to_gust(gust_case(n), x0=-2.0) for n in names]
 

@@ -36,7 +36,7 @@ DT = 0.02
 
 
 def load_lin(case, path):
-    from studies.cases import flow_case
+    from studies.config.cases import flow_case
 
     if path and os.path.exists(path):
         with open(path, "rb") as f:
@@ -80,7 +80,7 @@ def main():
     ap.add_argument("--lin", default=None, help="pickle file to store / reuse the case's linear system")
     ap.add_argument("--skip-reference", action="store_true", help="no reference march (no history errors)")
     args = ap.parse_args()
-    from studies.cases import gust_case, to_gust
+    from studies.config.cases import gust_case, to_gust
 
     with threadpool_limits(limits=1, user_api="blas"):
         t0 = time.perf_counter()

@@ -23,10 +23,10 @@ import numpy as np
 
 import cfd
 import cfd.unsteady as unsteady
-from studies.cases import to_gust
+from studies.config.cases import to_gust
 from studies.config import load_study
-from studies.pieces import open_store
-from studies.tasks import load_steady_solution
+from studies.sections.gust_rom.pieces import open_store
+from studies.sections.gust_rom.tasks import load_steady_solution
 
 
 def main(argv=None) -> int:

@@ -23,9 +23,9 @@ import numpy as np
 
 import cfd
 import sysid
-from studies.cases import flow_case, gust_case, to_gust
-from studies.schema import T_PAPER, CFDOptions
-from studies.tasks import lfd_on_mckelvey_grid
+from studies.config.cases import flow_case, gust_case, to_gust
+from studies.config.schema import T_PAPER, CFDOptions
+from studies.sections.gust_rom.tasks import lfd_on_mckelvey_grid
 from sysid import peak, rom_simulation
 
 

@@ -3,7 +3,7 @@
 For each paper case asked (``docs/data/frf-T*.npz``, T = 70/(2 pi)) and each order, the ROM of
 ``sysid.identify(frf, n, dc_gain="match", stable=True, algorithm=...)`` for each algorithm asked is driven by
 the gust inputs of the LTD histories of a computed study (the paper study's: ``lfdrom run studies/paper.toml``
-first; ``studies.results.load_results`` reads them) and compared with them: the load-envelope error (``sysid.history_metrics.envelope_errors``) and the RMS
+first; ``studies.store.results.load_results`` reads them) and compared with them: the load-envelope error (``sysid.history_metrics.envelope_errors``) and the RMS
 error, both in % of the LTD's peak, Cl / Cm, per gust.
 
 Run: .venv/bin/python bench/rom_vs_ltd_bench.py --cases T4,T5 --orders 15,25,55
@@ -20,13 +20,13 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 import sysid  # noqa: E402
-from studies.results import load_results  # noqa: E402
+from studies.store.results import load_results  # noqa: E402
 from sysid.history_metrics import envelope_errors  # noqa: E402
 from sysid.simulate import rom_simulation  # noqa: E402
 
 
 def ltd_histories(study):
-    """``{case: {gust: (t, u, cl, cm)}}``: the LTD references of a computed study (``studies.results.load_results``;
+    """``{case: {gust: (t, u, cl, cm)}}``: the LTD references of a computed study (``studies.store.results.load_results``;
     entries of an older code version are not read)."""
     out = {}
     for (case, gust), ltd in load_results(study).ltd.items():

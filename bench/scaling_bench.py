@@ -190,7 +190,7 @@ def measure_level(ni, nj, full, ltd_steps, state_dir):
                             max_estimate=float(np.max(md["error_estimate"]) / np.max(np.abs(frf.H))),
                             peak_bytes=peak_bytes())
         log(f"{ni}x{nj}: LTD, six gusts, {ltd_steps} steps")
-        from studies.cases import gust_case, to_gust
+        from studies.config.cases import gust_case, to_gust
 
         gusts = [to_gust(gust_case(n), x0=-2.0) for n in ("G1", "G2", "G3", "G4", "G5", "G6")]
         reset_peak()

@@ -42,7 +42,7 @@ def compute(case_name, study=ROOT / "studies" / "paper.toml", M=2048):
     """The LFD of a paper case on McKelvey's grid with ``M`` intervals, as the study computes it."""
     import cfd
     from studies.config import load_study
-    from studies.tasks import lfd_on_mckelvey_grid
+    from studies.sections.gust_rom.tasks import lfd_on_mckelvey_grid
 
     cfg = load_study(study)
     case = next(cs.case for cs in cfg.cases if cs.case.name == case_name)

@@ -6,7 +6,7 @@ import pytest
 from tinystudy import STUDY
 
 from studies.config import load_study
-from studies.runner import run_study
+from studies.run.runner import run_study
 
 
 @pytest.fixture(scope="session")

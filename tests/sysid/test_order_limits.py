@@ -1,5 +1,5 @@
 """Argument checks of sysid.order_limits (the limits themselves are tested against identify in
-tests/studies/test_config.py)."""
+tests/studies/config/test_config.py)."""
 
 import numpy as np
 import pytest

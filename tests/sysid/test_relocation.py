@@ -541,7 +541,7 @@ def test_result_pickles_and_data_without_constraint_samples():
     res = identify(frf, 4, stable=True)
     assert res.algorithm == "relocation" and res.enforced["dc_gain"] is False and res.enforced["feedthrough"] is False
     assert res.max_error < 1e-7  # exact data in the model class, as in test_exact_recovery_through_identify
-    back = pickle.loads(pickle.dumps(res))  # process pools (studies.runner) ship results
+    back = pickle.loads(pickle.dumps(res))  # process pools (studies.run.runner) ship results
     assert back.algorithm == "relocation" and back.relocation.start == res.relocation.start
     np.testing.assert_array_equal(np.asarray(back.model.A), np.asarray(res.model.A))
 

@@ -1,0 +1,1 @@
+"""The aeroelastic section of a study."""

@@ -1,0 +1,1 @@
+"""The gust_rom section of a study."""

@@ -1,0 +1,1 @@
+"""The nonlinear section of a study."""

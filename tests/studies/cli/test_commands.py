@@ -1,0 +1,197 @@
+"""The study subcommands (studies.cli.commands) through their own parser: validation first, hand-over, exit codes."""
+
+import argparse
+import json
+import re
+import sys
+import types
+from pathlib import Path
+
+import pytest
+
+from studies.cli import commands
+
+STUDIES = Path(__file__).resolve().parents[3] / "studies"
+
+
+def run(argv):
+    p = argparse.ArgumentParser(prog="lfdrom")
+    sub = p.add_subparsers(dest="command")
+    commands.add_subcommands(sub)
+    return commands.dispatch(p.parse_args(argv))
+
+
+@pytest.fixture
+def fake_modules(monkeypatch):
+    """Replace studies.run.runner.run_study / studies.report.make_report by recorders of their calls."""
+    import importlib
+
+    calls = []
+
+    def install(name, function, *, fail=False, params=None):
+        def fake(config, **kw):
+            calls.append((function, config, {"kw": kw, **kw}))
+            if fail:
+                raise RuntimeError("boom")
+            return types.SimpleNamespace(roms=[], sims=[], failed=[], missing=[], run=None, config=config)
+
+        monkeypatch.setattr(importlib.import_module(name), function, fake)
+
+    # `lfdrom report` reads the store afterwards to say whether the study is complete: a complete one here
+    monkeypatch.setattr(importlib.import_module("studies.store.results"), "load_results",
+                        lambda config, **kw: types.SimpleNamespace(roms=[], sims=[], failed=[], missing=[], run=None,
+                                                                   config=config))
+    install.calls = calls
+    return install
+
+
+def test_cases_table(capsys):
+    assert run(["cases"]) == 0
+    out = capsys.readouterr().out
+    for name in ["T1", "T6", "NACA2410", "G1", "G6", "sharp_edged", "0.735"]:
+        assert name in out
+    assert run(["cases", "--format", "json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert [r["name"] for r in data["gust_cases"]] == [f"G{i}" for i in range(1, 7)]
+    assert run(["cases", "--format", "markdown"]) == 0
+    assert "| name | aerofoil |" in capsys.readouterr().out
+
+
+def test_run_dry_run(capsys):
+    assert run(["run", str(STUDIES / "paper.toml"), "--dry-run"]) == 0
+    out = capsys.readouterr().out
+    assert "33 identifications" in out and "T5: NACA2410 M0.25" in out and "N_r [25, 55]" in out
+
+
+def test_bad_study_is_rejected_before_the_runner(tmp_path, capsys, fake_modules):
+    fake_modules("studies.run.runner", "run_study")
+    bad = tmp_path / "bad.toml"
+    bad.write_text('cases = ["T2"]\n[sweep]\norders = [40]\nM = [32]\n')
+    assert run(["run", str(bad)]) == 2
+    assert f"{bad}: sweep.orders: order 40 is impossible" in capsys.readouterr().err
+    assert fake_modules.calls == []
+    assert run(["report", str(tmp_path / "nope.toml")]) == 2
+    assert "no such study file" in capsys.readouterr().err
+
+
+def test_run_hands_over_with_accepted_options(tmp_path, fake_modules, capsys):
+    fake_modules("studies.run.runner", "run_study")
+    fake_modules("studies.report.make", "make_report", params="config, **kw")
+    assert run(["run", str(STUDIES / "demo.toml"), "--out", str(tmp_path / "o"), "--quiet"]) == 0
+    (name, config, kw), (rname, rconfig, rkw) = fake_modules.calls
+    assert name == "run_study" and config.name == "demo"
+    assert kw["output_dir"] == (tmp_path / "o").resolve() and kw["store_dir"] == (tmp_path / "o" / "store").resolve()
+    # then the report, into --out (the study's own page only without --out)
+    assert rname == "make_report" and rkw["kw"]["output_dir"] == (tmp_path / "o").resolve()
+    assert rkw["kw"]["store_dir"] == kw["store_dir"]
+    assert run(["run", str(STUDIES / "demo.toml"), "--scheduler", "tcp://x:1", "--quiet", "--no-report"]) == 0
+    assert fake_modules.calls[-1][2]["scheduler"] == "tcp://x:1"
+    assert [c[0] for c in fake_modules.calls] == ["run_study", "make_report", "run_study"]
+
+
+def test_run_progress_option(fake_modules, tmp_path):
+    fake_modules("studies.run.runner", "run_study")
+    base = ["run", str(STUDIES / "demo.toml"), "--out", str(tmp_path / "o"), "--no-report"]
+    for extra, expected in (([], True), (["--progress", "lines"], "lines"), (["--progress", "pieces"], "pieces"),
+                            (["--progress", "bar", "--quiet"], False)):
+        assert run(base + extra) == 0
+        assert fake_modules.calls[-1][2]["progress"] == expected
+
+
+def test_run_writes_the_study_page(fake_modules):
+    fake_modules("studies.run.runner", "run_study", params="config, workers=None, **kw")
+    fake_modules("studies.report.make", "make_report", params="config, **kw")
+    assert run(["run", str(STUDIES / "paper.toml"), "--quiet"]) == 0
+    (_, config, kw), (_, rconfig, rkw) = fake_modules.calls
+    assert kw["workers"] == "auto"  # the default: the runner sizes the pool
+    assert config.report.page == (STUDIES.parent / "docs" / "paper-reproduction.md").resolve()
+    assert "output_dir" not in rkw["kw"] and rkw["kw"]["page"] is None  # make_report takes the study's page
+
+
+def test_run_failure_writes_no_report(fake_modules, capsys):
+    fake_modules("studies.run.runner", "run_study", fail=True)
+    fake_modules("studies.report.make", "make_report", params="config, **kw")
+    assert run(["run", str(STUDIES / "demo.toml"), "--quiet"]) == 1
+    assert [c[0] for c in fake_modules.calls] == ["run_study"]
+    assert "the study runner failed: RuntimeError: boom" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("value, message", [("0", "give at least 1"), ("two", "a positive integer or auto")])
+def test_run_bad_workers(value, message, fake_modules, capsys):
+    fake_modules("studies.run.runner", "run_study")
+    assert run(["run", str(STUDIES / "demo.toml"), "--workers", value, "--quiet"]) == 2
+    assert message in capsys.readouterr().err and fake_modules.calls == []
+
+
+def test_failures_and_report(fake_modules, capsys):
+    fake_modules("studies.report.make", "make_report", fail=True)
+    assert run(["report", str(STUDIES / "demo.toml"), "--quiet"]) == 1
+    assert "RuntimeError: boom" in capsys.readouterr().err
+    fake_modules("studies.report.make", "make_report", params="config, **kw")
+    assert run(["report", str(STUDIES / "demo.toml")]) == 0
+    assert fake_modules.calls[-1][2]["kw"]["progress"] is True
+    assert fake_modules.calls[-1][2]["kw"]["page"] is None  # not given: the report's default page
+
+
+def test_report_page_and_prose_are_handed_over(fake_modules, tmp_path):
+    fake_modules("studies.report.make", "make_report", params="config, **kw")
+    page, prose = tmp_path / "paper.md", tmp_path / "prose.toml"
+    prose.write_text('summary = "What the study found."\n')
+    assert run(["report", str(STUDIES / "demo.toml"), "--quiet", "--page", str(page), "--prose", str(prose)]) == 0
+    kw = fake_modules.calls[-1][2]["kw"]
+    assert kw["page"] == str(page) and kw["prose"] == str(prose)
+
+
+@pytest.mark.parametrize("argv,match", [
+    (["rom", "T9", "--order", "9"], "CASE: 'T9' is not a paper case"),
+    (["rom", "T2", "--order", "40", "--M", "32"], "--order: order 40 is impossible"),
+    (["rom", "T2", "--order", "0"], "--order: must be >= 1"),
+    (["rom", "T2", "--order", "9", "--M", "48"], "--M: must be a power of two"),
+    (["rom", "T2", "--order", "9", "--T", "-1"], "--T: must be positive"),
+    (["rom", "T2", "--order", "9", "--naca", "0012"], "--naca: T2 is a paper case"),
+    (["rom", "mine", "--naca", "0012", "--mach", "1.5", "--order", "9"], "--mach: mach = 1.5 is out of range"),
+    (["rom", "mine", "--naca", "00x2", "--mach", "0.5", "--order", "9"], "--naca: .*non-digit"),
+    (["rom", "mine", "--naca", "0012", "--mach", "fast", "--order", "9"], "--mach: 'fast' is not a number"),
+])
+def test_rom_validation(argv, match, capsys, fake_modules):
+    fake_modules("studies.run.runner", "run_study")
+    assert run(argv + ["--quiet"]) == 2
+    assert re.search(match, capsys.readouterr().err)
+    assert fake_modules.calls == []
+
+
+def test_rom_one_point_study(tmp_path, fake_modules):
+    fake_modules("studies.run.runner", "run_study")
+    # the fake runner stores nothing: no ROM to export is an incomplete run (exit 3), not a success
+    assert run(["rom", "mine", "--naca", "0012", "--mach", "0.5", "--order", "12", "--M", "32", "--dc-gain",
+                "--stable", "--out", str(tmp_path), "--quiet"]) == commands.EXIT_INCOMPLETE
+    (_, config, _), = fake_modules.calls
+    (point,) = config.points()
+    assert (point.case.naca, point.case.mach, point.order, point.M) == ("0012", 0.5, 12, 32)
+    assert point.method.dc_gain == "match" and point.method.stable and config.gusts == ()
+
+
+@pytest.mark.parametrize("out, expected", [
+    ("rom-output", ("rom-output/T2_N9_M256.npz", "rom-output/T2_N9_M256.mat")),
+    ("x/mine.npz", ("x/mine.npz", "x/mine.mat")),
+    ("x/mine.mat", ("x/mine.npz", "x/mine.mat")),
+])
+def test_rom_file_names(out, expected):
+    args = argparse.Namespace(out=Path(out), case="T2", order=9, M=256)
+    assert commands._rom_files(args) == tuple(Path(e) for e in expected)
+
+
+def test_rom_reports_a_failed_identification(tmp_path, monkeypatch, capsys):
+    from studies.store.results import RomRecord
+
+    def run_study(config, **kw):
+        rec = RomRecord(case="T2", T=1.0, M=32, order=9, method="default", status="failed",
+                        error="OrderError: too large")
+        return types.SimpleNamespace(roms=[rec], missing=[], failed=[], config=config)
+
+    import studies.run.runner
+
+    monkeypatch.setattr(studies.run.runner, "run_study", run_study)
+    assert run(["rom", "T2", "--order", "9", "--M", "32", "--out", str(tmp_path), "--quiet"]) == commands.EXIT_INCOMPLETE
+    assert "the identification failed: OrderError: too large" in capsys.readouterr().err
+    assert not list(tmp_path.glob("*.npz"))

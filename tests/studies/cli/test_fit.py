@@ -1,0 +1,420 @@
+"""``lfdrom fit``: the three file formats, recovery of known systems, --order auto, bad files and exit codes."""
+
+import importlib.util
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import scipy.io
+
+import sysid
+from studies import cli
+from studies.cli import fit
+from studies.cli.fit import FitInputError, fit_data, load_data
+
+ROOT = Path(__file__).resolve().parents[3]
+EXAMPLE = ROOT / "docs" / "data" / "fit-example.csv"
+
+# a continuous 2-output system of order 4 with known poles (U/c units): two real, one lightly damped pair
+POLES = np.array([-0.26, -2.0, -0.3 + 1j * np.sqrt(8.91), -0.3 - 1j * np.sqrt(8.91)])
+
+
+def known(omega):
+    """(2, 1, K) response of the order-4 system at continuous omega (inf -> 0 feedthrough)."""
+    w = np.asarray(omega, dtype=float)
+    fin = np.isfinite(w)
+    s = 1j * np.where(fin, w, 0.0)
+    mode = 0.6 * s / (s**2 + 0.6 * s + 9.0)
+    cl = 2 * np.pi * (0.13 / (s + 0.26) + 1.0 / (s + 2.0) + 0.03 * mode)
+    cm = 2 * np.pi * (-0.0052 / (s + 0.26) + 0.06 / (s + 2.0) - 0.01 * mode)
+    H = np.stack([np.where(fin, cl, 0.0), np.where(fin, cm, 0.0)])[:, None, :]
+    return H
+
+
+def grid_k():
+    return np.concatenate([[0.0], np.logspace(-2, np.log10(5.0), 50), [np.inf]])
+
+
+def write_csv(path, k, H, header="k,Cl_re,Cl_im,Cm_re,Cm_im", comments=("# input: gust",)):
+    lines = list(comments) + [header]
+    for j in range(k.size):
+        vals = [k[j], H[0, 0, j].real, H[0, 0, j].imag, H[1, 0, j].real, H[1, 0, j].imag]
+        lines.append(",".join("inf" if np.isinf(v) else repr(float(v)) for v in vals))
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+@pytest.fixture
+def files(tmp_path):
+    k = grid_k()
+    H = known(2 * k)
+    csv = write_csv(tmp_path / "data.csv", k, H)
+    mat = tmp_path / "data.mat"
+    scipy.io.savemat(mat, {"H": H, "omega": 2 * k, "outputs": np.array(["Cl", "Cm"], dtype=object),
+                           "inputs": np.array(["gust"], dtype=object)})
+    npz = sysid.FrequencyResponse.from_continuous(H, 2 * k, inputs=["gust"], outputs=["Cl", "Cm"]).save(
+        tmp_path / "data.npz")
+    plain = tmp_path / "plain.npz"
+    np.savez(plain, H_re=H.real, H_im=H.imag, k=k, T=np.float64(2.0))
+    return dict(csv=csv, mat=mat, npz=npz, plain=plain, k=k, H=H)
+
+
+def continuous_poles(res):
+    z = np.linalg.eigvals(np.asarray(res.model.A))
+    return (2.0 / res.T) * (z - 1.0) / (z + 1.0)
+
+
+def match(a, b):
+    a, b = np.sort_complex(np.asarray(a)), list(np.asarray(b))
+    err = 0.0
+    for x in a:
+        j = int(np.argmin([abs(x - y) for y in b]))
+        err = max(err, abs(x - b.pop(j)) / max(1.0, abs(x)))
+    return err
+
+
+# ------------------------------------------------------------------------------------------ formats
+def test_three_formats_read_the_same_data(files):
+    frfs = {name: load_data(files[name]) for name in ("csv", "mat", "npz", "plain")}
+    for name, frf in frfs.items():
+        assert frf.shape == (2, 1, files["k"].size), name
+        assert np.allclose(frf.H, files["H"], rtol=1e-12, atol=1e-14), name
+        assert np.array_equal(frf.omega, 2 * files["k"]), name
+    for name in ("csv", "mat", "npz"):
+        assert frfs[name].outputs == ("Cl", "Cm") and frfs[name].inputs == ("gust",), name
+    assert frfs["csv"].T is None and frfs["plain"].T == 2.0 and frfs["plain"].outputs == ("y[0]", "y[1]")
+
+
+def test_csv_frequency_units(tmp_path, files):
+    k, H = files["k"], files["H"]
+    # a column named 'freq' needs the unit: from a comment, or from the option (which wins)
+    p = write_csv(tmp_path / "f.csv", k, H, header="freq,Cl_re,Cl_im,Cm_re,Cm_im", comments=("# frequency: k",))
+    assert np.array_equal(load_data(p).omega, 2 * k)
+    assert np.array_equal(load_data(p, freq_unit="omega").omega, k)
+    # omega_d with '# T:' in the file
+    T = 2.0
+    wd = sysid.continuous_to_discrete(2 * k, T)
+    p = write_csv(tmp_path / "d.csv", wd, H, header="omega_d,Cl_re,Cl_im,Cm_re,Cm_im", comments=("# T: 2",))
+    frf = load_data(p)
+    assert frf.T == 2.0 and np.allclose(frf.omega_d, wd) and np.isinf(frf.omega[-1])
+
+
+# ------------------------------------------------------------------------------------------ fitting
+def test_recovery_of_a_known_system(files):
+    out = fit_data(load_data(files["csv"]), order=4)
+    res = out.result
+    assert res.order == 4 and res.spectral_radius < 1
+    assert res.max_error < 1e-8 and res.dc_error < 1e-12
+    assert res.enforced["dc_gain"] and res.enforced["feedthrough"] and res.enforced["stable"]
+    assert match(continuous_poles(res), POLES) < 1e-7
+    # the default T puts the band's geometric mean at omega_d = pi / 2
+    w = 2 * files["k"][1:-1]
+    assert res.T == pytest.approx(2 / np.sqrt(w.min() * w.max()))
+    assert out.diagnostics.ok
+
+
+def test_order_auto_picks_the_true_order_continuous_grid(files):
+    out = fit_data(load_data(files["mat"]), order="auto", max_order=8)
+    assert out.selection.chosen == 4 and out.result.order == 4
+    assert out.selection.errors[3] < 1e-8 and out.selection.errors[2] > 1e-3
+
+
+def test_order_auto_picks_the_true_order_mckelvey_grid(tmp_path):
+    sys.path.insert(0, str(ROOT / "tests" / "sysid"))
+    from sysid_synth import freqresp, random_system
+
+    A, B, C, D, _ = random_system(6, 2, 1, 5, rho=0.9)
+    wd, _ = sysid.mckelvey_grid(64, 1.0)
+    frf = sysid.FrequencyResponse(freqresp(A, B, C, D, np.exp(1j * wd)), wd, 1.0)
+    frf.save(tmp_path / "d.npz")
+    out = fit_data(load_data(tmp_path / "d.npz"), order="auto", max_order=10)
+    assert out.selection.chosen == 6 and out.result.max_error < 1e-7
+
+
+def test_command_line_end_to_end(files, tmp_path, capsys):
+    out_dir = tmp_path / "out"
+    rc = cli.main(["fit", str(files["csv"]), "--order", "4", "--out", str(out_dir)])
+    assert rc == 0
+    text = capsys.readouterr().out
+    assert "order 4 (given)" in text and "wrote" in text
+    for name in ("rom.npz", "rom.mat", "summary.md", "bode.png", "error.png", "hankel.png", "poles.png"):
+        assert (out_dir / name).stat().st_size > 0, name
+    from studies.store.rom_export import load_rom_npz
+
+    model, meta = load_rom_npz(out_dir / "rom.npz")
+    assert model.nstates == 4 and meta["order"] == 4 and meta["source"] == "data.csv"
+    m = scipy.io.loadmat(out_dir / "rom.mat")
+    assert m["A"].shape == (4, 4) and float(m["T"].squeeze()) == pytest.approx(model.dt)
+    md = (out_dir / "summary.md").read_text()
+    for part in ("## Data diagnostics", "## Order", "| Cl |", "spectral radius", "DC error"):
+        assert part in md
+
+
+def test_help(capsys):
+    with pytest.raises(SystemExit) as e:
+        cli.main(["fit", "--help"])
+    assert e.value.code == 0
+    text = capsys.readouterr().out
+    for option in ("--order N|auto", "--dc-gain", "--stable", "--no-stable", "--T", "--out", "--freq-unit"):
+        assert option in text
+
+
+def test_command_line_options(files, tmp_path, capsys):
+    rc = cli.main(["fit", str(files["npz"]), "--order", "4", "--T", "2", "--dc-gain", "none", "--no-stable",
+                   "--out", str(tmp_path / "o"), "--no-figures", "--quiet"])
+    assert rc == 0
+    md = (tmp_path / "o" / "summary.md").read_text()
+    assert "T = 2 (given)" in md and "dc_gain=none, stable=False" in md
+    assert not (tmp_path / "o" / "bode.png").exists()
+
+
+# ------------------------------------------------------------------------------------------ bad input
+def bad_csv(tmp_path, text, name="bad.csv"):
+    p = tmp_path / name
+    p.write_text(text)
+    return p
+
+
+@pytest.mark.parametrize("text, where, what", [
+    ("k,Cl_re,Cl_im\n0,1,0\n0.1,abc,0\n", "line 3", "'abc' is not a number"),
+    ("# input: gust\nk,Cl_re,Cl_im\n0,1,0\n0.1,1\n", "line 4", "2 values but the header"),
+    ("k,Cl_re,Cm_im\n0,1,0\n", "line 1", "Cl_im is missing"),
+    ("freq,Cl_re,Cl_im\n0,1,0\n", "line 1", "'freq' is not a frequency column"),
+    ("# frequency: hertz\nfreq,Cl_re,Cl_im\n0,1,0\n", "line 1", "'# frequency: hertz' is not one of"),
+    ("k,Cl_re,Cl_im\n0,1,0\n0.1,1,0\n0.1,1,0\n", "line 4", "appears twice"),
+    ("k,Cl_re,Cl_im\n0,1,0\n-0.1,1,0\n", "line 3", "negative frequency"),
+    ("k,Cl,Cl_im\n0,1,0\n", "line 1", "NAME_re and NAME_im"),
+    ("omega_d,Cl_re,Cl_im\n0,1,0\n", "line 1", "need the sampling period T"),
+    ("k,Cl_re,Cl_im\n", "line 1", "a header but no data"),
+    ("# T: 2\nk;Cl_re;Cl_im\n0;1;0\n", "line 2", "separate the columns with commas"),
+    ("# T: fast\nk,Cl_re,Cl_im\n0,1,0\n", "line 1", "'# T: fast' is not a number"),
+    ("# frequency: omega\nk,Cl_re,Cl_im\n0,1,0\n", "line 2", "named 'k' but line 1 says '# frequency: omega'"),
+])
+def test_bad_csv_names_the_line(tmp_path, text, where, what):
+    p = bad_csv(tmp_path, text)
+    with pytest.raises(FitInputError, match=rf"bad\.csv: {where}: .*{what}") as e:
+        load_data(p)
+    assert e.value.where == where and isinstance(e.value, ValueError)
+
+
+@pytest.mark.parametrize("content, key, what", [
+    ({"omega": np.arange(3.0)}, "key 'H'", "missing: found keys"),
+    ({"H": np.ones(4, complex), "omega": np.arange(3.0)}, "key 'H'", "has 4 frequencies"),
+    ({"H": np.ones(3, complex)}, "key 'omega'", "missing"),
+    ({"H": np.ones(3, complex), "omega": np.arange(3.0), "k": np.arange(3.0)}, "key 'omega'", "ambiguous"),
+    ({"H": np.ones(3, complex), "omega_d": np.arange(3.0)}, "key 'omega_d'", "need the sampling period"),
+    ({"H": np.ones(3, complex), "omega": np.arange(3.0), "T": -1.0}, "key 'T'", "positive"),
+    ({"H": np.array([1, np.nan, 1], complex), "omega": np.arange(3.0)}, "key 'H'", "NaN or inf"),
+    ({"H": np.ones((2, 1, 3), complex), "omega": np.arange(3.0), "outputs": np.array(["Cl"], dtype=object)},
+     "key 'outputs'", "has 1 names"),
+])
+@pytest.mark.parametrize("suffix", [".mat", ".npz"])
+def test_bad_mat_and_npz_name_the_key(tmp_path, content, key, what, suffix):
+    p = tmp_path / f"bad{suffix}"
+    if suffix == ".mat":
+        scipy.io.savemat(p, content)
+    else:
+        np.savez(p, **{k: (v if not (isinstance(v, np.ndarray) and v.dtype == object) else v.astype(str))
+                       for k, v in content.items()})
+    with pytest.raises(FitInputError, match=rf"bad\{suffix}: {key}: .*{what}"):
+        load_data(p)
+
+
+def test_bad_input_exit_code_2(tmp_path, capsys):
+    p = bad_csv(tmp_path, "k,Cl_re,Cl_im\n0,1,0\n0.1,x,0\n")
+    assert cli.main(["fit", str(p), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert "bad.csv: line 3:" in err and "'x' is not a number" in err
+    assert not (tmp_path / "o").exists()
+    cases = [([str(tmp_path / "none.csv")], "no such file"),
+             ([str(EXAMPLE), "--T", "-1"], "--T: must be positive"),
+             ([str(EXAMPLE), "--T", "abc"], "--T: 'abc': only numbers, pi, e, tau"),
+             ([str(EXAMPLE), "--order", "x"], "--order: 'x' is neither"),
+             ([str(tmp_path / "data.xlsx")], "no such file")]
+    for argv, msg in cases:
+        assert cli.main(["fit", *argv, "--out", str(tmp_path / "o")]) == 2, argv
+        assert msg in capsys.readouterr().err
+    (tmp_path / "data.xlsx").write_text("x")
+    assert cli.main(["fit", str(tmp_path / "data.xlsx")]) == 2
+    assert "unknown suffix '.xlsx'" in capsys.readouterr().err
+
+
+def _unreadable(tmp_path, kind):
+    k = np.r_[0.0, np.geomspace(0.01, 5.0, 12)]
+    good = tmp_path / "good.npz"
+    np.savez(good, H=known(2 * k)[0:1], k=k)
+    files = {
+        "latin1.csv": ("# input: angle in \u00b0\nk,y_re,y_im\n0,1,0\n".encode("latin-1"),
+                       "line 1: not readable as UTF-8"),
+        "empty.npz": (b"", "not readable as a .npz file"),
+        "truncated.npz": (good.read_bytes()[:100], "not readable as a .npz file"),
+        "empty.mat": (b"", "not readable as a MATLAB .mat file"),
+        "random.npz": (bytes(range(7, 107)), "not a .npz file"),
+        "npy.npz": (b"\x93NUMPY" + good.read_bytes()[6:60], "not a .npz file"),
+    }
+    if kind in files:
+        (tmp_path / kind).write_bytes(files[kind][0])
+        return tmp_path / kind, files[kind][1]
+    if kind == "objects.npz":
+        np.savez(tmp_path / kind, H=known(2 * k)[0:1], k=k, outputs=np.array(["Cl"], dtype=object))
+        return tmp_path / kind, "not readable as a .npz of plain arrays"
+    np.savez(tmp_path / kind, H_re=np.array(["a"] * k.size), H_im=np.zeros(k.size), k=k)
+    return tmp_path / kind, "key 'H_re': is not numeric"
+
+
+@pytest.mark.parametrize("kind", ["latin1.csv", "empty.npz", "truncated.npz", "random.npz", "npy.npz", "empty.mat",
+                                  "objects.npz", "string_re.npz"])
+def test_unreadable_file_is_bad_input(tmp_path, capsys, kind):
+    p, what = _unreadable(tmp_path, kind)
+    with pytest.raises(FitInputError, match=rf"{p.name}: {what}"):
+        load_data(p)
+    assert cli.main(["fit", str(p), "--order", "2", "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert what in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize("text, value", [("11.14", 11.14), ("70/(2*pi)", 70 / (2 * np.pi)), (" 2 ", 2.0),
+                                         ("1e1", 10.0), ("-(-3)", 3.0), ("pi/2 + 1 - 0.5", np.pi / 2 + 0.5)])
+def test_T_option_arithmetic(text, value):
+    assert fit._parse_T(text, "d.csv") == pytest.approx(value, rel=1e-15)
+
+
+@pytest.mark.parametrize("text, what", [("9**9**9", "overflows"), ("True", "only numbers, pi, e, tau"),
+                                        ("__import__('os')", "only numbers, pi, e, tau"), ("1/0", "divides by zero"),
+                                        ("abs(-2)", "only numbers, pi, e, tau"), ("1j", "only numbers, pi, e, tau"),
+                                        ("-2", "must be positive"), ("1e308*10", "is not finite")])
+def test_T_option_rejects_anything_but_arithmetic(text, what, capsys, tmp_path):
+    with pytest.raises(FitInputError, match=f"d.csv: --T: .*{what}"):
+        fit._parse_T(text, "d.csv")
+    assert cli.main(["fit", str(EXAMPLE), "--T", text, "--out", str(tmp_path / "o")]) == 2
+    assert "--T:" in capsys.readouterr().err
+
+
+def test_T_option_places_discrete_npz_saved_without_T(tmp_path, capsys):
+    wd, w = sysid.mckelvey_grid(32, 1.0)
+    p = tmp_path / "disc.npz"
+    sysid.FrequencyResponse(known(w), wd).save(p)
+    with pytest.raises(FitInputError, match=r"disc\.npz: --T: .*discrete frequencies .*give it with --T"):
+        fit_data(load_data(p), order=4)
+    frf = load_data(p, T=1.0)
+    assert frf.T == 1.0 and np.allclose(frf.omega_d, wd)
+    assert fit_data(frf, order=4, T=1.0).result.max_error < 1e-6
+    assert fit_data(load_data(p), order=4, T=1.0).result.max_error < 1e-6
+    assert cli.main(["fit", str(p), "--T", "1", "--order", "4", "--no-figures", "--out", str(tmp_path / "o")]) == 0
+    assert cli.main(["fit", str(p), "--order", "4", "--out", str(tmp_path / "o")]) == 2
+    assert "disc.npz: --T:" in capsys.readouterr().err
+
+
+def test_holdout_messages_name_the_file(tmp_path):
+    p = tmp_path / "two.npz"
+    sysid.FrequencyResponse(np.ones((1, 1, 2), complex), np.array([0.0, np.pi]), 1.0).save(p)
+    with pytest.raises(FitInputError, match=r"two\.npz: --order: too few frequencies"):
+        fit_data(load_data(p), order="auto")
+
+
+@pytest.mark.parametrize("order", ["auto", "2"])
+def test_output_zero_everywhere_is_bad_input(tmp_path, capsys, order):
+    k = grid_k()
+    H = known(2 * k)
+    H[1] = 0.0
+    p = write_csv(tmp_path / "zero.csv", k, H)
+    assert cli.main(["fit", str(p), "--order", order, "--no-figures", "--out", str(tmp_path / "o")]) == 2
+    assert "zero.csv: output 'Cm' is zero at every frequency; drop it" in capsys.readouterr().err
+
+
+def test_dc_match_without_dc_sample_is_bad_input(tmp_path):
+    k = np.logspace(-2, 0, 30)
+    p = write_csv(tmp_path / "nodc.csv", k, known(2 * k))
+    with pytest.raises(FitInputError, match="--dc-gain: match needs an omega = 0 sample"):
+        fit_data(load_data(p), order=4, dc_gain="match")
+    out = fit_data(load_data(p), order=4)  # default: no DC constraint without the sample
+    assert out.options["dc_gain"] == "none" and not out.result.enforced["dc_gain"]
+
+
+def test_worked_example_file_is_what_the_script_writes(tmp_path):
+    spec = importlib.util.spec_from_file_location("make_fit_example", ROOT / "bench" / "make_fit_example.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    assert mod.main(tmp_path / "ex.csv").read_text() == EXAMPLE.read_text()
+    frf = load_data(EXAMPLE)
+    assert frf.outputs == ("Cl", "Cm") and frf.inputs == ("gust",)
+    assert np.allclose(frf.H, np.stack(mod.response(frf.omega))[:, None, :], rtol=1e-10, atol=1e-12)
+
+
+def test_unwritable_output_exit_code_4_and_too_large_order_exit_code_2(files, tmp_path, capsys):
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    assert cli.main(["fit", str(files["csv"]), "--order", "4", "--out", str(blocker / "o")]) == 4
+    assert "cannot write to" in capsys.readouterr().err
+    assert cli.main(["fit", str(files["csv"]), "--order", "500", "--no-figures", "--out", str(tmp_path / "o")]) == 2
+    assert "--order" in capsys.readouterr().err
+
+
+def test_mimo_csv_and_order_auto(tmp_path):
+    # two inputs: columns NAME/INPUT_re, NAME/INPUT_im; McMillan degree 4 (pole -1 with a rank-2 residue)
+    k = np.concatenate([[0.0], np.logspace(-2, 0.5, 40)])
+    s = 1j * 2 * k
+    H = np.array([[1 / (s + 1), 0.5 / (s + 0.3)], [2 / (s + 2), -0.2 / (s + 1)]])
+    cols = ["k"] + [f"{o}/{i}_{part}" for o in ("Cl", "Cm") for i in ("gust", "pitch") for part in ("re", "im")]
+    rows = [[k[j]] + [v for o in range(2) for i in range(2) for v in (H[o, i, j].real, H[o, i, j].imag)]
+            for j in range(k.size)]
+    p = tmp_path / "mimo.csv"
+    p.write_text("\n".join([",".join(cols)] + [",".join(repr(float(x)) for x in r) for r in rows]) + "\n")
+    frf = load_data(p)
+    assert frf.outputs == ("Cl", "Cm") and frf.inputs == ("gust", "pitch") and np.allclose(frf.H, H)
+    out = fit_data(frf, order="auto", max_order=6)
+    assert out.selection.chosen == 4 and out.result.max_error < 1e-8
+
+
+def test_order_auto_skips_orders_below_what_the_data_need(files, monkeypatch):
+    # an OrderError before any order fitted (e.g. fewer states than inputs) does not end the search
+    real = sysid.identify
+
+    def identify(frf, order, **kw):
+        if order < 3:
+            raise sysid.OrderError(f"order {order} is below the number of inputs")
+        return real(frf, order, **kw)
+
+    monkeypatch.setattr(sysid, "identify", identify)
+    out = fit_data(load_data(files["csv"]), order="auto", max_order=6)
+    assert np.isnan(out.selection.errors[:2]).all() and out.selection.chosen == 4
+
+
+def test_data_without_a_dc_sample_say_so_instead_of_a_nan(tmp_path, capsys):
+    k = np.geomspace(0.01, 5.0, 40)   # no omega = 0 sample: the DC gain is neither imposed nor checked
+    csv = write_csv(tmp_path / "nodc.csv", k, known(2 * k))
+    assert cli.main(["fit", str(csv), "--order", "4", "--dc-gain", "none", "--out", str(tmp_path / "o")]) == 0
+    out = capsys.readouterr().out
+    assert "no omega = 0 sample (DC not checked)" in out and "nan" not in out
+
+
+def test_the_algorithm_can_be_chosen(files, tmp_path, capsys):
+    # the paper's method on the command line: subspace, no constraints; and the default path for comparison
+    out = tmp_path / "paper"
+    assert cli.main(["fit", str(files["csv"]), "--order", "4", "--algorithm", "subspace", "--dc-gain", "none",
+                     "--no-stable", "--out", str(out)]) == 0
+    assert "algorithm subspace" in (out / "summary.md").read_text()
+    assert cli.main(["fit", str(files["csv"]), "--order", "4", "--out", str(tmp_path / "default")]) == 0
+    assert "algorithm relocation" in (tmp_path / "default" / "summary.md").read_text()
+    with pytest.raises(SystemExit):
+        cli.main(["fit", str(files["csv"]), "--algorithm", "vf"])
+    assert "invalid choice: 'vf'" in capsys.readouterr().err
+
+
+def test_the_fits_warnings_are_reported_with_it(tmp_path, capsys):
+    # 1 % noise on an order-4 response fitted at order 8: identify warns of a resonance the samples cannot see;
+    # lfdrom fit prints it after the errors and writes it into summary.md, not as a Python warning with a path
+    wd, w = sysid.mckelvey_grid(64, 1.0)
+    s = 1j * np.where(np.isinf(w), 0.0, w)
+    H = np.where(np.isinf(w), 0.0, 2 * np.pi * (0.13 / (s + 0.26) + 1 / (s + 2)) + 1.8 / (s**2 + 0.6 * s + 9))
+    rng = np.random.default_rng(3)
+    H = H + 0.01 * np.abs(H).max() * (rng.standard_normal(65) + 1j * rng.standard_normal(65)) / np.sqrt(2)
+    H[0], H[-1] = H[0].real, 0.0
+    data = sysid.FrequencyResponse(H[None, None, :], wd, 1.0).save(tmp_path / "noisy.npz")
+    assert cli.main(["fit", str(data), "--order", "8", "--out", str(tmp_path / "o")]) == 0
+    captured = capsys.readouterr()
+    assert "warning: the order-8 model has a resonance at omega = 0.44" in captured.out
+    assert "RuntimeWarning" not in captured.err
+    summary = (tmp_path / "o" / "summary.md").read_text()
+    assert "**Warnings of the fit**" in summary and "invisible at the samples" in summary
