@@ -318,9 +318,11 @@ def _identify(frf, point, M_base):
     dc_model = res.evaluate(np.array([0.0]))[:, :, 0].real
     seconds = time.perf_counter() - t0
     m = res.model
-    metrics = rom_metrics(frf_rom, frf.H, np.arange(0, M_base + 1, M_base // point.M), list(frf.outputs), dc_model,
-                          res.spectral_radius, seconds)
-    bad = sorted(k for k, v in metrics.items() if isinstance(v, float) and not math.isfinite(v))
+    bad = [name for name, a in (("frequency response", frf_rom), ("DC gain", dc_model)) if not np.all(np.isfinite(a))]
+    if not bad:
+        metrics = rom_metrics(frf_rom, frf.H, np.arange(0, M_base + 1, M_base // point.M), list(frf.outputs), dc_model,
+                              res.spectral_radius, seconds)
+        bad = sorted(k for k, v in metrics.items() if isinstance(v, float) and not math.isfinite(v))
     if bad:  # never stored as "ok": a model whose errors are NaN or inf is not a result
         raise FloatingPointError(
             f"the identified model gives non-finite {', '.join(bad)} (T = {point.T:g}, M = {point.M}, order "
