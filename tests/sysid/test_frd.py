@@ -379,7 +379,7 @@ def test_save_to_a_directory_is_refused(tmp_path, name):
 def test_period_range_is_the_studies_rule():
     # studies accept T with the grid's centre frequency 2/T inside the aerofoil's band omega = 0.01 .. 100:
     # the same rule with factor 1 gives their range
-    from studies.schema import T_RANGE
+    from studies.config.schema import T_RANGE
 
     from sysid.grids import period_range
 
