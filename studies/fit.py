@@ -70,12 +70,12 @@ from typing import Any
 import numpy as np
 
 __all__ = ["FitInputError", "FitOutcome", "load_data", "holdout_order", "fit_data", "write_outputs",
-           "add_parser", "cmd_fit", "FREQ_UNITS"]
+           "add_parser", "cmd_fit", "FREQ_UNITS", "FIT_FILES", "fit_marker", "written_by_fit", "check_out_dir"]
 
 from .fit_data import FREQ_UNITS, FitInputError, load_data
 from .exit_codes import EXIT_FAILED, EXIT_NOT_WRITTEN, EXIT_OK
 from .exit_codes import EXIT_UNAVAILABLE as EXIT_BAD_INPUT  # 2: bad input, found before anything is computed
-from .files import atomic_write_text
+from .files import atomic_write_text, generated_marker, generated_prefix, is_generated_page
 from .numbers import parse_number
 
 HOLDOUT_RTOL, HOLDOUT_ATOL = 0.1, 1e-6
@@ -273,6 +273,83 @@ def fit_data(frf, *, order: int | str = "auto", dc_gain: str = "auto", stable: b
 # Writing
 # ---------------------------------------------------------------------------------------------
 
+FIT_FILES = ("summary.md", "rom.npz", "rom.mat", "bode.png", "error.png", "hankel.png", "poles.png")
+"""The files ``lfdrom fit`` writes to its ``--out`` folder; it replaces one only when it carries the fit's marker."""
+
+_FIGURES = tuple(name for name in FIT_FILES if name.endswith(".png"))
+
+
+def fit_marker(data_path) -> str:
+    """The generator marker of the files of one fit (:func:`studies.files.generated_marker` of ``lfdrom fit``):
+    the first line of ``summary.md``, the ``generator`` entry of the ROM files' metadata and the ``generator``
+    text chunk of the figures."""
+    return generated_marker(Path(data_path).name, program="fit",
+                            note="lfdrom fit replaces the files of this folder that carry this marker (this summary, "
+                                 "rom.npz, rom.mat and the figures) when it fits into the folder again, and no other")
+
+
+def written_by_fit(path) -> bool:
+    """Whether the file at ``path`` carries ``lfdrom fit``'s generator marker (so that replacing it loses nothing
+    the fit cannot write again).
+
+    ``.md``: the first line (:func:`studies.files.is_generated_page`); ``.npz`` and ``.mat``: the ``generator``
+    entry of the JSON ``metadata`` (:mod:`studies.rom_export`); ``.png``: the ``generator`` text chunk. A file
+    that cannot be read as its suffix says (someone else's) is not ours; a missing one is not either.
+    """
+    import json
+
+    path = Path(path)
+    prefix = generated_prefix("fit")
+    if not path.is_file():
+        return False
+    suffix = path.suffix.lower()
+    try:
+        if suffix == ".md":
+            return is_generated_page(path, program="fit")
+        if suffix == ".npz":
+            with np.load(path, allow_pickle=False) as z:
+                meta = json.loads(str(z["metadata"]))
+        elif suffix == ".mat":
+            import scipy.io
+
+            meta = json.loads(str(np.squeeze(scipy.io.loadmat(path, variable_names=["metadata"])["metadata"])))
+        elif suffix == ".png":
+            from PIL import Image
+
+            with Image.open(path) as im:
+                meta = {"generator": getattr(im, "text", {}).get("generator", "")}
+        else:
+            return False
+    except Exception:  # noqa: BLE001 - unreadable as ours: someone else's file
+        return False
+    return isinstance(meta, dict) and str(meta.get("generator", "")).startswith(prefix)
+
+
+def check_out_dir(out_dir, data_path) -> None:
+    """Refuse an output folder where ``lfdrom fit`` would destroy a file that is not its own.
+
+    Raises
+    ------
+    FitInputError
+        ``out_dir`` holds the data file itself, or a file of a name in :data:`FIT_FILES` without the fit's
+        generator marker (:func:`written_by_fit`: the user's own ``summary.md``, ``rom.mat``, a figure...); the
+        message names them and says what to do. Nothing is written or created.
+    """
+    out_dir, data = Path(out_dir), Path(data_path)
+    if not out_dir.is_dir():
+        return  # a new folder (or a file in its place: reported when the folder is created)
+    here = out_dir.resolve()
+    if here in (data.absolute().parent.resolve(), data.resolve().parent):
+        raise FitInputError(out_dir, "--out", f"holds the input {data.name}: lfdrom fit writes its files into a folder "
+                                              f"of their own; give another --out (default fit-{data.stem})")
+    foreign = [name for name in FIT_FILES if (out_dir / name).exists() or (out_dir / name).is_symlink()]
+    foreign = [name for name in foreign if (out_dir / name).is_symlink() or not written_by_fit(out_dir / name)]
+    if foreign:
+        raise FitInputError(out_dir, "--out", f"holds {', '.join(foreign)}, not written by lfdrom fit (no generator "
+                                              f"marker '{generated_prefix('fit')} ...'), which the fit would replace; "
+                                              "they are left as they are: give another --out (a new folder) or move "
+                                              "them away")
+
 def _continuous_poles(res, limit: int = 12) -> str:
     """The ROM's poles mapped to the s-plane, sorted by |s|, as text (at most ``limit``)."""
     z = np.linalg.eigvals(np.asarray(res.model.A))
@@ -295,7 +372,7 @@ def summary_markdown(out: FitOutcome, data_path, command: str | None = None) -> 
     p, m, K = frf.shape
     w = frf.omega
     fin = w[np.isfinite(w)]
-    lines = [f"# ROM fitted to {Path(data_path).name}", ""]
+    lines = [fit_marker(data_path), f"# ROM fitted to {Path(data_path).name}", ""]
     if command:
         lines += ["```", command, "```", ""]
     lines += [
@@ -352,13 +429,27 @@ def summary_markdown(out: FitOutcome, data_path, command: str | None = None) -> 
 
 def write_outputs(out: FitOutcome, data_path, out_dir, *, command: str | None = None,
                   figures: bool = True) -> dict[str, Path]:
-    """Write ``rom.npz``, ``rom.mat``, ``summary.md`` and the figures to ``out_dir``; returns their paths."""
+    """Write ``rom.npz``, ``rom.mat``, ``summary.md`` and the figures to ``out_dir``; returns their paths.
+
+    Each file carries the fit's generator marker (:func:`fit_marker`); a file of the same name without it, or a
+    folder that holds the data file, is refused before anything is written (:func:`check_out_dir`). Without
+    ``figures`` the figures of an earlier fit in the folder (ours, by their marker) are removed: they would show
+    another model than the summary's.
+
+    Raises
+    ------
+    FitInputError
+        From :func:`check_out_dir`.
+    OSError
+        A file cannot be written (each is written atomically: an existing one is replaced whole or kept).
+    """
     from .rom_export import export_rom_mat, export_rom_npz
 
     out_dir = Path(out_dir)
+    check_out_dir(out_dir, data_path)
     out_dir.mkdir(parents=True, exist_ok=True)
     res = out.result
-    meta = dict(source=str(Path(data_path).name), order=int(res.order), T=float(res.T),
+    meta = dict(generator=fit_marker(data_path), source=str(Path(data_path).name), order=int(res.order), T=float(res.T),
                 dc_gain=out.options["dc_gain"], stable=out.options["stable"],
                 max_error_per_output=dict(zip(out.data.outputs, map(float, res.errors.max_rel_per_output))),
                 spectral_radius=float(res.spectral_radius), time="convective, s = t U / c",
@@ -371,7 +462,11 @@ def write_outputs(out: FitOutcome, data_path, out_dir, *, command: str | None = 
     if figures:
         from .fit_plots import write_figures
 
-        paths.update(write_figures(out, out_dir))
+        paths.update(write_figures(out, out_dir, text={"generator": fit_marker(data_path)}))
+    else:
+        for name in _FIGURES:
+            if written_by_fit(out_dir / name):
+                (out_dir / name).unlink()
     return paths
 
 
@@ -467,6 +562,11 @@ def cmd_fit(args) -> int:
         return EXIT_BAD_INPUT
     out_dir = args.out if args.out is not None else Path(f"fit-{args.data.stem}")
     try:
+        check_out_dir(out_dir, args.data)   # before the fit: refused in a second, not after it
+    except FitInputError as e:
+        err(str(e))
+        return EXIT_BAD_INPUT
+    try:
         out_dir.mkdir(parents=True, exist_ok=True)
         if not out_dir.is_dir():
             raise NotADirectoryError(f"{out_dir} is not a folder")
@@ -488,6 +588,9 @@ def cmd_fit(args) -> int:
     command = "lfdrom fit " + " ".join(sys.argv[2:]) if len(sys.argv) > 2 and sys.argv[1] == "fit" else None
     try:
         paths = write_outputs(out, args.data, out_dir, command=command, figures=not args.no_figures)
+    except FitInputError as e:   # a foreign file appeared during the fit
+        err(str(e))
+        return EXIT_BAD_INPUT
     except OSError as e:
         err(f"cannot write to {out_dir}: {e}")
         return EXIT_NOT_WRITTEN

@@ -26,11 +26,12 @@ def _plt():
     return plt
 
 
-def _save(fig, path: Path, dpi: int = 110) -> Path:
-    """Save atomically as a palette PNG (small enough to commit) and close (:func:`studies.plots.save_figure`)."""
+def _save(fig, path: Path, dpi: int = 110, text: dict | None = None) -> Path:
+    """Save atomically as a palette PNG (small enough to commit) with the PNG text chunks ``text`` (the fit's
+    generator marker) and close (:func:`studies.plots.save_figure`)."""
     from .plots import save_figure
 
-    return save_figure(fig, path, dpi=dpi)
+    return save_figure(fig, path, dpi=dpi, text=text)
 
 
 def _plain_log_axis(ax, axis: str) -> None:
@@ -216,8 +217,9 @@ def poles_figure(out):
     return fig
 
 
-def write_figures(out, out_dir) -> dict[str, Path]:
-    """Write ``bode.png``, ``error.png``, ``hankel.png`` and ``poles.png`` to ``out_dir``."""
+def write_figures(out, out_dir, text: dict | None = None) -> dict[str, Path]:
+    """Write ``bode.png``, ``error.png``, ``hankel.png`` and ``poles.png`` to ``out_dir`` (with the PNG text
+    chunks ``text``: :func:`studies.fit.write_outputs` passes its generator marker)."""
     out_dir = Path(out_dir)
     figs = {"bode": bode_figure, "error": error_figure, "hankel": hankel_figure, "poles": poles_figure}
-    return {name: _save(make(out), out_dir / f"{name}.png") for name, make in figs.items()}
+    return {name: _save(make(out), out_dir / f"{name}.png", text=text) for name, make in figs.items()}
