@@ -171,6 +171,43 @@ def holdout_order(frf, *, max_order: int = 30, dc_gain=None, stable: bool = True
     return HoldoutSelection(orders=orders, errors=errs, chosen=chosen, rule=rule)
 
 
+T_BAND_FACTOR = 10.0
+"""How far outside the data's band the centre frequency ``2/T`` of the bilinear map may lie (module docstring)."""
+
+
+def check_T_against_data(source, omega, T: float, where: str = "--T") -> None:
+    """Refuse a sampling period that maps the data's frequencies onto one end of the unit circle.
+
+    The rule of ``lfdrom run`` (:data:`studies.schema.T_RANGE`: the map's centre frequency ``2/T``, which goes
+    to ``omega_d = pi/2``, within the band of the response), with the data's own band and a factor
+    :data:`T_BAND_FACTOR` of slack either side: ``omega_lo / 10 <= 2/T <= 10 omega_hi`` (smallest positive and
+    largest finite ``omega``). Then the band reaches past ``omega_d = 2 atan(1/10) = 0.2`` rad from ``z = 1``
+    and from ``z = -1``; beyond it every sample crowds into one end (``T = 1e-300``: all of them within 1e-297
+    rad of ``z = 1``, and the fit, the diagnostics and their errors are round-off and NaN).
+
+    Raises
+    ------
+    FitInputError
+        Names ``where`` (``--T`` or the file's key), the band and the range of T that fits it.
+    """
+    w = np.asarray(omega, dtype=float)
+    w = w[np.isfinite(w) & (w > 0)]
+    if w.size == 0:
+        return
+    lo, hi = float(w.min()), float(w.max())
+    T_min, T_max = 2.0 / (T_BAND_FACTOR * hi), 2.0 * T_BAND_FACTOR / lo
+    if T_min <= T <= T_max:
+        return
+    side = ("far above the data's band: every sample maps near omega_d = 0 (z = 1), the model would be fitted to "
+            "the DC gain alone" if T < T_min else
+            "far below the data's band: every sample maps near omega_d = pi (z = -1), the model would be fitted to "
+            "the high-frequency limit alone")
+    raise FitInputError(source, where, f"T = {T:.6g} puts the bilinear map's centre frequency 2/T = {2.0 / T:.3g} "
+                                       f"{side} (omega from {lo:.4g} to {hi:.4g}); use {T_min:.4g} <= T <= "
+                                       f"{T_max:.4g}, or leave --T out for 2/sqrt(omega_lo omega_hi) = "
+                                       f"{2.0 / np.sqrt(lo * hi):.4g}")
+
+
 @dataclass(frozen=True)
 class FitOutcome:
     """What :func:`fit_data` did: the data (with ``T``), their diagnostics, the identification result, the
@@ -231,6 +268,8 @@ def fit_data(frf, *, order: int | str = "auto", dc_gain: str = "auto", stable: b
         w = frf.omega[np.isfinite(frf.omega) & (frf.omega > 0)]
         T_rule = (f"T = {Td:.6g} (default 2 / sqrt(omega_lo omega_hi), omega from {w.min():.4g} to {w.max():.4g}: "
                   "their geometric mean maps to omega_d = pi/2)")
+    if frf.omega is not None:   # continuous data: T places them on the unit circle (data in omega_d: T does not)
+        check_T_against_data(src, frf.omega, frf.T, "--T" if T is not None else "key 'T'")
     diag = sysid.diagnose(frf)
     if dc_gain == "auto":
         dc_gain = "match" if diag.has_dc else "none"
@@ -566,10 +605,12 @@ def cmd_fit(args) -> int:
     except FitInputError as e:
         err(str(e))
         return EXIT_BAD_INPUT
-    try:
-        out_dir.mkdir(parents=True, exist_ok=True)
-        if not out_dir.is_dir():
+    from .files import probe_writable
+
+    try:   # creates nothing: a fit refused below leaves no empty folder behind
+        if out_dir.exists() and not out_dir.is_dir():
             raise NotADirectoryError(f"{out_dir} is not a folder")
+        probe_writable(out_dir, what="fit's files", fix="choose another --out")
     except OSError as e:
         err(f"cannot write to {out_dir} ({e}); choose another --out")
         return EXIT_NOT_WRITTEN

@@ -356,6 +356,9 @@ def load_data(path, *, T: float | None = None, freq_unit: str | None = None,
         raise FitInputError(path, "--freq-unit", f"{freq_unit!r} is not one of {FREQ_UNITS}")
     if T is not None and not (math.isfinite(T) and T > 0):
         raise FitInputError(path, "--T", f"must be positive and finite, got {T!r}")
+    if input_name is not None and not str(input_name).strip():
+        raise FitInputError(path, "--input", f"{input_name!r} is empty; give the input's name (e.g. --input gust), or "
+                                             "leave --input out for '# input:' or u[0]")
     if not path.is_file():
         raise FitInputError(path, None, "no such file")
     suffix = path.suffix.lower()

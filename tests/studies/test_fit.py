@@ -476,3 +476,28 @@ def test_fit_replaces_its_own_files_and_only_them(files, tmp_path, capsys):
     for name in ("rom.npz", "rom.mat"):   # a ROM file edited by its user is no longer ours
         _foreign(out_dir / name)
         assert not fit.written_by_fit(out_dir / name)
+
+
+# ------------------------------------------------------------------------------------------ options refused
+@pytest.mark.parametrize("T, side", [("1e-300", "far above"), ("1e-13", "far above"), ("1e300", "far below")])
+def test_a_period_far_outside_the_data_is_refused(files, tmp_path, capsys, T, side):
+    """T = 1e-300 gave exit 0, a model 99 % off, 'KK residual nan ... ok' and numpy warnings with source lines;
+    it is refused as `lfdrom run` refuses such a T (the data's band, k from 0.01 to 5 here: omega 0.02 - 10)."""
+    rc = cli.main(["fit", str(files["csv"]), "--T", T, "--order", "4", "--out", str(tmp_path / "o")])
+    captured = capsys.readouterr()
+    assert rc == 2 and f"--T: T = {float(T):.6g} puts the bilinear map's centre frequency" in captured.err
+    assert side in captured.err and "use 0.02 <= T <= 1000" in captured.err
+    assert "Warning" not in captured.err + captured.out and ".py:" not in captured.err
+    assert not (tmp_path / "o").exists()
+    with pytest.raises(FitInputError, match="far "):
+        fit_data(load_data(files["csv"]), order=4, T=float(T))
+
+
+def test_the_band_limits_of_T_are_accepted(files):
+    for T in (0.02, 1000.0):   # 2/T = 10 x the top frequency and 1/10 of the lowest positive one
+        assert fit_data(load_data(files["csv"]), order=4, T=T).result.order == 4
+
+
+def test_an_empty_input_name_is_refused(files, tmp_path, capsys):
+    assert cli.main(["fit", str(files["csv"]), "--input", "", "--out", str(tmp_path / "o")]) == 2
+    assert "--input: '' is empty" in capsys.readouterr().err
