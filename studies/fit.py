@@ -26,9 +26,9 @@ unit input with time dependence ``exp(+i omega t)``.
     In MATLAB: ``save('data.mat', 'H', 'omega', 'outputs', 'inputs')``.
 CSV
     Lines starting with ``#`` are comments; a comment ``# key: value`` sets ``frequency`` (the unit of the
-    frequency column: ``omega``, ``k`` or ``omega_d``), ``T`` or ``input`` (the input's name). The first other
-    line is the header: the frequency column first, named ``omega``, ``k`` or ``omega_d`` (any other name
-    needs ``# frequency: ...`` or ``--freq-unit``), then a ``NAME_re`` and a ``NAME_im`` column per output
+    frequency column: ``omega``, ``k``, ``omega_d``, ``rad/s`` or ``Hz``), ``T`` or ``input`` (the input's name).
+    The first other line is the header: the frequency column first, named ``omega``, ``k`` or ``omega_d`` (any
+    other name needs ``# frequency: ...`` or ``--frequency-unit``), then a ``NAME_re`` and a ``NAME_im`` column per output
     (``NAME/INPUT_re`` for several inputs). Values are plain numbers (``inf`` for ``omega = inf``)::
 
         # frequency: k
@@ -49,8 +49,10 @@ Options and rules
   frequencies relative to the RMS of the data there. The order chosen is the *smallest* whose hold-out error
   is at most ``1.1 x`` the best plus ``1e-6`` (differences below that are solver round-off). The final model
   is then fitted to all the data.
-- ``--dc-gain match|none`` (default ``match`` when the data have an ``omega = 0`` sample, else ``none``),
-  ``--stable/--no-stable`` (default stable).
+- ``--dc-gain match|none|VALUE[,VALUE...]`` (default ``match`` when the data have an ``omega = 0`` sample, else
+  ``none``; values: a known real DC gain, imposed, outputs by rows), ``--stable/--no-stable`` (default stable).
+- ``--frequency-unit``: the unit of the frequencies (``rad/s`` and ``Hz`` for data in physical units): the figures'
+  axes and the summary say what the data are instead of assuming an aerofoil's reduced frequency.
 
 Exit status (``studies.commands.EXIT_*``): 0 written; 1 the identification failed; 2 bad input (file, options),
 reported with the file and the line (CSV) or key (``.npz``/``.mat``) and what to do; 4 the output folder
@@ -165,8 +167,13 @@ def holdout_order(frf, *, max_order: int = 30, dc_gain=None, stable: bool = True
     best = np.nanmin(errs)
     ok = np.flatnonzero(errs <= (1 + HOLDOUT_RTOL) * best + HOLDOUT_ATOL)
     chosen = int(orders[ok[0]])
+    w = frf.omega if frf.omega is not None else frf.omega_d
+    ends = [name for name, present in (("omega = 0", (w == 0).any()),
+                                       ("omega = inf", np.isinf(w).any() or (frf.omega is None and (w >= np.pi).any())))
+            if present]
+    which = "even-indexed" + (f", plus {' and '.join(ends)}" if ends else "")
     rule = (f"hold-out: fitted orders 1..{int(orders[np.isfinite(errs)].max())} to {fit_idx.size} of the "
-            f"{frf.nfreq} frequencies (even-indexed, plus omega = 0 and inf), measured on the other {held.size}; "
+            f"{frf.nfreq} frequencies ({which}), measured on the other {held.size}; "
             f"chose the smallest order whose hold-out error is <= 1.1 x the best ({best:.3g}) + 1e-6")
     return HoldoutSelection(orders=orders, errors=errs, chosen=chosen, rule=rule)
 
@@ -208,6 +215,22 @@ def check_T_against_data(source, omega, T: float, where: str = "--T") -> None:
                                        f"{2.0 / np.sqrt(lo * hi):.4g}")
 
 
+def _dc_values(source, values, shape) -> np.ndarray:
+    """A known DC gain as a real ``(p, m)`` array: ``p m`` values, outputs by rows (``--dc-gain 6.28,-0.11``)."""
+    p, m = shape
+    try:
+        a = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise FitInputError(source, "--dc-gain", f"{values!r} is not a list of real numbers") from None
+    if a.size != p * m:
+        raise FitInputError(source, "--dc-gain", f"{a.size} value(s) for {p} output(s) x {m} input(s); give {p * m} "
+                                                 "(outputs by rows: H(0)[0, 0], H(0)[0, 1], ..., H(0)[1, 0], ...), or "
+                                                 "match or none")
+    if not np.isfinite(a).all():
+        raise FitInputError(source, "--dc-gain", f"{values!r}: the DC gain must be finite")
+    return a.reshape(p, m)
+
+
 @dataclass(frozen=True)
 class FitOutcome:
     """What :func:`fit_data` did: the data (with ``T``), their diagnostics, the identification result, the
@@ -232,8 +255,9 @@ def fit_data(frf, *, order: int | str = "auto", dc_gain: str = "auto", stable: b
     frf : sysid.FrequencyResponse
         From :func:`load_data`.
     order : int or "auto"
-    dc_gain : {"auto", "match", "none"}
-        ``"auto"``: ``"match"`` when the data have an ``omega = 0`` sample.
+    dc_gain : {"auto", "match", "none"} or array_like (p, m)
+        ``"auto"``: ``"match"`` when the data have an ``omega = 0`` sample. An array: the known real DC gain,
+        imposed (data without an ``omega = 0`` sample, or a DC value known better than the data's).
     stable : bool
     T : float, optional
         Overrides the data's sampling period; default the data's, else :func:`sysid.diagnostics.default_T`.
@@ -271,12 +295,23 @@ def fit_data(frf, *, order: int | str = "auto", dc_gain: str = "auto", stable: b
     if frf.omega is not None:   # continuous data: T places them on the unit circle (data in omega_d: T does not)
         check_T_against_data(src, frf.omega, frf.T, "--T" if T is not None else "key 'T'")
     diag = sysid.diagnose(frf)
-    if dc_gain == "auto":
+    given_dc = None if isinstance(dc_gain, str) else _dc_values(src, dc_gain, frf.shape[:2])
+    if not diag.has_dc:   # sysid's advice, in this command's terms, and none when the user chose
+        from dataclasses import replace
+
+        keep = tuple(w for w in diag.warnings if not w.startswith("no omega = 0 sample"))
+        if dc_gain == "auto":
+            keep += ("no omega = 0 sample: the DC gain is neither imposed nor checked; give it with --dc-gain "
+                     "VALUE[,VALUE...] if you know it",)
+        diag = replace(diag, warnings=keep)
+    if given_dc is not None:
+        dc_gain = "given"
+    elif dc_gain == "auto":
         dc_gain = "match" if diag.has_dc else "none"
     if dc_gain == "match" and not diag.has_dc:
         raise FitInputError(src, "--dc-gain", "match needs an omega = 0 sample in the data; add it or use "
                                               "--dc-gain none")
-    dc = None
+    dc = given_dc
     if dc_gain == "match":
         import warnings
 
@@ -304,6 +339,8 @@ def fit_data(frf, *, order: int | str = "auto", dc_gain: str = "auto", stable: b
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     options = {"order": order, "dc_gain": dc_gain, "stable": bool(stable), "max_order": max_order,
                "algorithm": res.algorithm}
+    if given_dc is not None:
+        options["dc_values"] = given_dc
     return FitOutcome(data=frf, diagnostics=diag, result=res, selection=selection, T_rule=T_rule, options=options,
                       elapsed=time.perf_counter() - t0, warnings=notes)
 
@@ -389,6 +426,32 @@ def check_out_dir(out_dir, data_path) -> None:
                                               "they are left as they are: give another --out (a new folder) or move "
                                               "them away")
 
+def _band(frf) -> str:
+    """The data's band in their own unit (:func:`studies.fit_data.frequency_axis`), and in omega."""
+    from .fit_data import frequency_axis
+
+    label, scale, unit = frequency_axis(frf)
+    w = frf.omega
+    fin = w[np.isfinite(w)]
+    lo, hi = fin.min(), fin.max()
+    if unit == "k":
+        text = f"omega from {lo:.4g} to {hi:.4g} (U/c; k = omega/2 from {lo / 2:.4g} to {hi / 2:.4g})"
+    elif unit in ("", "1/T"):
+        text = f"omega from {lo:.4g} to {hi:.4g}"
+    else:
+        name = "f" if unit.endswith("Hz") else "omega"
+        text = f"{name} from {lo * scale:.4g} to {hi * scale:.4g} {unit} (omega from {lo:.4g} to {hi:.4g})"
+    return text + ("; plus omega = inf" if np.isinf(w).any() else "")
+
+
+def _time_unit(frf) -> str:
+    """The time unit of T and of the continuous poles: that of the data's frequencies."""
+    from .fit_data import frequency_axis
+
+    unit = frequency_axis(frf)[2]
+    return {"k": "c/U (convective)", "": "the data's time unit", "1/T": "the data's time unit"}.get(unit, "s")
+
+
 def _continuous_poles(res, limit: int = 12) -> str:
     """The ROM's poles mapped to the s-plane, sorted by |s|, as text (at most ``limit``)."""
     z = np.linalg.eigvals(np.asarray(res.model.A))
@@ -409,16 +472,12 @@ def summary_markdown(out: FitOutcome, data_path, command: str | None = None) -> 
     """The Markdown summary of a fit: data, diagnostics, order and why, errors, DC, stability, files."""
     res, frf, diag = out.result, out.data, out.diagnostics
     p, m, K = frf.shape
-    w = frf.omega
-    fin = w[np.isfinite(w)]
     lines = [fit_marker(data_path), f"# ROM fitted to {Path(data_path).name}", ""]
     if command:
         lines += ["```", command, "```", ""]
     lines += [
         "## Data", "",
-        f"- {p} output(s) {list(frf.outputs)}, {m} input(s) {list(frf.inputs)}, {K} frequencies, omega from "
-        f"{fin.min():.4g} to {fin.max():.4g} (U/c; k = omega/2 from {fin.min() / 2:.4g} to {fin.max() / 2:.4g})"
-        + ("; plus omega = inf" if np.isinf(w).any() else ""),
+        f"- {p} output(s) {list(frf.outputs)}, {m} input(s) {list(frf.inputs)}, {K} frequencies, {_band(frf)}",
         f"- {out.T_rule}", "",
         "## Data diagnostics (`sysid.diagnose`)", "", diag.markdown(), "",
         "## Order", "",
@@ -436,7 +495,8 @@ def summary_markdown(out: FitOutcome, data_path, command: str | None = None) -> 
     lines += [f"- options: dc_gain={out.options['dc_gain']}, stable={out.options['stable']}; algorithm "
               f"{out.options.get('algorithm', res.algorithm)}; enforced: {enf}",
               f"- spectral radius {res.spectral_radius:.6f} ({'stable' if res.spectral_radius < 1 else 'UNSTABLE'})",
-              f"- continuous poles (s in U/c, by the inverse bilinear map s = (2/T)(z - 1)/(z + 1)): "
+              f"- continuous poles (s in rad per {_time_unit(frf).split(' (')[0]}, by the inverse bilinear map s = "
+              f"(2/T)(z - 1)/(z + 1)): "
               f"{_continuous_poles(res)}",
               "", "| output | max error / peak | RMS error / RMS | DC error |", "| --- | --- | --- | --- |"]
     dcm = _model_dc(res)
@@ -445,8 +505,12 @@ def summary_markdown(out: FitOutcome, data_path, command: str | None = None) -> 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         dcd = frf.dc_gain
+    given = out.options.get("dc_values")
     for i, o in enumerate(frf.outputs):
-        if dcd is not None:
+        if given is not None:
+            scale = max(float(np.abs(given[i]).max()), np.finfo(float).tiny)
+            dce = f"{float(np.abs(dcm[i] - given[i]).max()) / scale:.2e} (to the given DC gain)"
+        elif dcd is not None:
             scale = max(float(np.abs(dcd[i]).max()), np.finfo(float).tiny)
             dce = f"{float(np.abs(dcm[i] - dcd[i]).max()) / scale:.2e}"
         else:
@@ -488,11 +552,18 @@ def write_outputs(out: FitOutcome, data_path, out_dir, *, command: str | None = 
     check_out_dir(out_dir, data_path)
     out_dir.mkdir(parents=True, exist_ok=True)
     res = out.result
-    meta = dict(generator=fit_marker(data_path), source=str(Path(data_path).name), order=int(res.order), T=float(res.T),
-                dc_gain=out.options["dc_gain"], stable=out.options["stable"],
+    from .fit_data import frequency_axis
+
+    unit = frequency_axis(out.data)[2]
+    time = _time_unit(out.data)
+    meta = dict(generator=fit_marker(data_path), source=str(Path(data_path).name), order=int(res.order),
+                T=float(res.T), dc_gain=out.options["dc_gain"], stable=out.options["stable"],
                 max_error_per_output=dict(zip(out.data.outputs, map(float, res.errors.max_rel_per_output))),
-                spectral_radius=float(res.spectral_radius), time="convective, s = t U / c",
-                frequency="omega in U/c, k = omega / 2; discrete model with the bilinear map, dt = T")
+                spectral_radius=float(res.spectral_radius), time=f"T in {time}",
+                frequency=("omega in U/c, k = omega / 2" if unit == "k" else f"omega in rad per {time.split(' (')[0]}")
+                + "; discrete model with the bilinear map, dt = T")
+    if out.options.get("dc_values") is not None:
+        meta["dc_gain_given"] = out.options["dc_values"]
     paths = {"npz": export_rom_npz(out_dir / "rom.npz", res.model, meta),
              "mat": export_rom_mat(out_dir / "rom.mat", res.model, meta)}
     md = out_dir / "summary.md"
@@ -518,7 +589,10 @@ def print_summary(out: FitOutcome, file=None) -> None:
     print(f"{out.T_rule}", file=file)
     print(f"order {res.order} ({why})", file=file)
     per = ", ".join(f"{o} {e:.2e}" for o, e in zip(out.data.outputs, res.errors.max_rel_per_output))
-    dc = f"DC error {res.dc_error:.1e}" if res.dc_error is not None else "no omega = 0 sample (DC not checked)"
+    if out.options.get("dc_values") is not None:
+        dc = "DC gain given (--dc-gain), imposed"
+    else:
+        dc = f"DC error {res.dc_error:.1e}" if res.dc_error is not None else "no omega = 0 sample (DC not checked)"
     print(f"max error / peak: {per}; {dc}; spectral radius {res.spectral_radius:.6f}", file=file)
     for note in out.warnings:
         print(f"warning: {note}", file=file)
@@ -539,8 +613,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--order", default="auto", metavar="N|auto",
                    help="model order, or auto (default): hold-out selection on alternate frequencies")
     p.add_argument("--max-order", type=int, default=30, help="largest order tried by --order auto (default 30)")
-    p.add_argument("--dc-gain", choices=("match", "none"), default=None,
-                   help="match the omega = 0 sample exactly (default: match when the data have it)")
+    p.add_argument("--dc-gain", default=None, metavar="match|none|VALUE[,VALUE...]",
+                   help="match the omega = 0 sample exactly, none, or impose a known real DC gain (one value per "
+                        "output and input, outputs by rows); default: match when the data have an omega = 0 sample")
     p.add_argument("--stable", action=argparse.BooleanOptionalAction, default=True,
                    help="enforce a stable model (default --stable)")
     p.add_argument("--algorithm", choices=("auto", "relocation", "subspace"), default="auto",
@@ -548,10 +623,13 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                         "output with --stable or a DC gain), subspace (McKelvey + convex refits; with --dc-gain none "
                         "--no-stable the paper's method); default auto")
     p.add_argument("--T", default=None, metavar="T",
-                   help="sampling period of the bilinear map (convective units; e.g. 70/(2*pi)); default the file's, "
-                        "else 2/sqrt(omega_lo omega_hi)")
-    p.add_argument("--freq-unit", choices=FREQ_UNITS, default=None,
-                   help="CSV: unit of the frequency column (omega in U/c, k = omega/2, omega_d in rad/sample)")
+                   help="sampling period of the bilinear map (in the time unit of the frequencies: c/U for omega or "
+                        "k, seconds for rad/s or Hz; e.g. 70/(2*pi)); default the file's, else "
+                        "2/sqrt(omega_lo omega_hi)")
+    p.add_argument("--frequency-unit", "--freq-unit", dest="freq_unit", choices=FREQ_UNITS, default=None,
+                   help="unit of the frequencies: CSV, of the frequency column (omega, k = omega/2, omega_d in "
+                        "rad/sample, rad/s, Hz); .npz/.mat, how their omega is shown (rad/s, Hz, k or omega); the "
+                        "figures' axes and summary.md say it (default: the column's or key's name)")
     p.add_argument("--input", default=None, metavar="NAME", help="CSV: the input's name (default '# input:' or u[0])")
     p.add_argument("--out", type=Path, default=None, help="output folder (default fit-<DATA stem>)")
     p.add_argument("--no-figures", action="store_true", help="write the ROM and the summary only")
@@ -569,6 +647,20 @@ def _parse_T(text: str | None, file) -> float | None:
     if not (math.isfinite(v) and v > 0):
         raise FitInputError(file, "--T", f"must be positive and finite, got {text}")
     return v
+
+
+def _parse_dc_gain(text, file):
+    """``--dc-gain``: ``"auto"`` (not given), ``"match"``, ``"none"`` or a list of numbers (comma-separated)."""
+    if text is None:
+        return "auto"
+    word = str(text).strip().lower()
+    if word in ("match", "none"):
+        return word
+    try:
+        return [float(v) for v in str(text).split(",")]
+    except ValueError:
+        raise FitInputError(file, "--dc-gain", f"{text!r} is neither match, none nor a list of numbers (e.g. "
+                                               "--dc-gain 6.28,-0.11 for two outputs)") from None
 
 
 def _parse_order(text, file) -> int | str:
@@ -593,6 +685,7 @@ def cmd_fit(args) -> int:
     try:
         T = _parse_T(args.T, args.data)
         order = _parse_order(args.order, args.data)
+        dc_gain = _parse_dc_gain(args.dc_gain, args.data)
         if args.max_order < 1:
             raise FitInputError(args.data, "--max-order", f"must be >= 1, got {args.max_order}")
         frf = load_data(args.data, T=T, freq_unit=args.freq_unit, input_name=args.input)
@@ -615,7 +708,7 @@ def cmd_fit(args) -> int:
         err(f"cannot write to {out_dir} ({e}); choose another --out")
         return EXIT_NOT_WRITTEN
     try:
-        out = fit_data(frf, order=order, dc_gain=args.dc_gain or "auto", stable=args.stable, T=T,
+        out = fit_data(frf, order=order, dc_gain=dc_gain, stable=args.stable, T=T,
                        max_order=args.max_order, algorithm=args.algorithm)
     except FitInputError as e:
         err(str(e))

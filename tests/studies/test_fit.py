@@ -501,3 +501,82 @@ def test_the_band_limits_of_T_are_accepted(files):
 def test_an_empty_input_name_is_refused(files, tmp_path, capsys):
     assert cli.main(["fit", str(files["csv"]), "--input", "", "--out", str(tmp_path / "o")]) == 2
     assert "--input: '' is empty" in capsys.readouterr().err
+
+
+# ------------------------------------------------------------------------------------------ anyone's data
+def _resonator_csv(path, dc=False):
+    """S21 of a two-mode resonator measured from 75 to 110 GHz (no omega = 0 or inf sample), in Hz."""
+    f = np.linspace(75e9, 110e9, 81)
+    s = 2j * np.pi * f
+    poles = 2 * np.pi * np.array([-1.5e9 + 92e9j, -3e9 + 101e9j])
+    res = 2 * np.pi * np.array([1e9, 0.6e9])
+    H = sum(r / (s - p) + r / (s - np.conj(p)) for r, p in zip(res, poles))
+    lines = ["# frequency: Hz", "f,S21_re,S21_im"] + [f"{float(a)!r},{float(h.real)!r},{float(h.imag)!r}"
+                                                        for a, h in zip(f, H)]
+    path.write_text("\n".join(lines) + "\n")
+    return path, poles
+
+
+def test_data_in_hz_are_shown_in_hz(tmp_path, capsys):
+    """Non-aerofoil data: the axes and the summary say GHz, not 'reduced frequency k' with one tick '3e+11'; the
+    order rule does not claim omega = 0 and inf samples the data do not have."""
+    from studies import fit_plots
+
+    csv, poles = _resonator_csv(tmp_path / "s21.csv")
+    frf = load_data(csv)
+    assert frf.omega[0] == pytest.approx(2 * np.pi * 75e9)
+    out = fit_data(frf, order="auto", max_order=8)
+    assert out.result.order == 4 and match(continuous_poles(out.result), np.r_[poles, poles.conj()]) < 1e-6
+    assert "(even-indexed)" in out.selection.rule and "omega = 0" not in out.selection.rule
+    fig = fit_plots.bode_figure(out)
+    ax = fig.axes[1]
+    assert ax.get_xlabel() == "frequency f [GHz]" and 70 < ax.get_xlim()[0] < 75 and 110 < ax.get_xlim()[1] < 115
+    fig.canvas.draw()
+    shown = [t.get_text() for t in ax.xaxis.get_ticklabels(minor=True) + ax.xaxis.get_ticklabels() if t.get_text()]
+    assert len(shown) >= 2 and all("e+" not in t for t in shown)
+    md = fit.summary_markdown(out, csv)
+    assert "f from 75 to 110 GHz" in md and "s in rad per s" in md
+    assert fit_plots._tick_text(3e11) == r"$3\times10^{11}$" and fit_plots._tick_text(0.02) == "0.02"
+
+
+def test_a_single_output_title_is_wrapped_not_clipped(files):
+    from studies import fit_plots
+
+    k = grid_k()
+    frf = load_data(files["csv"]).take(np.arange(k.size))
+    out = fit_data(frf.replace(H=frf.H[:1], outputs=["Cl"]), order=4)
+    fig = fit_plots.bode_figure(out)
+    title = fig._suptitle.get_text()
+    assert "omega = inf sample imposed" in title.replace("\n", " ")
+    assert max(len(line) for line in title.split("\n")) <= fig.get_figwidth() * 12
+
+
+def test_a_known_dc_gain_is_imposed(tmp_path, capsys):
+    k = np.geomspace(0.01, 5.0, 40)   # no omega = 0 sample; the true DC gain is known
+    csv = write_csv(tmp_path / "nodc.csv", k, known(2 * k))
+    dc = known(np.array([0.0]))[:, 0, 0].real
+    rc = cli.main(["fit", str(csv), "--order", "4", "--dc-gain", f"{float(dc[0])!r},{float(dc[1])!r}", "--out", str(tmp_path / "o")])
+    assert rc == 0
+    text = capsys.readouterr().out
+    assert "DC gain given (--dc-gain), imposed" in text and "no omega = 0 sample: the DC gain" not in text
+    from studies.rom_export import load_rom_npz
+
+    model, meta = load_rom_npz(tmp_path / "o" / "rom.npz")
+    z = 1.0   # omega = 0 is z = 1 in the discrete model
+    H0 = (np.asarray(model.C) @ np.linalg.solve(z * np.eye(model.nstates) - np.asarray(model.A), np.asarray(model.B))
+          + np.asarray(model.D))[:, 0]
+    np.testing.assert_allclose(H0, dc, rtol=1e-9)   # imposed as an equality: round-off of the solve
+    assert meta["dc_gain"] == "given" and "(to the given DC gain)" in (tmp_path / "o" / "summary.md").read_text()
+    assert cli.main(["fit", str(csv), "--dc-gain", "6.28", "--out", str(tmp_path / "p")]) == 2
+    assert "1 value(s) for 2 output(s) x 1 input(s); give 2" in capsys.readouterr().err
+    assert cli.main(["fit", str(csv), "--dc-gain", "six", "--out", str(tmp_path / "p")]) == 2
+
+
+@pytest.mark.parametrize("option, advice", [(["--dc-gain", "none"], False), ([], True)])
+def test_no_dc_warning_when_none_was_asked(tmp_path, capsys, option, advice):
+    k = np.geomspace(0.01, 5.0, 40)
+    csv = write_csv(tmp_path / "nodc.csv", k, known(2 * k))
+    assert cli.main(["fit", str(csv), "--order", "4", *option, "--out", str(tmp_path / "o"), "--no-figures"]) == 0
+    out = capsys.readouterr().out
+    assert "pass the DC gain as an array" not in out
+    assert ("give it with --dc-gain VALUE[,VALUE...]" in out) is advice
