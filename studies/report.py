@@ -171,6 +171,11 @@ def write_report(results, out_dir, *, page=None, prose=None, progress: bool = Fa
     else:
         say(f"report {config.name}: figures not drawn (figures=False)")
 
+    if getattr(config, "nonlinear", None) is not None:  # its table, for the prose's templates (report_numbers)
+        from .nonlinear_report import LINEARITY_COLUMNS, linearity_rows
+        from .nonlinear_study import load_linearity
+
+        tables = {**tables, "linearity": (linearity_rows(load_linearity(results)), list(LINEARITY_COLUMNS))}
     text = page_markdown(results, tables, drawn, slots, page_dir=page_dir, tab_dir=tab_dir, title=title,
                          paper=paper)
     if getattr(config, "aeroelastic", None) is not None:  # the [aeroelastic] section: studies.aeroelastic_report

@@ -11,7 +11,10 @@ A template is ``{{[AGG:]PATH}}`` with ``PATH`` one of
   (``worst_peak_err_Cl``, ``worst_gust_Cm``, ...), for the ROM of that case, number of frequencies, order
   and identification method;
 - ``CASE/N_OMEGA/N_R/METHOD/GUST/COLUMN``: a column of the gust-history table (``tables/sims``:
-  ``peak_err_Cm``, ``rms_err_Cl``, ``speedup``, ...).
+  ``peak_err_Cm``, ``rms_err_Cl``, ``speedup``, ...);
+- ``CASE/GUST/ANGLE/COLUMN``: a column of the linearity table of a study with a ``[nonlinear]`` section
+  (``tables/linearity``: ``ltd_error_Cl``, ``rom_ratio_Cm``, ``n_factorisations``, ...), for the march of that
+  case and gust at that gust angle in degrees.
 
 ``CASE`` may carry the sampling period, ``T4@2.5`` or ``*@2,4`` (matched as the tables print T, four
 significant digits).
@@ -21,6 +24,8 @@ bound (``>=25``, ``<=33``). Without ``AGG`` the selection must be one row; with 
 are left out; a selection without any is shown as missing). The value is formatted as its table
 formats that column (``0.366%``, ``1.8e-15``, ``0.99900``), so that the number on the page is the one in
 the table.
+
+The linearity table names the gusts that share a march ``G2/G3``; ``G2`` or ``G3`` selects that row.
 
 The page keeps each template beside its value, ``<!--{{PATH}}-->0.366%<!--/-->`` (HTML comments: invisible
 when rendered), so that a slot kept from the page (:func:`studies.report_page.read_prose`) is filled anew
@@ -63,9 +68,15 @@ def _parse(body: str) -> tuple:
             raise TemplateError(f"{{{{{body}}}}}: {head.strip()!r} is not one of {', '.join(AGGREGATES)}")
         agg, body = head.strip(), rest
     parts = [p.strip() for p in body.split("/")]
-    if len(parts) not in (5, 6) or not all(parts):
-        raise TemplateError(f"{{{{{body}}}}}: give CASE/N_OMEGA/N_R/METHOD/COLUMN (ROM and headline tables) or "
-                            "CASE/N_OMEGA/N_R/METHOD/GUST/COLUMN (gust-history table)")
+    if len(parts) not in (4, 5, 6) or not all(parts):
+        raise TemplateError(f"{{{{{body}}}}}: give CASE/N_OMEGA/N_R/METHOD/COLUMN (ROM and headline tables), "
+                            "CASE/N_OMEGA/N_R/METHOD/GUST/COLUMN (gust-history table) or CASE/GUST/ANGLE/COLUMN "
+                            "(linearity table)")
+    if len(parts) == 4:
+        sel = dict(case=parts[0], gust=parts[1], amplitude_deg=parts[2], T=None)
+        if parts[2] != "*" and not re.fullmatch(r"(>=|<=|>|<)?[0-9.]+(,[0-9.]+)*", parts[2]):
+            raise TemplateError(f"{{{{{body}}}}}: angle {parts[2]!r} is not a number, a comma list, * or a bound")
+        return agg, sel, parts[-1], "linearity"
     case, T = (parts[0].split("@", 1) + [None])[:2]
     sel = dict(zip(_KEYS, [case] + parts[1:4]))
     sel["T"] = T
@@ -103,19 +114,25 @@ def check_templates(text: str, where: str = "prose") -> None:
 def _matches(value, spec) -> bool:
     if spec is None or spec == "*":
         return True
+    if isinstance(value, float) and not isinstance(spec, str):
+        return False
     if isinstance(spec, str) and spec[:2] in (">=", "<="):
         bound = float(spec[2:])
         return value is not None and (value >= bound if spec[:2] == ">=" else value <= bound)
     if isinstance(spec, str) and spec[:1] in (">", "<"):
         bound = float(spec[1:])
         return value is not None and (value > bound if spec[0] == ">" else value < bound)
-    return str(value) in spec.split(",")
+    if isinstance(value, float):   # an angle: 5 matches 5.0
+        return any(value == float(v) for v in spec.split(","))
+    # a shared entry (the linearity table's "G2/G3": gusts of one shape share their march) matches either name
+    return any(part in spec.split(",") for part in str(value).split("/"))
 
 
 def _select(rows: Sequence[Mapping], sel: dict) -> list:
     out = []
+    keys = [k for k in sel if k != "T"]
     for row in rows:
-        if not all(_matches(row.get(k), sel[k]) for k in _KEYS + (("gust",) if "gust" in sel else ())):
+        if not all(_matches(row.get(k), sel[k]) for k in keys):
             continue
         if sel["T"] is not None and float(f"{float(row.get('T', math.nan)):.4g}") not in sel["T"]:
             continue
@@ -125,16 +142,21 @@ def _select(rows: Sequence[Mapping], sel: dict) -> list:
 
 def _value(body: str, tables: Mapping) -> str | None:
     """The formatted value of one template; None when the store has no such result yet."""
-    from .tables import cell_text
+    from .tables import TableError, cell_text
 
     agg, sel, column, kind = _parse(body)
-    names = ("sims",) if kind == "sims" else ("roms", "summary")
+    names = {"sims": ("sims",), "linearity": ("linearity",)}.get(kind, ("roms", "summary"))
     found = [(tables[n][0], {c.key: c for c in tables[n][1]}) for n in names if n in tables]
     found = [(rows, cols) for rows, cols in found if column in cols]
     if not found:
         from .report_rows import rom_columns, sim_columns, summary_columns
 
-        known = {c.key for c in (sim_columns() if kind == "sims" else rom_columns() + summary_columns())}
+        if kind == "linearity":
+            from .nonlinear_report import LINEARITY_COLUMNS
+
+            known = {c.key for c in LINEARITY_COLUMNS}
+        else:
+            known = {c.key for c in (sim_columns() if kind == "sims" else rom_columns() + summary_columns())}
         if column not in known:
             raise TemplateError(f"{{{{{body}}}}}: no column {column!r} in the {' or '.join(names)} table")
         return None
@@ -142,18 +164,24 @@ def _value(body: str, tables: Mapping) -> str | None:
     picked = _select(rows, sel)
     if agg is None:
         if len(picked) > 1:
-            raise TemplateError(f"{{{{{body}}}}}: selects {len(picked)} rows; name one (case, N_omega, N_r, method"
-                                f"{', gust' if kind == 'sims' else ''}, T with CASE@T) or aggregate "
+            what = ("case, gust, angle" if kind == "linearity" else
+                    f"case, N_omega, N_r, method{', gust' if kind == 'sims' else ''}, T with CASE@T")
+            raise TemplateError(f"{{{{{body}}}}}: selects {len(picked)} rows; name one ({what}) or aggregate "
                                 f"({'/'.join(AGGREGATES)}:...)")
         if not picked or picked[0].get(column) is None:
             return None
         return cell_text(picked[0][column], cols[column]) or None
-    values = [float(r[column]) for r in picked
+    values = [r[column] for r in picked
               if isinstance(r.get(column), (int, float)) and not isinstance(r.get(column), bool)
               and math.isfinite(float(r[column]))]
     if not values:
         return None
-    fmt = lambda v: cell_text(v, cols[column])  # noqa: E731
+
+    def fmt(v):
+        try:
+            return cell_text(v, cols[column])
+        except TableError:   # a mean or median of an integer column
+            return f"{v:.4g}"
     if agg == "range":
         lo, hi = fmt(min(values)), fmt(max(values))
         return lo if lo == hi else f"{lo} - {hi}"

@@ -98,7 +98,7 @@ def test_the_page_keeps_the_template_and_refills_it(small, tmp_path):
 
 
 @pytest.mark.parametrize("template, match", [
-    ("{{synth/33/6/frf_max_err_Cm}}", "give CASE/N_OMEGA/N_R/METHOD/COLUMN"),
+    ("{{synth/33/frf_max_err_Cm}}", "give CASE/N_OMEGA/N_R/METHOD/COLUMN"),
     ("{{average:synth/33/6/plain/frf_max_err_Cm}}", "'average' is not one of min, max, mean, median, range"),
     ("{{synth/33/six/plain/frf_max_err_Cm}}", "order 'six' is not a number"),
     ("{{synth@x/33/6/plain/frf_max_err_Cm}}", "T 'x' .* is not a number"),
@@ -133,3 +133,22 @@ def test_the_shipped_prose_names_existing_columns(name):
     for slot, body in tomllib.loads((STUDIES / name).read_text()).items():
         filled = fill(body, {}, slot)
         assert "{{" not in filled.replace("<!--{{", "")
+
+
+def test_linearity_templates_select_case_gust_and_angle():
+    """CASE/GUST/ANGLE/COLUMN: a cell of the linearity table (a [nonlinear] study); the gusts of one shape share a
+    march, named "G2/G3" in the table, which G2 or G3 selects."""
+    from studies.nonlinear_report import LINEARITY_COLUMNS
+
+    rows = [dict(case="T3", gust="G2/G3", amplitude_deg=5.0, ltd_error_Cl=0.0054, n_factorisations=1),
+            dict(case="T3", gust="G4", amplitude_deg=0.5, ltd_error_Cl=0.0129, n_factorisations=24),
+            dict(case="T3", gust="G4", amplitude_deg=5.0, ltd_error_Cl=0.0485, n_factorisations=130)]
+    tables = {"linearity": (rows, list(LINEARITY_COLUMNS))}
+    assert _value(fill("{{T3/G3/5/ltd_error_Cl}}", tables)) == "0.54%"   # the table's ".2%"
+    assert _value(fill("{{range:T3/G4/*/ltd_error_Cl}}", tables)) == "1.29% - 4.85%"
+    assert _value(fill("{{max:*/*/>=1/n_factorisations}}", tables)) == "130"
+    assert _value(fill("{{median:T3/*/*/n_factorisations}}", tables)) == "24"
+    with pytest.raises(TemplateError, match="selects 2 rows; name one \\(case, gust, angle\\)"):
+        fill("{{T3/G4/*/ltd_error_Cl}}", tables)
+    with pytest.raises(TemplateError, match="angle 'five' is not a number"):
+        check_templates("{{T3/G4/five/ltd_error_Cl}}")
