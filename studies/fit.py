@@ -294,7 +294,11 @@ def fit_data(frf, *, order: int | str = "auto", dc_gain: str = "auto", stable: b
                   "their geometric mean maps to omega_d = pi/2)")
     if frf.omega is not None:   # continuous data: T places them on the unit circle (data in omega_d: T does not)
         check_T_against_data(src, frf.omega, frf.T, "--T" if T is not None else "key 'T'")
-    diag = sysid.diagnose(frf)
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught_diag:   # reported with the fit, never with a source line
+        warnings.simplefilter("always")
+        diag = sysid.diagnose(frf)
     given_dc = None if isinstance(dc_gain, str) else _dc_values(src, dc_gain, frf.shape[:2])
     if not diag.has_dc:   # sysid's advice, in this command's terms, and none when the user chose
         from dataclasses import replace
@@ -333,8 +337,9 @@ def fit_data(frf, *, order: int | str = "auto", dc_gain: str = "auto", stable: b
             res = sysid.identify(frf, n, dc_gain=dc, stable=stable, algorithm=algorithm)
     except sysid.OrderError as e:
         raise FitInputError(src, "--order", str(e)) from None
-    notes = tuple(dict.fromkeys(str(w.message) for w in caught if issubclass(w.category, RuntimeWarning)))
-    for w in caught:   # anything else (a library's deprecation, ...) goes on as it came
+    notes = tuple(dict.fromkeys(str(w.message) for w in list(caught_diag) + list(caught)
+                                if issubclass(w.category, RuntimeWarning)))
+    for w in list(caught_diag) + list(caught):   # anything else (a library's deprecation, ...) goes on as it came
         if not issubclass(w.category, RuntimeWarning):
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     options = {"order": order, "dc_gain": dc_gain, "stable": bool(stable), "max_order": max_order,

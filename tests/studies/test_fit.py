@@ -493,9 +493,14 @@ def test_a_period_far_outside_the_data_is_refused(files, tmp_path, capsys, T, si
         fit_data(load_data(files["csv"]), order=4, T=float(T))
 
 
-def test_the_band_limits_of_T_are_accepted(files):
+def test_the_band_limits_of_T_are_accepted(files, tmp_path, capsys):
     for T in (0.02, 1000.0):   # 2/T = 10 x the top frequency and 1/10 of the lowest positive one
         assert fit_data(load_data(files["csv"]), order=4, T=T).result.order == 4
+        # whatever the diagnostics and the fit warn about is printed as 'warning:' lines, never with a source line
+        rc = cli.main(["fit", str(files["csv"]), "--T", str(T), "--order", "4", "--out", str(tmp_path / f"o{T}"),
+                       "--no-figures"])
+        captured = capsys.readouterr()
+        assert rc == 0 and ".py:" not in captured.err + captured.out and "Warning:" not in captured.err
 
 
 def test_an_empty_input_name_is_refused(files, tmp_path, capsys):
