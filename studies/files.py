@@ -255,8 +255,10 @@ def probe_writable(folder, *, what: str = "output folder", fix: str | None = Non
         os.unlink(tmp)
 
 
-def generated_marker(source, program: str = "report",
-                     note: str = "the prose slots are kept when it is regenerated, everything else is rewritten") -> str:
+_REPORT_NOTE = "the prose slots are kept when it is regenerated, everything else is rewritten"
+
+
+def generated_marker(source, program: str = "report", note: str = _REPORT_NOTE) -> str:
     """The first line of a generated page: an HTML comment naming the program and what it was generated from."""
     source = str(source).replace("--", "- -")  # "--" may not appear inside an HTML comment
     return f"{generated_prefix(program)} from {source}; {note} -->"

@@ -28,7 +28,8 @@ CSV
     Lines starting with ``#`` are comments; a comment ``# key: value`` sets ``frequency`` (the unit of the
     frequency column: ``omega``, ``k``, ``omega_d``, ``rad/s`` or ``Hz``), ``T`` or ``input`` (the input's name).
     The first other line is the header: the frequency column first, named ``omega``, ``k`` or ``omega_d`` (any
-    other name needs ``# frequency: ...`` or ``--frequency-unit``), then a ``NAME_re`` and a ``NAME_im`` column per output
+    other name needs ``# frequency: ...`` or ``--frequency-unit``), then a ``NAME_re`` and a ``NAME_im`` column per
+    output
     (``NAME/INPUT_re`` for several inputs). Values are plain numbers (``inf`` for ``omega = inf``)::
 
         # frequency: k

@@ -3,7 +3,8 @@
 A prose slot (:mod:`studies.report_page`) that quotes a result names the table cell instead of copying the
 number, so that the page cannot contradict its tables when the results change::
 
-    T5 N_r = 25: Cm FRF error {{T5/257/25/dc_stable/frf_max_err_Cm}}, {{max:*/257/>=25/dc_stable/frf_max_err_Cm}} at most
+    T5 N_r = 25: Cm FRF error {{T5/257/25/dc_stable/frf_max_err_Cm}},
+    {{max:*/257/>=25/dc_stable/frf_max_err_Cm}} at most
 
 A template is ``{{[AGG:]PATH}}`` with ``PATH`` one of
 

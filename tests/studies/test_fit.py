@@ -560,7 +560,8 @@ def test_a_known_dc_gain_is_imposed(tmp_path, capsys):
     k = np.geomspace(0.01, 5.0, 40)   # no omega = 0 sample; the true DC gain is known
     csv = write_csv(tmp_path / "nodc.csv", k, known(2 * k))
     dc = known(np.array([0.0]))[:, 0, 0].real
-    rc = cli.main(["fit", str(csv), "--order", "4", "--dc-gain", f"{float(dc[0])!r},{float(dc[1])!r}", "--out", str(tmp_path / "o")])
+    rc = cli.main(["fit", str(csv), "--order", "4", "--dc-gain", f"{float(dc[0])!r},{float(dc[1])!r}",
+                   "--out", str(tmp_path / "o")])
     assert rc == 0
     text = capsys.readouterr().out
     assert "DC gain given (--dc-gain), imposed" in text and "no omega = 0 sample: the DC gain" not in text

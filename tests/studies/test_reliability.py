@@ -484,7 +484,8 @@ def test_no_gusts_no_step_limit():
 
 
 @pytest.mark.parametrize("edit, key, match", [
-    (('orders = [9]', 'orders = [9, 25, 9]'), "sweep.orders[2]", r"9 is sweep.orders\[0\] again .* give each value once"),
+    (('orders = [9]', 'orders = [9, 25, 9]'), "sweep.orders[2]",
+     r"9 is sweep.orders\[0\] again .* give each value once"),
     (('T = [11]', 'T = ["70/(2*pi)", 11.140846016432674]'), "sweep.T[1]", r"is sweep.T\[0\] again"),
     (('gusts = ["G3"]', 'gusts = []'), "gusts", r"is empty: name the gusts .* leave the key out"),
 ])

@@ -121,7 +121,8 @@ def test_templates_that_name_no_cell_are_refused(tables, template, match):
 
 
 def test_a_result_not_in_the_store_is_shown_as_missing(tables):
-    assert _value(fill("{{T9/257/25/plain/frf_max_err_Cm}}", tables)) == "**(no result: T9/257/25/plain/frf_max_err_Cm)**"
+    missing = "**(no result: T9/257/25/plain/frf_max_err_Cm)**"
+    assert _value(fill("{{T9/257/25/plain/frf_max_err_Cm}}", tables)) == missing
     assert unfill(fill("a {{T9/257/25/plain/order}} b", tables)) == "a {{T9/257/25/plain/order}} b"
 
 
