@@ -236,6 +236,7 @@ def _preflight(config: StudyConfig, *, report=None, prose=None, force_page: bool
 def _run(config: StudyConfig, args, **options):
     """``studies.run.runner.run_study`` with the command line's options; ``(results, status)``."""
     from ..run.runner import RunInterrupted, RunnerError, run_study
+    from ..store.cache import StoreReadError
 
     try:
         with warnings.catch_warnings():
@@ -251,6 +252,10 @@ def _run(config: StudyConfig, args, **options):
     except OSError as e:
         _err(f"the study runner could not write: {type(e).__name__}: {e}")
         return None, EXIT_NOT_WRITTEN
+    except StoreReadError as e:  # an entry that cannot be read (a file in place of its folder): the run went on
+        # with the other pieces (studies.tasks.needs_compute), but its results cannot be gathered
+        _err(f"{e}; the run stored what it could compute: run again once the entry is readable")
+        return None, EXIT_INCOMPLETE
     except Exception as e:  # noqa: BLE001 - the command line reports any failure with its type
         _err(f"the study runner failed: {type(e).__name__}: {e}")
         return None, EXIT_FAILED
@@ -434,7 +439,7 @@ def rom_study(args) -> StudyConfig:
                 "--naca and --mach (e.g. lfdrom rom mine --naca 0012 --mach 0.5 --order 20)"))
         case = {"name": args.case, "naca": args.naca, "mach": args.mach, "alpha_deg": args.alpha}
     method = {"dc_gain": "match" if args.dc_gain else "none", "stable": bool(args.stable)}
-    data = {"name": "rom", "cases": [case], "gusts": [], "sweep": {"orders": [args.order], "T": [args.T],
+    data = {"name": "rom", "cases": [case], "sweep": {"orders": [args.order], "T": [args.T],
                                                                     "M_base": args.M, "M": [args.M]},
             "method": method}
     out = args.out.resolve()

@@ -26,9 +26,10 @@ unit input with time dependence ``exp(+i omega t)``.
     In MATLAB: ``save('data.mat', 'H', 'omega', 'outputs', 'inputs')``.
 CSV
     Lines starting with ``#`` are comments; a comment ``# key: value`` sets ``frequency`` (the unit of the
-    frequency column: ``omega``, ``k`` or ``omega_d``), ``T`` or ``input`` (the input's name). The first other
-    line is the header: the frequency column first, named ``omega``, ``k`` or ``omega_d`` (any other name
-    needs ``# frequency: ...`` or ``--freq-unit``), then a ``NAME_re`` and a ``NAME_im`` column per output
+    frequency column: ``omega``, ``k``, ``omega_d``, ``rad/s`` or ``Hz``), ``T`` or ``input`` (the input's name).
+    The first other line is the header: the frequency column first, named ``omega``, ``k`` or ``omega_d`` (any
+    other name needs ``# frequency: ...`` or ``--frequency-unit``), then a ``NAME_re`` and a ``NAME_im`` column per
+    output
     (``NAME/INPUT_re`` for several inputs). Values are plain numbers (``inf`` for ``omega = inf``)::
 
         # frequency: k
@@ -49,8 +50,10 @@ Options and rules
   frequencies relative to the RMS of the data there. The order chosen is the *smallest* whose hold-out error
   is at most ``1.1 x`` the best plus ``1e-6`` (differences below that are solver round-off). The final model
   is then fitted to all the data.
-- ``--dc-gain match|none`` (default ``match`` when the data have an ``omega = 0`` sample, else ``none``),
-  ``--stable/--no-stable`` (default stable).
+- ``--dc-gain match|none|VALUE[,VALUE...]`` (default ``match`` when the data have an ``omega = 0`` sample, else
+  ``none``; values: a known real DC gain, imposed, outputs by rows), ``--stable/--no-stable`` (default stable).
+- ``--frequency-unit``: the unit of the frequencies (``rad/s`` and ``Hz`` for data in physical units): the figures'
+  axes and the summary say what the data are instead of assuming an aerofoil's reduced frequency.
 
 Exit status (``studies.cli.commands.EXIT_*``): 0 written; 1 the identification failed; 2 bad input (file, options),
 reported with the file and the line (CSV) or key (``.npz``/``.mat``) and what to do; 4 the output folder
@@ -70,12 +73,12 @@ from typing import Any
 import numpy as np
 
 __all__ = ["FitInputError", "FitOutcome", "load_data", "holdout_order", "fit_data", "write_outputs",
-           "add_parser", "cmd_fit", "FREQ_UNITS"]
+           "add_parser", "cmd_fit", "FREQ_UNITS", "FIT_FILES", "fit_marker", "written_by_fit", "check_out_dir"]
 
 from .fit_data import FREQ_UNITS, FitInputError, load_data
 from .exit_codes import EXIT_FAILED, EXIT_NOT_WRITTEN, EXIT_OK
 from .exit_codes import EXIT_UNAVAILABLE as EXIT_BAD_INPUT  # 2: bad input, found before anything is computed
-from ..store.files import atomic_write_text
+from ..store.files import atomic_write_text, generated_marker, generated_prefix, is_generated_page
 from ..config.numbers import parse_number
 
 HOLDOUT_RTOL, HOLDOUT_ATOL = 0.1, 1e-6
@@ -165,10 +168,68 @@ def holdout_order(frf, *, max_order: int = 30, dc_gain=None, stable: bool = True
     best = np.nanmin(errs)
     ok = np.flatnonzero(errs <= (1 + HOLDOUT_RTOL) * best + HOLDOUT_ATOL)
     chosen = int(orders[ok[0]])
+    w = frf.omega if frf.omega is not None else frf.omega_d
+    ends = [name for name, present in (("omega = 0", (w == 0).any()),
+                                       ("omega = inf", np.isinf(w).any() or (frf.omega is None and (w >= np.pi).any())))
+            if present]
+    which = "even-indexed" + (f", plus {' and '.join(ends)}" if ends else "")
     rule = (f"hold-out: fitted orders 1..{int(orders[np.isfinite(errs)].max())} to {fit_idx.size} of the "
-            f"{frf.nfreq} frequencies (even-indexed, plus omega = 0 and inf), measured on the other {held.size}; "
+            f"{frf.nfreq} frequencies ({which}), measured on the other {held.size}; "
             f"chose the smallest order whose hold-out error is <= 1.1 x the best ({best:.3g}) + 1e-6")
     return HoldoutSelection(orders=orders, errors=errs, chosen=chosen, rule=rule)
+
+
+T_BAND_FACTOR = 10.0
+"""How far outside the data's band the centre frequency ``2/T`` of the bilinear map may lie (module docstring)."""
+
+
+def check_T_against_data(source, omega, T: float, where: str = "--T") -> None:
+    """Refuse a sampling period that maps the data's frequencies onto one end of the unit circle.
+
+    The rule of ``lfdrom run`` (:data:`studies.schema.T_RANGE`: the map's centre frequency ``2/T``, which goes
+    to ``omega_d = pi/2``, within the band of the response), with the data's own band and a factor
+    :data:`T_BAND_FACTOR` of slack either side: ``omega_lo / 10 <= 2/T <= 10 omega_hi`` (smallest positive and
+    largest finite ``omega``). Then the band reaches past ``omega_d = 2 atan(1/10) = 0.2`` rad from ``z = 1``
+    and from ``z = -1``; beyond it every sample crowds into one end (``T = 1e-300``: all of them within 1e-297
+    rad of ``z = 1``, and the fit, the diagnostics and their errors are round-off and NaN).
+
+    Raises
+    ------
+    FitInputError
+        Names ``where`` (``--T`` or the file's key), the band and the range of T that fits it.
+    """
+    w = np.asarray(omega, dtype=float)
+    w = w[np.isfinite(w) & (w > 0)]
+    if w.size == 0:
+        return
+    lo, hi = float(w.min()), float(w.max())
+    T_min, T_max = 2.0 / (T_BAND_FACTOR * hi), 2.0 * T_BAND_FACTOR / lo
+    if T_min <= T <= T_max:
+        return
+    side = ("far above the data's band: every sample maps near omega_d = 0 (z = 1), the model would be fitted to "
+            "the DC gain alone" if T < T_min else
+            "far below the data's band: every sample maps near omega_d = pi (z = -1), the model would be fitted to "
+            "the high-frequency limit alone")
+    raise FitInputError(source, where, f"T = {T:.6g} puts the bilinear map's centre frequency 2/T = {2.0 / T:.3g} "
+                                       f"{side} (omega from {lo:.4g} to {hi:.4g}); use {T_min:.4g} <= T <= "
+                                       f"{T_max:.4g}, or leave --T out for 2/sqrt(omega_lo omega_hi) = "
+                                       f"{2.0 / np.sqrt(lo * hi):.4g}")
+
+
+def _dc_values(source, values, shape) -> np.ndarray:
+    """A known DC gain as a real ``(p, m)`` array: ``p m`` values, outputs by rows (``--dc-gain 6.28,-0.11``)."""
+    p, m = shape
+    try:
+        a = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise FitInputError(source, "--dc-gain", f"{values!r} is not a list of real numbers") from None
+    if a.size != p * m:
+        raise FitInputError(source, "--dc-gain", f"{a.size} value(s) for {p} output(s) x {m} input(s); give {p * m} "
+                                                 "(outputs by rows: H(0)[0, 0], H(0)[0, 1], ..., H(0)[1, 0], ...), or "
+                                                 "match or none")
+    if not np.isfinite(a).all():
+        raise FitInputError(source, "--dc-gain", f"{values!r}: the DC gain must be finite")
+    return a.reshape(p, m)
 
 
 @dataclass(frozen=True)
@@ -195,8 +256,9 @@ def fit_data(frf, *, order: int | str = "auto", dc_gain: str = "auto", stable: b
     frf : sysid.FrequencyResponse
         From :func:`load_data`.
     order : int or "auto"
-    dc_gain : {"auto", "match", "none"}
-        ``"auto"``: ``"match"`` when the data have an ``omega = 0`` sample.
+    dc_gain : {"auto", "match", "none"} or array_like (p, m)
+        ``"auto"``: ``"match"`` when the data have an ``omega = 0`` sample. An array: the known real DC gain,
+        imposed (data without an ``omega = 0`` sample, or a DC value known better than the data's).
     stable : bool
     T : float, optional
         Overrides the data's sampling period; default the data's, else :func:`sysid.diagnostics.default_T`.
@@ -231,13 +293,30 @@ def fit_data(frf, *, order: int | str = "auto", dc_gain: str = "auto", stable: b
         w = frf.omega[np.isfinite(frf.omega) & (frf.omega > 0)]
         T_rule = (f"T = {Td:.6g} (default 2 / sqrt(omega_lo omega_hi), omega from {w.min():.4g} to {w.max():.4g}: "
                   "their geometric mean maps to omega_d = pi/2)")
-    diag = sysid.diagnose(frf)
-    if dc_gain == "auto":
+    if frf.omega is not None:   # continuous data: T places them on the unit circle (data in omega_d: T does not)
+        check_T_against_data(src, frf.omega, frf.T, "--T" if T is not None else "key 'T'")
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught_diag:   # reported with the fit, never with a source line
+        warnings.simplefilter("always")
+        diag = sysid.diagnose(frf)
+    given_dc = None if isinstance(dc_gain, str) else _dc_values(src, dc_gain, frf.shape[:2])
+    if not diag.has_dc:   # sysid's advice, in this command's terms, and none when the user chose
+        from dataclasses import replace
+
+        keep = tuple(w for w in diag.warnings if not w.startswith("no omega = 0 sample"))
+        if dc_gain == "auto":
+            keep += ("no omega = 0 sample: the DC gain is neither imposed nor checked; give it with --dc-gain "
+                     "VALUE[,VALUE...] if you know it",)
+        diag = replace(diag, warnings=keep)
+    if given_dc is not None:
+        dc_gain = "given"
+    elif dc_gain == "auto":
         dc_gain = "match" if diag.has_dc else "none"
     if dc_gain == "match" and not diag.has_dc:
         raise FitInputError(src, "--dc-gain", "match needs an omega = 0 sample in the data; add it or use "
                                               "--dc-gain none")
-    dc = None
+    dc = given_dc
     if dc_gain == "match":
         import warnings
 
@@ -259,12 +338,15 @@ def fit_data(frf, *, order: int | str = "auto", dc_gain: str = "auto", stable: b
             res = sysid.identify(frf, n, dc_gain=dc, stable=stable, algorithm=algorithm)
     except sysid.OrderError as e:
         raise FitInputError(src, "--order", str(e)) from None
-    notes = tuple(dict.fromkeys(str(w.message) for w in caught if issubclass(w.category, RuntimeWarning)))
-    for w in caught:   # anything else (a library's deprecation, ...) goes on as it came
+    notes = tuple(dict.fromkeys(str(w.message) for w in list(caught_diag) + list(caught)
+                                if issubclass(w.category, RuntimeWarning)))
+    for w in list(caught_diag) + list(caught):   # anything else (a library's deprecation, ...) goes on as it came
         if not issubclass(w.category, RuntimeWarning):
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     options = {"order": order, "dc_gain": dc_gain, "stable": bool(stable), "max_order": max_order,
                "algorithm": res.algorithm}
+    if given_dc is not None:
+        options["dc_values"] = given_dc
     return FitOutcome(data=frf, diagnostics=diag, result=res, selection=selection, T_rule=T_rule, options=options,
                       elapsed=time.perf_counter() - t0, warnings=notes)
 
@@ -272,6 +354,109 @@ def fit_data(frf, *, order: int | str = "auto", dc_gain: str = "auto", stable: b
 # ---------------------------------------------------------------------------------------------
 # Writing
 # ---------------------------------------------------------------------------------------------
+
+FIT_FILES = ("summary.md", "rom.npz", "rom.mat", "bode.png", "error.png", "hankel.png", "poles.png")
+"""The files ``lfdrom fit`` writes to its ``--out`` folder; it replaces one only when it carries the fit's marker."""
+
+_FIGURES = tuple(name for name in FIT_FILES if name.endswith(".png"))
+
+
+def fit_marker(data_path) -> str:
+    """The generator marker of the files of one fit (:func:`studies.files.generated_marker` of ``lfdrom fit``):
+    the first line of ``summary.md``, the ``generator`` entry of the ROM files' metadata and the ``generator``
+    text chunk of the figures."""
+    return generated_marker(Path(data_path).name, program="fit",
+                            note="lfdrom fit replaces the files of this folder that carry this marker (this summary, "
+                                 "rom.npz, rom.mat and the figures) when it fits into the folder again, and no other")
+
+
+def written_by_fit(path) -> bool:
+    """Whether the file at ``path`` carries ``lfdrom fit``'s generator marker (so that replacing it loses nothing
+    the fit cannot write again).
+
+    ``.md``: the first line (:func:`studies.files.is_generated_page`); ``.npz`` and ``.mat``: the ``generator``
+    entry of the JSON ``metadata`` (:mod:`studies.rom_export`); ``.png``: the ``generator`` text chunk. A file
+    that cannot be read as its suffix says (someone else's) is not ours; a missing one is not either.
+    """
+    import json
+
+    path = Path(path)
+    prefix = generated_prefix("fit")
+    if not path.is_file():
+        return False
+    suffix = path.suffix.lower()
+    try:
+        if suffix == ".md":
+            return is_generated_page(path, program="fit")
+        if suffix == ".npz":
+            with np.load(path, allow_pickle=False) as z:
+                meta = json.loads(str(z["metadata"]))
+        elif suffix == ".mat":
+            import scipy.io
+
+            meta = json.loads(str(np.squeeze(scipy.io.loadmat(path, variable_names=["metadata"])["metadata"])))
+        elif suffix == ".png":
+            from PIL import Image
+
+            with Image.open(path) as im:
+                meta = {"generator": getattr(im, "text", {}).get("generator", "")}
+        else:
+            return False
+    except Exception:  # noqa: BLE001 - unreadable as ours: someone else's file
+        return False
+    return isinstance(meta, dict) and str(meta.get("generator", "")).startswith(prefix)
+
+
+def check_out_dir(out_dir, data_path) -> None:
+    """Refuse an output folder where ``lfdrom fit`` would destroy a file that is not its own.
+
+    Raises
+    ------
+    FitInputError
+        ``out_dir`` holds the data file itself, or a file of a name in :data:`FIT_FILES` without the fit's
+        generator marker (:func:`written_by_fit`: the user's own ``summary.md``, ``rom.mat``, a figure...); the
+        message names them and says what to do. Nothing is written or created.
+    """
+    out_dir, data = Path(out_dir), Path(data_path)
+    if not out_dir.is_dir():
+        return  # a new folder (or a file in its place: reported when the folder is created)
+    here = out_dir.resolve()
+    if here in (data.absolute().parent.resolve(), data.resolve().parent):
+        raise FitInputError(out_dir, "--out", f"holds the input {data.name}: lfdrom fit writes its files into a folder "
+                                              f"of their own; give another --out (default fit-{data.stem})")
+    foreign = [name for name in FIT_FILES if (out_dir / name).exists() or (out_dir / name).is_symlink()]
+    foreign = [name for name in foreign if (out_dir / name).is_symlink() or not written_by_fit(out_dir / name)]
+    if foreign:
+        raise FitInputError(out_dir, "--out", f"holds {', '.join(foreign)}, not written by lfdrom fit (no generator "
+                                              f"marker '{generated_prefix('fit')} ...'), which the fit would replace; "
+                                              "they are left as they are: give another --out (a new folder) or move "
+                                              "them away")
+
+def _band(frf) -> str:
+    """The data's band in their own unit (:func:`studies.fit_data.frequency_axis`), and in omega."""
+    from .fit_data import frequency_axis
+
+    label, scale, unit = frequency_axis(frf)
+    w = frf.omega
+    fin = w[np.isfinite(w)]
+    lo, hi = fin.min(), fin.max()
+    if unit == "k":
+        text = f"omega from {lo:.4g} to {hi:.4g} (U/c; k = omega/2 from {lo / 2:.4g} to {hi / 2:.4g})"
+    elif unit in ("", "1/T"):
+        text = f"omega from {lo:.4g} to {hi:.4g}"
+    else:
+        name = "f" if unit.endswith("Hz") else "omega"
+        text = f"{name} from {lo * scale:.4g} to {hi * scale:.4g} {unit} (omega from {lo:.4g} to {hi:.4g})"
+    return text + ("; plus omega = inf" if np.isinf(w).any() else "")
+
+
+def _time_unit(frf) -> str:
+    """The time unit of T and of the continuous poles: that of the data's frequencies."""
+    from .fit_data import frequency_axis
+
+    unit = frequency_axis(frf)[2]
+    return {"k": "c/U (convective)", "": "the data's time unit", "1/T": "the data's time unit"}.get(unit, "s")
+
 
 def _continuous_poles(res, limit: int = 12) -> str:
     """The ROM's poles mapped to the s-plane, sorted by |s|, as text (at most ``limit``)."""
@@ -293,16 +478,12 @@ def summary_markdown(out: FitOutcome, data_path, command: str | None = None) -> 
     """The Markdown summary of a fit: data, diagnostics, order and why, errors, DC, stability, files."""
     res, frf, diag = out.result, out.data, out.diagnostics
     p, m, K = frf.shape
-    w = frf.omega
-    fin = w[np.isfinite(w)]
-    lines = [f"# ROM fitted to {Path(data_path).name}", ""]
+    lines = [fit_marker(data_path), f"# ROM fitted to {Path(data_path).name}", ""]
     if command:
         lines += ["```", command, "```", ""]
     lines += [
         "## Data", "",
-        f"- {p} output(s) {list(frf.outputs)}, {m} input(s) {list(frf.inputs)}, {K} frequencies, omega from "
-        f"{fin.min():.4g} to {fin.max():.4g} (U/c; k = omega/2 from {fin.min() / 2:.4g} to {fin.max() / 2:.4g})"
-        + ("; plus omega = inf" if np.isinf(w).any() else ""),
+        f"- {p} output(s) {list(frf.outputs)}, {m} input(s) {list(frf.inputs)}, {K} frequencies, {_band(frf)}",
         f"- {out.T_rule}", "",
         "## Data diagnostics (`sysid.diagnose`)", "", diag.markdown(), "",
         "## Order", "",
@@ -320,7 +501,8 @@ def summary_markdown(out: FitOutcome, data_path, command: str | None = None) -> 
     lines += [f"- options: dc_gain={out.options['dc_gain']}, stable={out.options['stable']}; algorithm "
               f"{out.options.get('algorithm', res.algorithm)}; enforced: {enf}",
               f"- spectral radius {res.spectral_radius:.6f} ({'stable' if res.spectral_radius < 1 else 'UNSTABLE'})",
-              f"- continuous poles (s in U/c, by the inverse bilinear map s = (2/T)(z - 1)/(z + 1)): "
+              f"- continuous poles (s in rad per {_time_unit(frf).split(' (')[0]}, by the inverse bilinear map s = "
+              f"(2/T)(z - 1)/(z + 1)): "
               f"{_continuous_poles(res)}",
               "", "| output | max error / peak | RMS error / RMS | DC error |", "| --- | --- | --- | --- |"]
     dcm = _model_dc(res)
@@ -329,8 +511,12 @@ def summary_markdown(out: FitOutcome, data_path, command: str | None = None) -> 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         dcd = frf.dc_gain
+    given = out.options.get("dc_values")
     for i, o in enumerate(frf.outputs):
-        if dcd is not None:
+        if given is not None:
+            scale = max(float(np.abs(given[i]).max()), np.finfo(float).tiny)
+            dce = f"{float(np.abs(dcm[i] - given[i]).max()) / scale:.2e} (to the given DC gain)"
+        elif dcd is not None:
             scale = max(float(np.abs(dcd[i]).max()), np.finfo(float).tiny)
             dce = f"{float(np.abs(dcm[i] - dcd[i]).max()) / scale:.2e}"
         else:
@@ -352,17 +538,38 @@ def summary_markdown(out: FitOutcome, data_path, command: str | None = None) -> 
 
 def write_outputs(out: FitOutcome, data_path, out_dir, *, command: str | None = None,
                   figures: bool = True) -> dict[str, Path]:
-    """Write ``rom.npz``, ``rom.mat``, ``summary.md`` and the figures to ``out_dir``; returns their paths."""
+    """Write ``rom.npz``, ``rom.mat``, ``summary.md`` and the figures to ``out_dir``; returns their paths.
+
+    Each file carries the fit's generator marker (:func:`fit_marker`); a file of the same name without it, or a
+    folder that holds the data file, is refused before anything is written (:func:`check_out_dir`). Without
+    ``figures`` the figures of an earlier fit in the folder (ours, by their marker) are removed: they would show
+    another model than the summary's.
+
+    Raises
+    ------
+    FitInputError
+        From :func:`check_out_dir`.
+    OSError
+        A file cannot be written (each is written atomically: an existing one is replaced whole or kept).
+    """
     from ..store.rom_export import export_rom_mat, export_rom_npz
 
     out_dir = Path(out_dir)
+    check_out_dir(out_dir, data_path)
     out_dir.mkdir(parents=True, exist_ok=True)
     res = out.result
-    meta = dict(source=str(Path(data_path).name), order=int(res.order), T=float(res.T),
-                dc_gain=out.options["dc_gain"], stable=out.options["stable"],
+    from .fit_data import frequency_axis
+
+    unit = frequency_axis(out.data)[2]
+    time = _time_unit(out.data)
+    meta = dict(generator=fit_marker(data_path), source=str(Path(data_path).name), order=int(res.order),
+                T=float(res.T), dc_gain=out.options["dc_gain"], stable=out.options["stable"],
                 max_error_per_output=dict(zip(out.data.outputs, map(float, res.errors.max_rel_per_output))),
-                spectral_radius=float(res.spectral_radius), time="convective, s = t U / c",
-                frequency="omega in U/c, k = omega / 2; discrete model with the bilinear map, dt = T")
+                spectral_radius=float(res.spectral_radius), time=f"T in {time}",
+                frequency=("omega in U/c, k = omega / 2" if unit == "k" else f"omega in rad per {time.split(' (')[0]}")
+                + "; discrete model with the bilinear map, dt = T")
+    if out.options.get("dc_values") is not None:
+        meta["dc_gain_given"] = out.options["dc_values"]
     paths = {"npz": export_rom_npz(out_dir / "rom.npz", res.model, meta),
              "mat": export_rom_mat(out_dir / "rom.mat", res.model, meta)}
     md = out_dir / "summary.md"
@@ -371,7 +578,11 @@ def write_outputs(out: FitOutcome, data_path, out_dir, *, command: str | None = 
     if figures:
         from .fit_plots import write_figures
 
-        paths.update(write_figures(out, out_dir))
+        paths.update(write_figures(out, out_dir, text={"generator": fit_marker(data_path)}))
+    else:
+        for name in _FIGURES:
+            if written_by_fit(out_dir / name):
+                (out_dir / name).unlink()
     return paths
 
 
@@ -384,7 +595,10 @@ def print_summary(out: FitOutcome, file=None) -> None:
     print(f"{out.T_rule}", file=file)
     print(f"order {res.order} ({why})", file=file)
     per = ", ".join(f"{o} {e:.2e}" for o, e in zip(out.data.outputs, res.errors.max_rel_per_output))
-    dc = f"DC error {res.dc_error:.1e}" if res.dc_error is not None else "no omega = 0 sample (DC not checked)"
+    if out.options.get("dc_values") is not None:
+        dc = "DC gain given (--dc-gain), imposed"
+    else:
+        dc = f"DC error {res.dc_error:.1e}" if res.dc_error is not None else "no omega = 0 sample (DC not checked)"
     print(f"max error / peak: {per}; {dc}; spectral radius {res.spectral_radius:.6f}", file=file)
     for note in out.warnings:
         print(f"warning: {note}", file=file)
@@ -405,8 +619,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--order", default="auto", metavar="N|auto",
                    help="model order, or auto (default): hold-out selection on alternate frequencies")
     p.add_argument("--max-order", type=int, default=30, help="largest order tried by --order auto (default 30)")
-    p.add_argument("--dc-gain", choices=("match", "none"), default=None,
-                   help="match the omega = 0 sample exactly (default: match when the data have it)")
+    p.add_argument("--dc-gain", default=None, metavar="match|none|VALUE[,VALUE...]",
+                   help="match the omega = 0 sample exactly, none, or impose a known real DC gain (one value per "
+                        "output and input, outputs by rows); default: match when the data have an omega = 0 sample")
     p.add_argument("--stable", action=argparse.BooleanOptionalAction, default=True,
                    help="enforce a stable model (default --stable)")
     p.add_argument("--algorithm", choices=("auto", "relocation", "subspace"), default="auto",
@@ -414,10 +629,13 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                         "output with --stable or a DC gain), subspace (McKelvey + convex refits; with --dc-gain none "
                         "--no-stable the paper's method); default auto")
     p.add_argument("--T", default=None, metavar="T",
-                   help="sampling period of the bilinear map (convective units; e.g. 70/(2*pi)); default the file's, "
-                        "else 2/sqrt(omega_lo omega_hi)")
-    p.add_argument("--freq-unit", choices=FREQ_UNITS, default=None,
-                   help="CSV: unit of the frequency column (omega in U/c, k = omega/2, omega_d in rad/sample)")
+                   help="sampling period of the bilinear map (in the time unit of the frequencies: c/U for omega or "
+                        "k, seconds for rad/s or Hz; e.g. 70/(2*pi)); default the file's, else "
+                        "2/sqrt(omega_lo omega_hi)")
+    p.add_argument("--frequency-unit", "--freq-unit", dest="freq_unit", choices=FREQ_UNITS, default=None,
+                   help="unit of the frequencies: CSV, of the frequency column (omega, k = omega/2, omega_d in "
+                        "rad/sample, rad/s, Hz); .npz/.mat, how their omega is shown (rad/s, Hz, k or omega); the "
+                        "figures' axes and summary.md say it (default: the column's or key's name)")
     p.add_argument("--input", default=None, metavar="NAME", help="CSV: the input's name (default '# input:' or u[0])")
     p.add_argument("--out", type=Path, default=None, help="output folder (default fit-<DATA stem>)")
     p.add_argument("--no-figures", action="store_true", help="write the ROM and the summary only")
@@ -435,6 +653,20 @@ def _parse_T(text: str | None, file) -> float | None:
     if not (math.isfinite(v) and v > 0):
         raise FitInputError(file, "--T", f"must be positive and finite, got {text}")
     return v
+
+
+def _parse_dc_gain(text, file):
+    """``--dc-gain``: ``"auto"`` (not given), ``"match"``, ``"none"`` or a list of numbers (comma-separated)."""
+    if text is None:
+        return "auto"
+    word = str(text).strip().lower()
+    if word in ("match", "none"):
+        return word
+    try:
+        return [float(v) for v in str(text).split(",")]
+    except ValueError:
+        raise FitInputError(file, "--dc-gain", f"{text!r} is neither match, none nor a list of numbers (e.g. "
+                                               "--dc-gain 6.28,-0.11 for two outputs)") from None
 
 
 def _parse_order(text, file) -> int | str:
@@ -459,6 +691,7 @@ def cmd_fit(args) -> int:
     try:
         T = _parse_T(args.T, args.data)
         order = _parse_order(args.order, args.data)
+        dc_gain = _parse_dc_gain(args.dc_gain, args.data)
         if args.max_order < 1:
             raise FitInputError(args.data, "--max-order", f"must be >= 1, got {args.max_order}")
         frf = load_data(args.data, T=T, freq_unit=args.freq_unit, input_name=args.input)
@@ -467,14 +700,21 @@ def cmd_fit(args) -> int:
         return EXIT_BAD_INPUT
     out_dir = args.out if args.out is not None else Path(f"fit-{args.data.stem}")
     try:
-        out_dir.mkdir(parents=True, exist_ok=True)
-        if not out_dir.is_dir():
+        check_out_dir(out_dir, args.data)   # before the fit: refused in a second, not after it
+    except FitInputError as e:
+        err(str(e))
+        return EXIT_BAD_INPUT
+    from ..store.files import probe_writable
+
+    try:   # creates nothing: a fit refused below leaves no empty folder behind
+        if out_dir.exists() and not out_dir.is_dir():
             raise NotADirectoryError(f"{out_dir} is not a folder")
+        probe_writable(out_dir, what="fit's files", fix="choose another --out")
     except OSError as e:
         err(f"cannot write to {out_dir} ({e}); choose another --out")
         return EXIT_NOT_WRITTEN
     try:
-        out = fit_data(frf, order=order, dc_gain=args.dc_gain or "auto", stable=args.stable, T=T,
+        out = fit_data(frf, order=order, dc_gain=dc_gain, stable=args.stable, T=T,
                        max_order=args.max_order, algorithm=args.algorithm)
     except FitInputError as e:
         err(str(e))
@@ -488,6 +728,9 @@ def cmd_fit(args) -> int:
     command = "lfdrom fit " + " ".join(sys.argv[2:]) if len(sys.argv) > 2 and sys.argv[1] == "fit" else None
     try:
         paths = write_outputs(out, args.data, out_dir, command=command, figures=not args.no_figures)
+    except FitInputError as e:   # a foreign file appeared during the fit
+        err(str(e))
+        return EXIT_BAD_INPUT
     except OSError as e:
         err(f"cannot write to {out_dir}: {e}")
         return EXIT_NOT_WRITTEN

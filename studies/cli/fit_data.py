@@ -14,9 +14,37 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["FitInputError", "load_data", "FREQ_UNITS"]
+__all__ = ["FitInputError", "load_data", "FREQ_UNITS", "frequency_axis"]
 
-FREQ_UNITS = ("omega", "k", "omega_d")
+FREQ_UNITS = ("omega", "k", "omega_d", "rad/s", "Hz")
+"""Units of a frequency column (``--frequency-unit``): ``omega`` (angular, in the data's own time unit: ``U/c`` for
+an aerofoil), ``k`` (reduced frequency, ``omega = 2k``), ``omega_d`` (rad/sample, with ``T``), ``rad/s`` (angular,
+per second) and ``Hz`` (cycles per second, ``omega = 2 pi f``)."""
+
+_SI = ((1e12, "T"), (1e9, "G"), (1e6, "M"), (1e3, "k"), (1.0, ""))
+
+
+def frequency_axis(frf) -> tuple:
+    """How the data's frequencies are shown: ``(label, scale, unit)`` with ``omega * scale`` the shown values.
+
+    The unit is ``frf.metadata["frequency_unit"]`` (the file's frequency column or key, or ``--frequency-unit``);
+    lfdrom's own ``.npz`` responses without one are an aerofoil's, in reduced frequency ``k``. Hz and rad/s take
+    an SI prefix that puts the largest finite frequency below 1000 (75 - 110 GHz is shown in GHz, not as 7.5e+10).
+    """
+    unit = str(frf.metadata.get("frequency_unit") or ("k" if frf.metadata.get("file") else "omega"))
+    if unit == "k":
+        return "reduced frequency k = omega c / (2U)", 0.5, "k"
+    if unit in ("Hz", "rad/s"):
+        w = np.asarray(frf.omega, dtype=float)
+        top = float(w[np.isfinite(w)].max()) if np.isfinite(w).any() else 1.0
+        base = 1.0 / (2.0 * np.pi) if unit == "Hz" else 1.0
+        factor, prefix = next(((f, pre) for f, pre in _SI if top * base >= f), _SI[-1])
+        if unit == "Hz":
+            return f"frequency f [{prefix}Hz]", base / factor, f"{prefix}Hz"
+        return f"angular frequency omega [{prefix}rad/s]", base / factor, f"{prefix}rad/s"
+    if unit == "omega_d":
+        return "angular frequency omega = (2/T) tan(omega_d / 2)", 1.0, "1/T"
+    return "angular frequency omega", 1.0, ""
 
 
 class FitInputError(ValueError):
@@ -52,10 +80,12 @@ def _frequencies(file, where, values, unit: str, T: float | None):
     if (v < 0).any():
         raise FitInputError(file, where, f"negative frequency {v[v < 0][0]!r}; give omega >= 0 (the response at "
                                          "-omega is the complex conjugate)")
-    if unit == "omega":
+    if unit in ("omega", "rad/s"):
         return v, None
     if unit == "k":
         return 2.0 * v, None
+    if unit == "Hz":
+        return 2.0 * np.pi * v, None
     if T is None:
         raise FitInputError(file, where, "discrete frequencies omega_d need the sampling period T: give a 'T' "
                                          "entry (or '# T: ...' in a CSV) or --T")
@@ -152,8 +182,9 @@ def _read_arrays(path: Path, d: dict, T_opt: float | None):
             raise FitInputError(path, "key 'T'", f"must be positive and finite, got {T!r}")
     unit = given[0]
     omega, omega_d = _frequencies(path, f"key '{unit}'", d[unit], unit, T)
-    return _build(path, where_H, f"key '{unit}'", H, omega, omega_d, T, _names(d.get("inputs")),
-                  _names(d.get("outputs")))
+    frf = _build(path, where_H, f"key '{unit}'", H, omega, omega_d, T, _names(d.get("inputs")),
+                 _names(d.get("outputs")))
+    return frf.replace(metadata={**frf.metadata, "frequency_unit": unit})
 
 
 def _load_npz(path: Path, T_opt):
@@ -242,7 +273,7 @@ def _load_csv(path: Path, T_opt, freq_unit: str | None, input_name: str | None):
         unit, ln = meta["frequency"]
         if unit not in FREQ_UNITS:
             raise FitInputError(path, f"line {ln}", f"'# frequency: {unit}' is not one of {FREQ_UNITS} (omega in U/c, "
-                                                    "k = omega/2, omega_d in rad/sample)")
+                                                    "k = omega/2, omega_d in rad/sample, rad/s, Hz)")
     fname = header[0]
     if freq_unit is None and "frequency" in meta and fname in FREQ_UNITS and fname != unit:
         raise FitInputError(path, f"line {hline}", f"the frequency column is named {fname!r} but line "
@@ -323,7 +354,8 @@ def _load_csv(path: Path, T_opt, freq_unit: str | None, input_name: str | None):
         dup = sorted(set(range(K)) - set(first.tolist()))[0]
         raise FitInputError(path, f"line {data[dup][0]}", f"frequency {data[dup][1][0]} appears twice; average or "
                                                           "drop the repeated line")
-    return _build(path, "H", f"line {hline}", H, omega, omega_d, T, inputs, outputs)
+    frf = _build(path, "H", f"line {hline}", H, omega, omega_d, T, inputs, outputs)
+    return frf.replace(metadata={**frf.metadata, "frequency_unit": unit})
 
 
 def load_data(path, *, T: float | None = None, freq_unit: str | None = None,
@@ -336,8 +368,10 @@ def load_data(path, *, T: float | None = None, freq_unit: str | None = None,
     T : float, optional
         Sampling period; overrides the file's. Data on continuous frequencies without any keep ``T = None``
         (:func:`fit_data` then picks the default).
-    freq_unit : {"omega", "k", "omega_d"}, optional
-        CSV only: unit of the frequency column (overrides ``# frequency:`` and the column name).
+    freq_unit : {"omega", "k", "omega_d", "rad/s", "Hz"}, optional
+        CSV: unit of the frequency column (overrides ``# frequency:`` and the column name). ``.npz``/``.mat``:
+        the unit in which their angular frequencies ``omega`` are to be shown (``rad/s``, ``Hz`` as ``omega /
+        (2 pi)``, ``k`` as ``omega / 2``; :func:`frequency_axis`); ``omega_d`` is refused there.
     input_name : str, optional
         CSV only: the input's name for single-input files (overrides ``# input:``; default ``u[0]``).
 
@@ -353,16 +387,23 @@ def load_data(path, *, T: float | None = None, freq_unit: str | None = None,
     """
     path = Path(path)
     if freq_unit is not None and freq_unit not in FREQ_UNITS:
-        raise FitInputError(path, "--freq-unit", f"{freq_unit!r} is not one of {FREQ_UNITS}")
+        raise FitInputError(path, "--frequency-unit", f"{freq_unit!r} is not one of {FREQ_UNITS}")
     if T is not None and not (math.isfinite(T) and T > 0):
         raise FitInputError(path, "--T", f"must be positive and finite, got {T!r}")
+    if input_name is not None and not str(input_name).strip():
+        raise FitInputError(path, "--input", f"{input_name!r} is empty; give the input's name (e.g. --input gust), or "
+                                             "leave --input out for '# input:' or u[0]")
     if not path.is_file():
         raise FitInputError(path, None, "no such file")
     suffix = path.suffix.lower()
-    if suffix == ".npz":
-        return _load_npz(path, T)
-    if suffix == ".mat":
-        return _load_mat(path, T)
+    if suffix in (".npz", ".mat"):
+        if freq_unit == "omega_d":
+            raise FitInputError(path, "--frequency-unit", "omega_d applies to a CSV column only; a .npz/.mat file "
+                                                          "names its frequencies by its key (omega, k or omega_d)")
+        frf = _load_npz(path, T) if suffix == ".npz" else _load_mat(path, T)
+        if freq_unit is not None:
+            return frf.replace(metadata={**frf.metadata, "frequency_unit": freq_unit})
+        return frf
     if suffix in (".csv", ".txt"):
         return _load_csv(path, T, freq_unit, input_name)
     raise FitInputError(path, None, f"unknown suffix {path.suffix!r}: give a .npz, .mat or .csv file")

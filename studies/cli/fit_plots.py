@@ -1,8 +1,9 @@
 """Figures of ``lfdrom fit`` (:mod:`studies.cli.fit`): Bode overlay, error against frequency, Hankel singular
 values (with the hold-out curve of ``--order auto``) and poles in the z-plane.
 
-Frequencies are shown as the reduced frequency ``k = omega / 2`` on a log axis; the ``omega = 0`` and
-``omega = inf`` samples cannot sit on it and are listed in the titles instead.
+Frequencies are shown in the data's unit (:func:`studies.fit_data.frequency_axis`: the reduced frequency ``k =
+omega / 2`` for an aerofoil's response, Hz or rad/s with an SI prefix, or plain ``omega``) on a log axis; the
+``omega = 0`` and ``omega = inf`` samples cannot sit on it and are named in the titles instead.
 """
 
 from __future__ import annotations
@@ -26,33 +27,61 @@ def _plt():
     return plt
 
 
-def _save(fig, path: Path, dpi: int = 110) -> Path:
-    """Save atomically as a palette PNG (small enough to commit) and close (:func:`studies.report.plots.save_figure`)."""
+def _save(fig, path: Path, dpi: int = 110, text: dict | None = None) -> Path:
+    """Save atomically as a palette PNG (small enough to commit) with the PNG text chunks ``text`` (the fit's
+    generator marker) and close (:func:`studies.report.plots.save_figure`)."""
     from ..report.plots import save_figure
 
-    return save_figure(fig, path, dpi=dpi)
+    return save_figure(fig, path, dpi=dpi, text=text)
+
+
+def _tick_text(v: float) -> str:
+    """A tick value: plain (0.1, 2, 30, 4500) between 1e-3 and 1e5, else m x 10^e (no "3e+11")."""
+    if v == 0 or 1e-3 <= abs(v) < 1e5:
+        return f"{v:g}"
+    e = int(np.floor(np.log10(abs(v))))
+    m = v / 10.0**e
+    return rf"$10^{{{e}}}$" if abs(m - 1) < 1e-6 else rf"${m:.3g}\times10^{{{e}}}$"
 
 
 def _plain_log_axis(ax, axis: str) -> None:
-    """Tick labels as plain numbers (0.1, 2, 30) instead of 10^-1, 2x10^0; minor labels only on short ranges."""
+    """Tick labels as plain numbers (0.1, 2, 30) instead of 10^-1, 2x10^0; minor labels on short ranges: at 2, 3
+    and 5 times a power of ten below 30:1, at every minor tick below 3:1, so that any axis has labels."""
     from matplotlib.ticker import FuncFormatter, NullFormatter
 
-    fmt = FuncFormatter(lambda v, _: f"{v:g}")
-
-    def minor(v, _):  # label 2, 3 and 5 times a power of ten only, so labels do not collide
-        lead = v / 10 ** np.floor(np.log10(v)) if v > 0 else 0.0
-        return f"{v:g}" if any(abs(lead - d) < 1e-6 for d in (2, 3, 5)) else ""
-
+    fmt = FuncFormatter(lambda v, _: _tick_text(v))
     target = ax.yaxis if axis == "y" else ax.xaxis
     lo, hi = ax.get_ylim() if axis == "y" else ax.get_xlim()
+    ratio = hi / max(lo, 1e-300)
+    leads = (2, 3, 5) if ratio >= 3 else (2, 3, 4, 5, 6, 7, 8, 9)
+
+    def minor(v, _):  # label chosen multiples of a power of ten only, so labels do not collide
+        lead = v / 10 ** np.floor(np.log10(v)) if v > 0 else 0.0
+        return _tick_text(v) if any(abs(lead - d) < 1e-6 for d in leads) else ""
+
     target.set_major_formatter(fmt)
-    target.set_minor_formatter(FuncFormatter(minor) if hi / max(lo, 1e-300) < 30 else NullFormatter())
+    target.set_minor_formatter(FuncFormatter(minor) if ratio < 30 else NullFormatter())
+
+
+def _title(fig, text: str) -> None:
+    """A figure title wrapped to the figure's width (a single-output figure is narrow: it was clipped)."""
+    import textwrap
+
+    width = max(30, int(fig.get_figwidth() * 12))   # about 12 characters of 10-point text per inch
+    fig.suptitle(textwrap.fill(text, width), fontsize=10)
 
 
 def _finite_positive(frf):
     w = np.asarray(frf.omega, dtype=float)
     keep = np.isfinite(w) & (w > 0)
     return keep, w
+
+
+def _axis(frf):
+    from .fit_data import frequency_axis
+
+    label, scale, _ = frequency_axis(frf)
+    return label, scale
 
 
 def _dense(frf, n: int = 500) -> np.ndarray:
@@ -91,28 +120,29 @@ def bode_figure(out):
     wf = _dense(frf)
     Hm = res.evaluate_continuous(wf)
     H = np.asarray(frf.H)
+    label, scale = _axis(frf)
     fig, axes = plt.subplots(2, len(chans), figsize=(4.2 * len(chans) + 0.6, 5.6), sharex=True, squeeze=False)
     for c, (i, j) in enumerate(chans):
         ax_m, ax_p = axes[0, c], axes[1, c]
-        ax_m.loglog(w[keep] / 2, np.abs(H[i, j, keep]), **_DATA)
-        ax_m.loglog(wf / 2, np.abs(Hm[i, j]), **_ROM)
+        ax_m.loglog(w[keep] * scale, np.abs(H[i, j, keep]), **_DATA)
+        ax_m.loglog(wf * scale, np.abs(Hm[i, j]), **_ROM)
         ph_d = np.degrees(np.unwrap(np.angle(H[i, j, keep])))
         ph_m = np.degrees(np.unwrap(np.angle(Hm[i, j])))
         # put both on the same branch at the first data frequency
         ph_m += 360.0 * np.round((np.interp(w[keep][0], wf, ph_m) - ph_d[0]) / -360.0)
-        ax_p.semilogx(w[keep] / 2, ph_d, **_DATA)
-        ax_p.semilogx(wf / 2, ph_m, **_ROM)
+        ax_p.semilogx(w[keep] * scale, ph_d, **_DATA)
+        ax_p.semilogx(wf * scale, ph_m, **_ROM)
         ax_m.set_title(_label(frf, i, j))
         ax_m.set_ylabel("|H|" if c == 0 else "")
         ax_p.set_ylabel("phase [deg]" if c == 0 else "")
-        ax_p.set_xlabel("reduced frequency k = omega c / (2U)")
+        ax_p.set_xlabel(label)
         for ax in (ax_m, ax_p):
             ax.grid(True, which="major", alpha=0.3)
         _plain_log_axis(ax_m, "y")
         _plain_log_axis(ax_p, "x")
     axes[0, 0].legend(loc="best", fontsize=8)
     note = _ends_note(frf, res)
-    fig.suptitle(f"data and ROM (order {res.order})" + (f"; {note}" if note else ""), fontsize=10)
+    _title(fig, f"data and ROM (order {res.order})" + (f"; {note}" if note else ""))
     fig.tight_layout()
     return fig
 
@@ -124,17 +154,18 @@ def error_figure(out):
     keep, w = _finite_positive(frf)
     H = np.asarray(frf.H)
     Hm = res.evaluate(frf.omega_d)
+    label, scale = _axis(frf)
     fig, ax = plt.subplots(figsize=(6.4, 4.0))
     floor = np.finfo(float).eps
     for c, (i, j) in enumerate(_channels(frf)):
         peak = np.abs(H[i]).max()
         e = np.abs(Hm[i, j] - H[i, j]) / peak
-        ax.loglog(w[keep] / 2, np.maximum(e[keep], floor), marker="o", ms=3, lw=1.0, color=f"C{c}",
+        ax.loglog(w[keep] * scale, np.maximum(e[keep], floor), marker="o", ms=3, lw=1.0, color=f"C{c}",
                   label=f"{_label(frf, i, j)} (max {e.max():.2g})")
     lo, hi = ax.get_ylim()
     if hi / lo < 100:  # at least two decades, so that round-off-level errors read as such
         ax.set_ylim(hi / 100, hi * 1.2)
-    ax.set_xlabel("reduced frequency k = omega c / (2U)")
+    ax.set_xlabel(label)
     ax.set_ylabel("|ROM - data| / peak |data|  (floor 2.2e-16)")
     _plain_log_axis(ax, "x")
     ax.grid(True, which="major", alpha=0.3)
@@ -216,8 +247,9 @@ def poles_figure(out):
     return fig
 
 
-def write_figures(out, out_dir) -> dict[str, Path]:
-    """Write ``bode.png``, ``error.png``, ``hankel.png`` and ``poles.png`` to ``out_dir``."""
+def write_figures(out, out_dir, text: dict | None = None) -> dict[str, Path]:
+    """Write ``bode.png``, ``error.png``, ``hankel.png`` and ``poles.png`` to ``out_dir`` (with the PNG text
+    chunks ``text``: :func:`studies.fit.write_outputs` passes its generator marker)."""
     out_dir = Path(out_dir)
     figs = {"bode": bode_figure, "error": error_figure, "hankel": hankel_figure, "poles": poles_figure}
-    return {name: _save(make(out), out_dir / f"{name}.png") for name, make in figs.items()}
+    return {name: _save(make(out), out_dir / f"{name}.png", text=text) for name, make in figs.items()}

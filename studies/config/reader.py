@@ -147,13 +147,19 @@ class ConfigReader:
         return value
 
     def axis(self, value, key, parse_one) -> tuple:
-        """A sweep axis: one value or a non-empty list, each read by ``parse_one(value, key)``; sorted, unique."""
+        """A sweep axis: one value or a non-empty list, each read by ``parse_one(value, key)``; sorted. A value
+        given twice (after reading: ``"70/(2*pi)"`` and ``11.140846016432674`` are one T) is refused: a study
+        file that lists it twice most likely meant another value."""
         if not isinstance(value, list):
             value = [value]
         if not value:
             raise self.err(key, "must not be empty")
         vals = [parse_one(v, f"{key}[{i}]") for i, v in enumerate(value)]
-        return tuple(sorted(set(vals)))
+        for i, v in enumerate(vals):
+            if vals.index(v) != i:
+                raise self.err(f"{key}[{i}]", f"{value[i]!r} is {key}[{vals.index(v)}] again ({v!r}); give each value "
+                                              "once")
+        return tuple(sorted(vals))
 
 
 def did_you_mean(word: str, options) -> str:

@@ -411,6 +411,9 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
     raw_gusts = data.get("gusts", [])
     if not isinstance(raw_gusts, list):
         raise P.err("gusts", f"must be a list (e.g. [\"G3\", \"G6\"]), got {raw_gusts!r}")
+    if "gusts" in data and not raw_gusts:
+        raise P.err("gusts", "is empty: name the gusts (e.g. [\"G3\", \"G6\"]), or leave the key out for a study "
+                             "without gust responses")
     gusts = []
     for i, entry in enumerate(raw_gusts):
         key = f"gusts[{i}]"

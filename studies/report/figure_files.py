@@ -10,7 +10,7 @@ from .plot_style import pyplot
 __all__ = ["save_figure"]
 
 
-def save_figure(fig, path, *, dpi: int = 120, palette: bool = True) -> Path:
+def save_figure(fig, path, *, dpi: int = 120, palette: bool = True, text: dict | None = None) -> Path:
     """Save ``fig`` to ``path`` atomically (parent folders created) and close it.
 
     The figure is drawn to a temporary file beside ``path`` and renamed over it
@@ -25,6 +25,8 @@ def save_figure(fig, path, *, dpi: int = 120, palette: bool = True) -> Path:
     palette : bool
         PNG only: store with a 256-colour palette (no dithering), about three times smaller than RGBA and
         indistinguishable for line plots, so that generated figures can be committed.
+    text : dict of str, optional
+        PNG only: text chunks (key: value) stored in the file, e.g. ``lfdrom fit``'s generator marker.
 
     Returns
     -------
@@ -34,14 +36,17 @@ def save_figure(fig, path, *, dpi: int = 120, palette: bool = True) -> Path:
     fmt = path.suffix[1:].lower() or None
     try:
         with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=dpi, format=fmt)
+            fig.savefig(tmp, dpi=dpi, format=fmt, **({"metadata": dict(text)} if text and fmt == "png" else {}))
             if palette and fmt == "png":
-                from PIL import Image
+                from PIL import Image, PngImagePlugin
 
                 with Image.open(tmp) as im:
                     q = im.convert("RGB").quantize(colors=256, method=Image.Quantize.FASTOCTREE,
                                                    dither=Image.Dither.NONE)
-                q.save(tmp, format="PNG", optimize=True)
+                info = PngImagePlugin.PngInfo()
+                for key, value in (text or {}).items():
+                    info.add_text(key, value)
+                q.save(tmp, format="PNG", optimize=True, pnginfo=info)
     finally:
         pyplot().close(fig)
     return path

@@ -155,11 +155,16 @@ def write_report(results, out_dir, *, page=None, prose=None, progress: bool = Fa
     page_dir = page_path.parent
     page_dir.mkdir(parents=True, exist_ok=True)
 
-    # the page: each section's part, in the order of the registered sections (studies.sections.protocol)
+    # the page: each section's part, in the order of the registered sections (studies.sections.protocol); the
+    # tables every section offers to the prose's templates (studies.report.numbers) are gathered first
+    active = active_sections(config)
+    template_tables = {}
+    for section in active:
+        template_tables.update(section.template_tables(results))
     context = ReportContext(results=results, out_dir=out_dir, page_dir=page_dir, page_path=page_path,
                             figures=figures, dpi=dpi, say=say, slots=slots, title=title, paper=paper,
-                            formats=tuple(formats), redraw=redraw)
-    text = "\n".join(section.report(context) for section in active_sections(config))
+                            formats=tuple(formats), redraw=redraw, template_tables=template_tables)
+    text = "\n".join(section.report(context) for section in active)
     atomic_write_text(page_path, text)
     say(f"report {config.name}: {page_path}")
     return page_path

@@ -20,6 +20,7 @@ from typing import Mapping, Optional, Sequence
 import numpy as np
 
 from ..store.files import GENERATED_MARKER, generated_marker, is_generated_page
+from .numbers import TemplateError, check_templates, fill
 from .rows import T_key, frf_outputs, is_number, percent, summary_rows
 from .tables import Column, format_table
 
@@ -170,6 +171,10 @@ def read_prose(prose, page_path=None) -> dict:
             raise ReportError(f"{at}: unknown prose slot {name!r}{_slots_hint(str(name))}")
         if not isinstance(body, str):
             raise ReportError(f"{at}: prose slot {name!r} must be text (a string), got {type(body).__name__}")
+        try:
+            check_templates(body, f"{at}: prose slot {name!r}")
+        except TemplateError as e:
+            raise ReportError(str(e)) from None
         if body.strip():
             slots[name] = body.strip("\n")
     return slots
@@ -469,6 +474,10 @@ def page_markdown(results, tables: dict, figures: Optional[list], slots: dict, *
         Paper mode: the paper's claims next to the slots and where its other figures are reproduced.
     """
     config = results.config
+    try:   # numbers quoted from the tables: filled from this store (studies.report.numbers)
+        slots = {name: fill(body, tables, f"prose slot {name!r}") for name, body in slots.items()}
+    except TemplateError as e:
+        raise ReportError(str(e)) from None
     if title is None:
         title = (f"Reproduction of Bagheri, Jones & Gaitonde (2016): study {config.name}" if paper
                  else f"Study report: {config.name}")

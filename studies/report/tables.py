@@ -29,7 +29,7 @@ from typing import Any, Callable, Iterable, Mapping, Sequence, Union
 
 from ..store.files import atomic_write_text
 
-__all__ = ["Column", "TableError", "format_table", "write_table", "write_tables", "FORMATS", "SUFFIXES"]
+__all__ = ["Column", "TableError", "cell_text", "format_table", "write_table", "write_tables", "FORMATS", "SUFFIXES"]
 
 FORMATS = ("csv", "markdown", "latex")
 SUFFIXES = {"csv": ".csv", "markdown": ".md", "latex": ".tex"}
@@ -127,6 +127,12 @@ def _text(v: Any, col: Column) -> str:
         except ValueError as e:
             raise TableError(f"column {col.key!r}: format {spec!r} does not apply to {v!r}: {e}") from None
     return str(v)
+
+
+def cell_text(v: Any, col: Column) -> str:
+    """A value as the Markdown table shows it in column ``col`` ('' for a missing value): for numbers quoted
+    from a table elsewhere (:mod:`studies.report.numbers`)."""
+    return _text(v, col)
 
 
 def _csv_value(v: Any) -> str:

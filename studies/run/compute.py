@@ -46,10 +46,18 @@ def pinned_store(root, codes) -> ResultStore:
 
 
 def needs_compute(store, piece, cfg, force) -> bool:
-    """Whether a piece must be computed: ``force``, or not stored, or stored as a failure."""
+    """Whether a piece must be computed: ``force``, or not stored, or stored as a failure, or unreadable (a
+    file in the place of its folder, no permission: its task then meets the :class:`studies.store.cache.StoreReadError`
+    again and is recorded as failed, so that the run goes on with the other pieces and ends with exit status 3
+    instead of stopping in its plan)."""
+    from ..store.cache import StoreReadError
+
     if force:
         return True
-    e = store.get(piece, cfg)
+    try:
+        e = store.get(piece, cfg)
+    except StoreReadError:
+        return True
     return e is None or is_failed(e)
 
 

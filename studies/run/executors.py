@@ -4,13 +4,20 @@ Each pool has ``name`` (for the progress line), ``submit(fn, *args)`` -> future,
 ``(done, rest)`` and ``close(abort=False)``. :func:`make_pool` picks one:
 
 - this process (``workers=1``, the default: the machine this was written on has two cores shared);
-- local processes (``workers=N > 1``, :class:`concurrent.futures.ProcessPoolExecutor`), each with
-  ``cores // workers`` BLAS threads, each ending when the process that started it ends; with ``progress`` (a
+- local processes (``workers=N > 1``, :class:`concurrent.futures.ProcessPoolExecutor`), each ending when the
+  process that started it ends; with ``progress`` (a
   callable of the main process) the workers' progress events (:mod:`studies.run.progress`) come back on a
   ``multiprocessing`` queue, drained by ``wait`` every :data:`PROGRESS_POLL_S` seconds (no thread) and by
   ``close`` while the workers finish;
 - a Dask cluster (``scheduler="tcp://host:port"``, or ``"local"`` for a :class:`distributed.LocalCluster`
   of ``workers`` processes); the store folder must then be on a file system the workers share.
+
+Every task runs with :data:`BLAS_THREADS` BLAS threads (``threadpoolctl``), whichever pool runs it, a lone
+worker included: a BLAS reduction split over another number of threads adds in another order, and the stored
+results then differ in the last bits with the worker count (5e-9 relative on the paper study's ROMs when this
+process used two threads and the workers one each), so that a store resumed with other ``--workers`` would
+mix the two. With the threads pinned, a study's results are bit-for-bit the same for any worker count on one
+machine (``tests/studies/test_reliability.py::test_results_do_not_depend_on_the_worker_count``).
 """
 
 from __future__ import annotations
@@ -24,23 +31,48 @@ from concurrent.futures import wait as cf_wait
 from typing import Optional
 
 __all__ = ["InlinePool", "ProcessPool", "DaskPool", "make_pool", "check_scheduler", "RunnerError", "PARENT_POLL_S",
-           "PROGRESS_POLL_S"]
+           "PROGRESS_POLL_S", "BLAS_THREADS", "pinned_call"]
 
 
 class RunnerError(ValueError):
     """Bad runner options (workers, scheduler), or Dask asked for but not installed."""
 
 
-class InlinePool:
-    """Runs each task at once in this process (``workers=1``); futures are already done."""
+BLAS_THREADS = 1
+"""BLAS threads of every task, in every pool (module docstring). One: the runner's parallelism is its worker
+processes (one BLAS thread per worker was also the fastest on two cores, :class:`ProcessPool`)."""
 
-    name = "this process"
+
+def pinned_call(fn, *args):
+    """``fn(*args)`` with at most :data:`BLAS_THREADS` BLAS threads in this process (restored afterwards),
+    starting from an empty cache of compiled refit problems (:func:`sysid.refit_solvers.clear_refit_cache`).
+
+    The cache matters for reproducibility as the threads do: a refit solved by a problem compiled in this call
+    and one re-solved from the cache agree only to round-off, so that a task's results depended on what its
+    process had identified before (the tiny study's ROM metrics 1.1e-12 relative apart between the first run in
+    a process and a second one, measured 2026-12-03); from an empty cache every task computes the same way in
+    any process.
+    """
+    from threadpoolctl import threadpool_limits
+
+    from sysid.refit_solvers import clear_refit_cache
+
+    clear_refit_cache()
+    with threadpool_limits(limits=BLAS_THREADS, user_api="blas"):
+        return fn(*args)
+
+
+class InlinePool:
+    """Runs each task at once in this process (``workers=1``), with :data:`BLAS_THREADS` BLAS threads as a
+    worker process has; futures are already done."""
+
+    name = f"this process ({BLAS_THREADS} BLAS thread{'s' if BLAS_THREADS > 1 else ''})"
 
     def submit(self, fn, *args):
         """Run ``fn(*args)`` now; return a future that holds its result or its exception."""
         f: Future = Future()
         try:
-            f.set_result(fn(*args))
+            f.set_result(pinned_call(fn, *args))
         except Exception as e:  # noqa: BLE001 - reported by the caller; KeyboardInterrupt propagates
             f.set_exception(e)
         return f
@@ -120,19 +152,20 @@ ABORT_JOIN_S = 5.0
 
 
 class ProcessPool:
-    """Local worker processes, each limited to ``cores // workers`` BLAS threads.
+    """Local worker processes, each limited to :data:`BLAS_THREADS` BLAS threads.
 
     Without the limit every worker's BLAS starts one thread per core: on two cores the demo's fast LFD sweep
     (dense Gram-Schmidt) and its LTD march (block solves) beside it took 262 s and 129 s and the study 341 s;
     with one BLAS thread per worker 176 s and 98 s, the study 263 s (measured one after the other, same
-    machine, empty store each time).
+    machine, empty store each time). The limit was ``cores // workers`` until it became one for every pool,
+    so that results do not depend on the worker count (module docstring).
     """
 
     def __init__(self, workers: int, progress=None):
         import multiprocessing
 
         ctx = multiprocessing.get_context("fork") if "fork" in multiprocessing.get_all_start_methods() else None
-        threads = max(1, (os.cpu_count() or 1) // workers)
+        threads = BLAS_THREADS
         self.progress = progress
         self.queue = None if progress is None else (ctx or multiprocessing).SimpleQueue()
         self.ex = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
@@ -140,7 +173,7 @@ class ProcessPool:
         self.name = f"{workers} local processes ({threads} BLAS thread{'s' if threads > 1 else ''} each)"
 
     def submit(self, fn, *args):
-        return self.ex.submit(fn, *args)
+        return self.ex.submit(pinned_call, fn, *args)
 
     def wait(self, pending):
         """Wait for a task to finish; meanwhile pass the workers' progress events to ``progress``."""
@@ -234,7 +267,7 @@ class DaskPool:
             self.name = f"Dask scheduler {scheduler}"
 
     def submit(self, fn, *args):
-        return self.client.submit(fn, *args, pure=False)
+        return self.client.submit(pinned_call, fn, *args, pure=False)
 
     @staticmethod
     def wait(pending):

@@ -106,9 +106,9 @@ def auto_workers(config: StudyConfig, cpus: Optional[int] = None) -> int:
     """Worker processes for ``workers="auto"``: the study's widest stage, at most the CPU count.
 
     The widest stage is the CFD one: for each case one task per sampling period ``T`` (its LFD sweep) and
-    one for its gusts (a single LTD march), at least one per case. Each worker then gets
-    ``cpus // workers`` BLAS threads. Memory: a worker on the paper grid (181 x 60) holds about 1.5 GB at its
-    peak (the fast sweep's basis and one factorisation).
+    one for its gusts (a single LTD march), at least one per case. Each worker gets one BLAS thread
+    (:data:`studies.executors.BLAS_THREADS`, whatever the worker count). Memory: a worker on the paper grid
+    (181 x 60) holds about 1.5 GB at its peak (the fast sweep's basis and one factorisation).
 
     Parameters
     ----------

@@ -14,7 +14,8 @@ stage                                  what it asks of each section
 :func:`studies.run.runner.run_study`   :attr:`Section.pieces` (store kinds), :meth:`Section.width`,
                                        :meth:`Section.plan` (the :class:`Task` s that compute what the store lacks)
 :func:`studies.store.load_results`     :meth:`Section.read` (what the store holds, what is missing, what failed)
-:func:`studies.report.make_report`     :meth:`Section.report` (its part of the page, with its tables and figures)
+:func:`studies.report.make_report`     :meth:`Section.template_tables`, :meth:`Section.report` (its part of the
+                                       page, with its tables and figures)
 ====================================== =============================================================================
 
 A new section is a subclass of :class:`Section` registered with :func:`register`: the built-in ones by the package
@@ -225,6 +226,9 @@ class ReportContext:
         Table formats.
     redraw : bool
         Draw figures even when their cache says they are up to date.
+    template_tables : dict
+        ``name -> (rows, columns)``: the tables every active section offers to the prose's templates
+        (:meth:`Section.template_tables`, :mod:`studies.report.numbers`).
     """
 
     results: Any
@@ -239,6 +243,7 @@ class ReportContext:
     paper: Optional[bool] = None
     formats: tuple = ("csv", "markdown", "latex")
     redraw: bool = False
+    template_tables: Mapping = field(default_factory=dict)
 
 
 class Section:
@@ -307,6 +312,11 @@ class Section:
     def has_results(self, results) -> bool:
         """Whether ``results`` hold anything of this section (a report of nothing is refused over a page)."""
         return False
+
+    def template_tables(self, results) -> dict:
+        """Tables the page's prose may quote (``name -> (rows, columns)``, :mod:`studies.report.numbers`);
+        default none."""
+        return {}
 
     def report(self, context: ReportContext) -> str:
         """The section's part of the Markdown page (writing its tables and figures under ``context.out_dir``)."""

@@ -45,5 +45,5 @@ def gust_rom_report(context: ReportContext) -> str:
         drawn = report_figures(results, tables, fig_dir, dpi=context.dpi, paper=paper, redraw=context.redraw, say=say)
     else:
         say(f"report {config.name}: figures not drawn (figures=False)")
-    return page_markdown(results, tables, drawn, context.slots, page_dir=context.page_dir, tab_dir=tab_dir,
+    return page_markdown(results, {**context.template_tables, **tables}, drawn, context.slots, page_dir=context.page_dir, tab_dir=tab_dir,
                          title=context.title, paper=paper)

@@ -11,9 +11,9 @@ from __future__ import annotations
 
 from ...run.progress import task_key
 from ..protocol import PieceKind, Plan, Section, SectionRead, Task, register, step_id
-from .report import nonlinear_section
+from .report import LINEARITY_COLUMNS, linearity_rows, nonlinear_section
 from .schema import NONLINEAR_DEPENDENCIES, NONLINEAR_PIECES, describe, parse_nonlinear
-from .study import nonlinear_plan, nonlinear_status, nonlinear_task
+from .study import load_linearity, nonlinear_plan, nonlinear_status, nonlinear_task
 
 __all__ = ["NonlinearSection", "SECTION"]
 
@@ -54,6 +54,10 @@ class NonlinearSection(Section):
     def read(self, config, store) -> SectionRead:
         missing, failed = nonlinear_status(config, store)
         return SectionRead(missing=missing, failed=failed)
+
+    def template_tables(self, results) -> dict:
+        """The linearity table, which the linearity pages' prose quotes."""
+        return {"linearity": (linearity_rows(load_linearity(results)), list(LINEARITY_COLUMNS))}
 
     def report(self, context) -> str:
         return nonlinear_section(context.results, context.out_dir, context.page_dir, figures=context.figures,

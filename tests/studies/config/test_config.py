@@ -214,7 +214,7 @@ dc_gain = true
 M = [16, 64]
 M_base = 64
 T = [5.0, "70/2/pi"]
-orders = [9, 15, 9]
+orders = [15, 9]
 """)
     assert a.canonical_json() == b.canonical_json() and a.hash() == b.hash()
     c = loads_study(GOOD.replace("orders = [15, 9]", "orders = [15, 10]"))

@@ -481,8 +481,23 @@ def test_report_of_an_incomplete_store_is_not_a_success(computed, tmp_path, caps
 
 
 def test_no_gusts_no_step_limit():
-    cfg = loads_study(study_text(dt="1e-9").replace('gusts = ["G3"]', "gusts = []"))
+    cfg = loads_study(study_text(dt="1e-9").replace('gusts = ["G3"]\n', ""))
     assert cfg.gusts == () and cfg.simulation.dt == 1e-9
+
+
+@pytest.mark.parametrize("edit, key, match", [
+    (('orders = [9]', 'orders = [9, 25, 9]'), "sweep.orders[2]",
+     r"9 is sweep.orders\[0\] again .* give each value once"),
+    (('T = [11]', 'T = ["70/(2*pi)", 11.140846016432674]'), "sweep.T[1]", r"is sweep.T\[0\] again"),
+    (('gusts = ["G3"]', 'gusts = []'), "gusts", r"is empty: name the gusts .* leave the key out"),
+])
+def test_study_files_that_repeat_a_value_or_list_no_gust_are_refused(edit, key, match):
+    """Accepted without a word before: duplicates were silently dropped, gusts = [] meant no gust responses."""
+    text = study_text()
+    assert edit[0] in text
+    with pytest.raises(StudyConfigError, match=match) as e:
+        loads_study(text.replace(*edit))
+    assert e.value.key == key
 
 
 def test_grid_limits():
@@ -492,3 +507,60 @@ def test_grid_limits():
         GridSpec(farfield=1000.0)
     with pytest.raises(CaseError, match=r"3001 x 600 has 1,797,000 cells: a worker would need about 6\d\d GiB"):
         GridSpec(ni=3001, nj=600)
+
+
+# ------------------------------------------------------------------ reproducibility and unreadable stores
+def _blas_threads():
+    from threadpoolctl import threadpool_info
+
+    return sorted({lib["num_threads"] for lib in threadpool_info() if lib["user_api"] == "blas"})
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+def test_every_task_runs_with_one_blas_thread(workers):
+    """A lone worker (this process) had the machine's default BLAS threads, two on two cores, while each of two
+    workers had one: the stored results then differed in the last bits with the worker count."""
+    pool = executors.make_pool(None, workers)
+    try:
+        (threads,) = [f.result() for f in [pool.submit(_blas_threads)]]
+    finally:
+        pool.close()
+    assert threads == [executors.BLAS_THREADS] == [1]
+
+
+def test_results_do_not_depend_on_the_worker_count(computed, tmp_path):
+    """The ROMs and their gust histories of the tiny study, identified again by two worker processes and again
+    in this process, are bit-for-bit those of the `computed` fixture (workers = 1). Before, they were 1.1e-12
+    relative apart: the first identification in a process compiles its refit problems, later ones re-solve
+    them from sysid's cache (now emptied at the start of every task, studies.executors.pinned_call), and a lone
+    worker had the default BLAS threads (5e-9 apart on the paper study)."""
+    config, first, _ = computed
+    for workers, where in ((2, "w2"), (1, "w1")):
+        res = run_study(copy_study(config, tmp_path / where, drop=("rom", "sim")), workers=workers, progress=False)
+        assert res.complete and res.run.computed == N_POINTS * 2
+        for a in first.roms:
+            b = next(r for r in res.roms if (r.M, r.order, r.method) == (a.M, a.order, a.method))
+            assert {k: v for k, v in a.metrics.items() if k != "seconds"} == \
+                   {k: v for k, v in b.metrics.items() if k != "seconds"}
+    for a in first.sims:
+        b = next(s for s in res.sims if (s.M, s.order, s.method, s.gust) == (a.M, a.order, a.method, a.gust))
+        assert np.array_equal(a.cl, b.cl) and np.array_equal(a.cm, b.cm)
+
+
+def test_a_store_folder_replaced_by_a_file_is_an_incomplete_run(computed, tmp_path, capsys):
+    """`lfdrom run` over a store whose rom/ folder is a file: the other pieces go on, the ROM task is recorded
+    as failed and the run ends with exit 3 as docs/studies.md says (it stopped in its plan with exit 1)."""
+    from tinystudy import STUDY
+
+    config, _, _ = computed
+    study = copy_study(config, tmp_path)
+    import shutil
+
+    shutil.rmtree(study.store_dir / "rom")
+    (study.store_dir / "rom").write_text("not a folder")
+    (tmp_path / "tiny.toml").write_text(STUDY)
+    status = cli(["run", str(tmp_path / "tiny.toml"), "--store", str(study.store_dir), "--out", str(tmp_path / "o"),
+                  "--no-report", "--workers", "1", "--quiet"])
+    assert status == commands.EXIT_INCOMPLETE
+    err = capsys.readouterr().err
+    assert "the results store cannot be read" in err and "run again" in err and "Traceback" not in err
