@@ -227,7 +227,7 @@ def run_demo(out, *, M: int = 256, T: float = T_DEMO, noise: float = 2e-3, order
             )
             rows.append(row)
             say(f"  order {n:3d} {variant:10s} max err {row['max_rel_err']:.3e}  DC err {row['dc_rel_err']:.1e}  "
-                f"rho {row['spectral_radius']:.5f}  ({row['time_ms']:.0f} ms)")
+                f"rho {row['spectral_radius']:.5f}{'' if row['stable'] else ' UNSTABLE'}  ({row['time_ms']:.0f} ms)")
             for w in caught:
                 say(f"      {w.category.__name__}: {w.message}")
     md = _table_md(rows)
