@@ -3,7 +3,9 @@
 Each validates its inputs with :mod:`studies.cases` and :mod:`studies.config` before anything is computed,
 checks that every folder it will write accepts files and that the prose file parses, then calls
 ``studies.runner.run_study`` and ``studies.report.make_report``. ``rom`` then writes the one ROM the runner
-identified as ``.npz`` and ``.mat`` (:mod:`studies.rom_export`).
+identified as ``.npz`` and ``.mat`` (:mod:`studies.rom_export`): by default the stable, DC-exact identification, and
+a written ROM that is unstable or far off its data is warned about (:func:`rom_warnings`); ``run`` names a study's
+unstable ROMs at its end (:func:`unstable_rom_note`).
 
 Exit status (the last line printed says which):
 
@@ -25,8 +27,8 @@ from pathlib import Path
 
 from .cases import TEST_CASES, case_table
 from .config import StudyConfig, StudyConfigError, load_study, parse_study
-from .grid_spec import GRID_PRESETS
 from .exit_codes import EXIT_FAILED, EXIT_INCOMPLETE, EXIT_INTERRUPTED, EXIT_NOT_WRITTEN, EXIT_OK, EXIT_UNAVAILABLE
+from .grid_spec import GRID_PRESETS
 
 __all__ = ["add_subcommands", "dispatch", "cmd_cases", "cmd_run", "cmd_report", "cmd_rom", "rom_study", "COMMANDS",
            "EXIT_OK", "EXIT_FAILED", "EXIT_UNAVAILABLE", "EXIT_INCOMPLETE", "EXIT_NOT_WRITTEN", "EXIT_INTERRUPTED",
