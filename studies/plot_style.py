@@ -80,7 +80,7 @@ def key_legend(ax, colours: Mapping[str, Any] = None, styles: Mapping[str, Any] 
     colours : mapping label -> colour, optional
     styles : mapping label -> line style, optional (drawn in grey)
     ref_label : str, optional
-        Add the reference line (thick black) first.
+        Add the reference line (black, dotted: REF_STYLE) first.
     loc : str
     outside : bool
         Place the legend to the right of ``ax``.
