@@ -160,7 +160,9 @@ def flutter_plot(result, fig: Any = None):
 
 def gust_response_plot(response, reference: Any = None, axs: Any = None, *, label: str = "coupled ROM",
                        reference_label: str = "reference"):
-    """Gust angle, plunge, pitch, Cl and Cm against convective time; optional reference histories (dashed).
+    """Gust angle, plunge, pitch, Cl and Cm against convective time; optional reference histories (dashed) and,
+    with a reference, a last row of the differences ``(response - reference) / peak |reference|`` in per cent per
+    channel (the few per cent between two models cannot be read off the histories themselves).
 
     Parameters
     ----------
@@ -168,19 +170,22 @@ def gust_response_plot(response, reference: Any = None, axs: Any = None, *, labe
         From :func:`aeroelastic.gust_response` (uses ``t``, ``u``, ``plunge``, ``pitch``, ``Cl``, ``Cm``, ``speed``).
     reference : object with ``t``, ``plunge``, ``pitch``, ``Cl``, ``Cm``, optional
         Reference histories (e.g. another :class:`GustResponse`), drawn dashed on all rows but the gust angle.
-    axs : sequence of 5 matplotlib.axes.Axes, optional
-        One per row (gust angle, plunge, pitch, Cl, Cm); default a new figure with five stacked axes sharing x.
+    axs : sequence of 5 or 6 matplotlib.axes.Axes, optional
+        One per row (gust angle, plunge, pitch, Cl, Cm, and the differences when a sixth is given); default a new
+        figure with stacked axes sharing x: five, or six with a reference.
     label, reference_label : str
         Legend labels of ``response`` and ``reference`` (defaults ``"coupled ROM"``, ``"reference"``).
 
     Returns
     -------
     sequence of matplotlib.axes.Axes
-        ``axs``, or the new ndarray of five axes, shape (5,).
+        ``axs``, or the new ndarray of axes, shape (5,), or (6,) with a reference.
     """
     _check_result(response, ("t", "u", "plunge", "pitch", "Cl", "Cm"), "aeroelastic.gust_response")
     plt = _plt()
-    if axs is None:
+    if axs is None and reference is not None:
+        _, axs = plt.subplots(6, 1, sharex=True, figsize=(7.0, 10.5), gridspec_kw=dict(height_ratios=[1] * 5 + [1.2]))
+    elif axs is None:
         _, axs = plt.subplots(5, 1, sharex=True, figsize=(7.0, 9.0))
     rows = [("u", "gust angle u (rad)"), ("plunge", "h / c (up)"), ("pitch", r"$\alpha$ (rad)"),
             ("Cl", "Cl"), ("Cm", "Cm (elastic axis)")]
@@ -190,6 +195,17 @@ def gust_response_plot(response, reference: Any = None, axs: Any = None, *, labe
             ax.plot(reference.t, getattr(reference, key), "--", color="tab:orange", lw=1.3, label=reference_label)
         ax.set_ylabel(lab)
         ax.grid(True, alpha=0.3)
+    if reference is not None and len(axs) > 5:
+        t = np.asarray(response.t, dtype=float)
+        for (key, lab), colour in zip(rows[1:], ("tab:green", "tab:red", "tab:purple", "tab:brown")):
+            ref = np.interp(t, np.asarray(reference.t, dtype=float), np.asarray(getattr(reference, key), dtype=float))
+            peak = max(float(np.max(np.abs(ref))), np.finfo(float).tiny)
+            axs[5].plot(t, 100 * (np.asarray(getattr(response, key), dtype=float) - ref) / peak, color=colour, lw=1.2,
+                        label=key)
+        axs[5].axhline(0.0, color="k", lw=0.6)
+        axs[5].set_ylabel("difference\n(% of peak)")
+        axs[5].legend(loc="best", fontsize=7, ncol=4)
+        axs[5].grid(True, alpha=0.3)
     axs[1].legend(loc="best", fontsize=8)
     axs[-1].set_xlabel("convective time s = t U / c")
     axs[0].set_title(f"Flexible section in a gust, speed index V = {response.speed:.3g}")

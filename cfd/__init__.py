@@ -13,6 +13,7 @@ Main entry points (``__all__``; the equations in docs/equations.md): geometry an
 from .errors import ConvergenceError, FlowConditionError, GeometryError, MeshError
 from .geometry import Aerofoil, TabulatedAerofoil, naca, naca64a010
 from .mesh import Grid, GridQuality, c_grid, grid_from_nodes, grid_quality
+from .grid_presets import GRID_PRESETS, preset_grid
 from .flow import FlowCondition, conserved, primitive
 from .euler import Scheme, residual
 from .jacobian import jacobian
@@ -33,7 +34,7 @@ __all__ = [
     "GustPositionError", "LinearError", "LocalMachError", "NonPhysicalStateError", "UnsteadyError",
     "UnsteadyStepError",
     "Aerofoil", "TabulatedAerofoil", "naca", "naca64a010",
-    "Grid", "GridQuality", "c_grid", "grid_from_nodes", "grid_quality",
+    "Grid", "GridQuality", "c_grid", "grid_from_nodes", "grid_quality", "GRID_PRESETS", "preset_grid",
     "FlowCondition", "conserved", "primitive", "Scheme", "residual", "jacobian", "force_coefficients", "wall_cp",
     "SteadySolution", "solve_steady",
     "kussner", "sears", "sears_compressible", "wagner",

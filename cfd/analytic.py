@@ -3,7 +3,7 @@
 These are the independent references against which the linearised CFD (``cfd.lfd``, ``cfd.ltd``) is
 validated at low Mach number. Everything is vectorised over its first argument.
 
-Units and conventions (those of the project, ``shared/DESIGN.md``)
+Units and conventions (those of the project, docs/conventions.md)
 -------------------------------------------------------------------
 - ``omega`` is the angular frequency in units of ``U / c`` (c the chord); the classical reduced
   frequency on the semi-chord ``b = c / 2`` is ``k = omega b / U = omega / 2``.
@@ -124,7 +124,7 @@ def sears_compressible(omega, mach, reference="midchord"):
 
         S_c = S(x) [J0(M^2 x) - i J1(M^2 x)] exp(+i x f(M))       (exp(+i omega t) convention)
 
-    so that ``Cl = (2 pi / beta) (w_ref / U) S_c``. The form quoted in shared/REFERENCES.md,
+    so that ``Cl = (2 pi / beta) (w_ref / U) S_c``. The form quoted in docs/references.md,
     ``S(x) [J0 + i J1] exp(-i x f)``, fits the ``exp(-i omega t)`` convention; here the two correction
     factors are conjugated (confirmed by the CFD: the phase change of the LFD lift with Mach number
     follows this form, docs/gust_validation.md): the Bessel factor is then the chordwise integral of the

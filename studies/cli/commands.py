@@ -3,7 +3,9 @@
 Each validates its inputs with :mod:`studies.config.cases` and :mod:`studies.config` before anything is computed,
 checks that every folder it will write accepts files and that the prose file parses, then calls
 ``studies.run.runner.run_study`` and ``studies.report.make_report``. ``rom`` then writes the one ROM the runner
-identified as ``.npz`` and ``.mat`` (:mod:`studies.store.rom_export`).
+identified as ``.npz`` and ``.mat`` (:mod:`studies.store.rom_export`): by default the stable, DC-exact identification, and
+a written ROM that is unstable or far off its data is warned about (:func:`rom_warnings`); ``run`` names a study's
+unstable ROMs at its end (:func:`unstable_rom_note`).
 
 Exit status (the last line printed says which):
 
@@ -17,6 +19,7 @@ Exit status (the last line printed says which):
 
 from __future__ import annotations
 
+import argparse
 import json
 import sys
 import warnings
@@ -25,10 +28,11 @@ from pathlib import Path
 from ..config.cases import TEST_CASES, case_table
 from ..config.study import StudyConfig, StudyConfigError, load_study, parse_study
 from .exit_codes import EXIT_FAILED, EXIT_INCOMPLETE, EXIT_INTERRUPTED, EXIT_NOT_WRITTEN, EXIT_OK, EXIT_UNAVAILABLE
+from ..config.grid_spec import GRID_PRESETS
 
 __all__ = ["add_subcommands", "dispatch", "cmd_cases", "cmd_run", "cmd_report", "cmd_rom", "rom_study", "COMMANDS",
            "EXIT_OK", "EXIT_FAILED", "EXIT_UNAVAILABLE", "EXIT_INCOMPLETE", "EXIT_NOT_WRITTEN", "EXIT_INTERRUPTED",
-           "run_status", "rom_summary_line"]
+           "run_status", "rom_summary_line", "rom_warnings", "unstable_rom_note", "ROM_ERROR_WARNING"]
 
 COMMANDS = ("cases", "run", "report", "rom", "fit")
 
@@ -104,11 +108,20 @@ def add_subcommands(sub) -> None:
     p.add_argument("--alpha", default=0.0, help="incidence of a user case, degrees (default 0)")
     p.add_argument("--T", default="70/(2*pi)", help="sampling period of the bilinear map (default 70/(2*pi))")
     p.add_argument("--M", type=int, default=256, help="grid intervals, N_omega = M + 1 (default 256)")
-    p.add_argument("--dc-gain", action="store_true", help="match the DC gain exactly")
-    p.add_argument("--stable", action="store_true", help="enforce stability (spectral radius < 1 - 1e-3)")
-    p.add_argument("--out", type=Path, default=Path("rom-output"),
-                   help="output folder (default rom-output; files CASE_N<order>_M<M>.npz and .mat), or a file "
-                        "name ending in .npz or .mat (both files are written)")
+    p.add_argument("--dc-gain", action=argparse.BooleanOptionalAction, default=True,
+                   help="match the DC gain exactly (default; --no-dc-gain: least squares at omega = 0 too)")
+    p.add_argument("--stable", action=argparse.BooleanOptionalAction, default=True,
+                   help="enforce stability, spectral radius < 1 - 1e-3 (default; --no-stable: not enforced)")
+    p.add_argument("--paper", action="store_true",
+                   help="the paper's unconstrained identification (McKelvey subspace + least squares, as "
+                        "--no-dc-gain --no-stable): often unstable at high orders, which is warned about")
+    p.add_argument("--grid", choices=tuple(GRID_PRESETS), default="paper",
+                   help="C-grid: paper (181 x 60, minutes) or coarse (65 x 17, seconds; its accuracy against the "
+                        "paper grid: docs/mesh.md); default paper")
+    p.add_argument("--out", type=Path, default=Path("results/rom"),
+                   help="output folder (default results/rom; files CASE_N<order>_M<M>.npz and .mat, "
+                        "CASE_N<order>_M<M>_coarse.* on the coarse grid), or a file name ending in .npz or .mat "
+                        "(both files are written)")
     p.add_argument("--store", type=Path, default=None,
                    help="results store (default OUT/store, or store/ next to an OUT file)")
     p.add_argument("--quiet", action="store_true")
@@ -301,6 +314,18 @@ def run_status(results) -> tuple:
     return EXIT_OK, "done: every piece computed and stored"
 
 
+def unstable_rom_note(results) -> str:
+    """One line naming the study's unstable ROMs (spectral radius >= 1), or ``""`` when there are none: a study may
+    ask for the paper's unconstrained identification on purpose, but its unstable models are never passed over
+    in silence (the report's tables list every spectral radius)."""
+    bad = [r for r in results.roms if r.ok and not r.metrics.get("spectral_radius", float("nan")) < 1.0]
+    if not bad:
+        return ""
+    names = "; ".join(f"{r.label()} ({r.metrics.get('spectral_radius', float('nan')):.4g})" for r in bad[:3])
+    return (f"{len(bad)} of {len(results.roms)} ROM(s) are unstable (spectral radius >= 1), e.g. {names}: their gust "
+            "responses grow without bound; a method with dc_gain = \"match\" and stable = true avoids this")
+
+
 def _plan(config: StudyConfig) -> str:
     lines = [f"study {config.name!r} ({config.source}): {len(config.cases)} case(s), {len(config.gusts)} gust(s), "
              f"{len(config.methods)} method variant(s), {len(config.points())} identifications",
@@ -347,6 +372,9 @@ def cmd_run(args) -> int:
     if status != EXIT_OK:
         return status
     status, line = run_status(results)
+    note = unstable_rom_note(results)
+    if note:
+        _show_warning(note, RuntimeWarning, "", 0)
     if not args.no_report:
         report_status = _report(config, args)
         if isinstance(report_status, int):  # a Path when the report was written
@@ -438,10 +466,13 @@ def rom_study(args) -> StudyConfig:
                 f"{args.case!r} is not a paper case ({', '.join(TEST_CASES)}); for your own aerofoil give "
                 "--naca and --mach (e.g. lfdrom rom mine --naca 0012 --mach 0.5 --order 20)"))
         case = {"name": args.case, "naca": args.naca, "mach": args.mach, "alpha_deg": args.alpha}
-    method = {"dc_gain": "match" if args.dc_gain else "none", "stable": bool(args.stable)}
+    paper = bool(getattr(args, "paper", False))
+    method = {"dc_gain": "match" if args.dc_gain and not paper else "none", "stable": bool(args.stable) and not paper}
     data = {"name": "rom", "cases": [case], "sweep": {"orders": [args.order], "T": [args.T],
                                                                     "M_base": args.M, "M": [args.M]},
             "method": method}
+    if getattr(args, "grid", "paper") != "paper":   # the paper grid is every case's default: its hash stays
+        data["grid"] = GRID_PRESETS[args.grid].kwargs()
     out = args.out.resolve()
     if out.suffix in (".npz", ".mat"):
         out = out.parent
@@ -494,7 +525,8 @@ def _rom_files(args):
     if out.suffix.lower() in (".npz", ".mat"):
         stem = out.with_suffix("")
     else:
-        stem = out / f"{args.case}_N{args.order}_M{args.M}"
+        grid = getattr(args, "grid", "paper")
+        stem = out / (f"{args.case}_N{args.order}_M{args.M}" + ("" if grid == "paper" else f"_{grid}"))
     return stem.with_suffix(".npz"), stem.with_suffix(".mat")
 
 
@@ -524,10 +556,37 @@ def _export_rom(results, args) -> int:
         _err(f"the ROM could not be written: {e} (it is in the store {results.config.store_dir}; rerun with "
              "another --out to export it without recomputing)")
         return EXIT_NOT_WRITTEN
-    if not args.quiet:
+    notes = rom_warnings(rec, results.config.cfd.outputs)
+    if not args.quiet or notes:
         print(rom_summary_line(rec, results.config.cfd.outputs))
     print(f"wrote {npz} and {mat}")
+    for note in notes:
+        _show_warning(note, RuntimeWarning, "", 0)
     return EXIT_OK
+
+
+ROM_ERROR_WARNING = 0.05
+"""FRF max error (peak-normalised, any output) above which ``lfdrom rom`` warns that the ROM is far off its data:
+the stable, DC-exact fits of the paper study stay within 0.02 - 4.4 % (docs/paper-reproduction.md)."""
+
+
+def rom_warnings(rec, outputs) -> list:
+    """What ``lfdrom rom`` warns about a written ROM: unstable (spectral radius >= 1, or not finite) or further than
+    :data:`ROM_ERROR_WARNING` from its frequency response in some output. Empty for a sound ROM."""
+    m = rec.metrics
+    notes = []
+    radius = m.get("spectral_radius", float("nan"))
+    if not radius < 1.0:
+        notes.append(f"the ROM is unstable (spectral radius {radius:.6g} >= 1): its gust responses grow without bound; "
+                     "the default identification (without --paper, --no-stable) enforces stability")
+    far = [(o, m.get(f"frf_max_err_{o}", float("nan"))) for o in outputs]
+    far = [(o, e) for o, e in far if not e <= ROM_ERROR_WARNING]
+    if far:
+        what = ", ".join(f"{o} {100 * e:.3g} %" for o, e in far)
+        notes.append(f"the ROM is far off its frequency response (max error / peak: {what}; more than "
+                     f"{100 * ROM_ERROR_WARNING:g} %): try another --order, the default stable, DC-exact "
+                     "identification, or check the data with 'lfdrom fit' (its diagnostics)")
+    return notes
 
 
 def rom_summary_line(rec, outputs) -> str:

@@ -8,7 +8,7 @@ The "truth" is a synthetic continuous system with the ingredients of an aerofoil
 
 - a two-lag Kussner-like indicial lift: the sharp-edged-gust step response
   ``psi(s) = 1 - 0.5 exp(-0.26 s) - 0.5 exp(-2 s)`` (Sears-Sparks, in chords), scaled to the
-  Prandtl-Glauert slope ``2 pi / beta`` at M = 0.735 (REFERENCES.md, sections 2 and 3); its transfer
+  Prandtl-Glauert slope ``2 pi / beta`` at M = 0.735 (docs/references.md, sections 2 and 3); its transfer
   function ``(2 pi / beta) (0.13 / (s + 0.26) + 1 / (s + 2))`` is strictly proper (zero feedthrough);
 - two lightly damped modes (reduced frequencies k = 0.3 and 0.7, damping 4 % and 6 %), small in Cl,
   larger in Cm, standing in for the shock-motion dynamics of transonic flow.
@@ -227,7 +227,7 @@ def run_demo(out, *, M: int = 256, T: float = T_DEMO, noise: float = 2e-3, order
             )
             rows.append(row)
             say(f"  order {n:3d} {variant:10s} max err {row['max_rel_err']:.3e}  DC err {row['dc_rel_err']:.1e}  "
-                f"rho {row['spectral_radius']:.5f}  ({row['time_ms']:.0f} ms)")
+                f"rho {row['spectral_radius']:.5f}{'' if row['stable'] else ' UNSTABLE'}  ({row['time_ms']:.0f} ms)")
             for w in caught:
                 say(f"      {w.category.__name__}: {w.message}")
     md = _table_md(rows)

@@ -600,8 +600,30 @@ def print_summary(out: FitOutcome, file=None) -> None:
     else:
         dc = f"DC error {res.dc_error:.1e}" if res.dc_error is not None else "no omega = 0 sample (DC not checked)"
     print(f"max error / peak: {per}; {dc}; spectral radius {res.spectral_radius:.6f}", file=file)
-    for note in out.warnings:
+    for note in out.warnings + tuple(result_warnings(out)):
         print(f"warning: {note}", file=file)
+
+
+FIT_ERROR_WARNING = 0.05
+"""Max error / peak (any output) above which ``lfdrom fit`` warns that the ROM is far off its data (the same limit
+as ``studies.commands.ROM_ERROR_WARNING`` of ``lfdrom rom``; a test checks they agree)."""
+
+
+def result_warnings(out: FitOutcome) -> list:
+    """What ``lfdrom fit`` warns about the ROM it wrote: unstable (spectral radius >= 1, e.g. with ``--no-stable``)
+    or more than :data:`FIT_ERROR_WARNING` of the peak off its data in some output. Empty for a sound ROM."""
+    res = out.result
+    notes = []
+    if not res.spectral_radius < 1.0:
+        notes.append(f"the ROM is unstable (spectral radius {res.spectral_radius:.6g} >= 1): its time responses grow "
+                     "without bound; fit with --stable (the default)")
+    far = [(o, float(e)) for o, e in zip(out.data.outputs, res.errors.max_rel_per_output)]
+    far = [(o, e) for o, e in far if not e <= FIT_ERROR_WARNING]
+    if far:
+        what = ", ".join(f"{o} {100 * e:.3g} %" for o, e in far)
+        notes.append(f"the ROM is far off its data (max error / peak: {what}; more than {100 * FIT_ERROR_WARNING:g} %): "
+                     "try another --order, and see what the data diagnostics above flag")
+    return notes
 
 
 # ---------------------------------------------------------------------------------------------
@@ -737,4 +759,7 @@ def cmd_fit(args) -> int:
     if not args.quiet:
         print_summary(out)
     print("wrote " + ", ".join(str(p) for p in paths.values()))
+    if args.quiet:   # an unstable or poor ROM is never passed over in silence
+        for note in result_warnings(out):
+            print(f"lfdrom: warning: {note}", file=sys.stderr)
     return EXIT_OK

@@ -90,7 +90,7 @@ class FlowCase:
 
 @dataclass(frozen=True)
 class GustCase:
-    """A gust of the study, in the per-unit-gust-angle convention of shared/DESIGN.md.
+    """A gust of the study, in the per-unit-gust-angle convention of docs/conventions.md.
 
     Parameters
     ----------

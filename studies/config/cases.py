@@ -32,7 +32,7 @@ G6 and "v_gmax = 1"
 -------------------
 The paper gives G6 as a step (sharp-edged gust, its Eq. 33) of amplitude ``v_gmax = 1`` in its
 non-dimensional velocity, i.e. ``v_gmax / U_inf = 1``: a unit step of the input. In our convention
-(shared/DESIGN.md) the input of every linear model is ``u = v_g(x_ref, t) / U_inf`` and the loads
+(docs/conventions.md) the input of every linear model is ``u = v_g(x_ref, t) / U_inf`` and the loads
 are per unit of it, so G6 is the unit step ``u = 1`` and its responses are the indicial (sharp-edged
 gust) responses per radian of gust angle, the same numbers that the Kussner function scales. The cfd
 gust objects are parametrised by the gust angle with amplitude ``tan(angle_deg)``, so G6 is stored

@@ -7,7 +7,7 @@ from dataclasses import asdict, dataclass
 
 from .case_fields import CaseError, check_integer, check_real
 
-__all__ = ["GridSpec", "PAPER_GRID", "WALL_SPACING", "MAX_CELLS", "MAX_FARFIELD", "worker_memory_bytes"]
+__all__ = ["GridSpec", "PAPER_GRID", "COARSE_GRID", "GRID_PRESETS", "WALL_SPACING", "MAX_CELLS", "MAX_FARFIELD", "worker_memory_bytes"]
 
 
 WALL_SPACING = 0.004
@@ -104,3 +104,11 @@ class GridSpec:
 
 
 PAPER_GRID = GridSpec()
+
+COARSE_GRID = GridSpec(ni=65, nj=17, n_surface=48)
+"""A 65 x 17 C-grid (48 cells on the wall, 1,024 cells against the paper grid's 10,620): a case in seconds, for
+trying things (``lfdrom rom --grid coarse``); its accuracy against the paper grid: docs/mesh.md. The same sizes as
+``cfd.GRID_PRESETS["coarse"]`` (a test checks)."""
+
+GRID_PRESETS = {"paper": PAPER_GRID, "coarse": COARSE_GRID}
+"""Grid sizes by name (``lfdrom rom --grid NAME``)."""

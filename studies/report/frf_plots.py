@@ -101,8 +101,8 @@ def frf_plot(omega, H_ref, models=(), *, outputs: Sequence[str] = ("Cl", "Cm"), 
         ref = H_ref[j, input_index]
         ph_ref = unwrapped_phase_deg(ref[sel])
         a_m, a_p = axes[0, j], axes[1, j]
-        a_m.loglog(ks, np.abs(ref[sel]), label=ref_label, **REF_STYLE, zorder=2)
-        a_p.semilogx(ks, ph_ref, **REF_STYLE, zorder=2)
+        a_m.loglog(ks, np.abs(ref[sel]), label=ref_label, **REF_STYLE, zorder=5)
+        a_p.semilogx(ks, ph_ref, **REF_STYLE, zorder=5)
         if mask is not None and mask.any():
             a_m.loglog(k[mask], np.abs(ref[mask]), "o", mfc="none", mec="k", ms=4.5, zorder=2.5,
                        label=f"{ref_label} samples used ({int(mask.sum())})")

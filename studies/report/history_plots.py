@@ -99,7 +99,7 @@ def history_plot(t, reference: Mapping[str, Any] | None, models=(), *, outputs: 
             col["u"].set_ylabel("gust angle [deg]", fontsize=8)
         ay = col["y"]
         if ref is not None:
-            ay.plot(t, ref[o], label=ref_label, **REF_STYLE, zorder=2)
+            ay.plot(t, ref[o], label=ref_label, **REF_STYLE, zorder=5)
         span = None
         if ref is not None and np.all(np.isfinite(ref[o])):
             span = max(float(np.ptp(ref[o])), 1e-12)

@@ -11,7 +11,9 @@ __all__ = ["LINESTYLES", "REF_STYLE", "pyplot", "output_label", "line_style", "c
            "key_legend", "percent_formatter", "percent_text"]
 
 LINESTYLES = ("-", "--", ":", "-.", (0, (5, 1, 1, 1, 1, 1)), (0, (1, 3)))
-REF_STYLE = dict(color="0.2", lw=2.2)
+REF_STYLE = dict(color="k", lw=1.8, ls=(0, (1, 1.5)), dash_capstyle="round")
+"""The reference curve (LTD, LFD): black, dotted, drawn on top of the models (zorder 5) so that a model that follows
+it cannot hide it (a thick grey line underneath vanished under every ROM that matched it)."""
 _TEX_NAMES = {"Cl": r"$C_l$", "Cm": r"$C_m$", "Cd": r"$C_d$"}
 
 
@@ -78,7 +80,7 @@ def key_legend(ax, colours: Mapping[str, Any] = None, styles: Mapping[str, Any] 
     colours : mapping label -> colour, optional
     styles : mapping label -> line style, optional (drawn in grey)
     ref_label : str, optional
-        Add the reference line (thick black) first.
+        Add the reference line (black, dotted: REF_STYLE) first.
     loc : str
     outside : bool
         Place the legend to the right of ``ax``.

@@ -3,7 +3,7 @@
 Data in, figure out: no store access, no CFD. Each ``*_plot`` draws a new figure (or into the axes it is given)
 and returns ``(fig, axes)``; the caller saves and closes it (:func:`save_figure` does both).
 
-Conventions (``shared/DESIGN.md``): angular frequency ``omega`` in units of ``U / c``, plotted against the
+Conventions (docs/conventions.md): angular frequency ``omega`` in units of ``U / c``, plotted against the
 reduced frequency ``k = omega c / (2 U) = omega / 2``; time is convective, ``s = t U / c``; frequency responses
 have shape ``(n_outputs, n_inputs, n_frequencies)`` and are per radian of gust angle; phases are unwrapped
 along frequency and shown in degrees; time histories are load perturbations about the steady flow.

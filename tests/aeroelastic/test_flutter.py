@@ -10,8 +10,8 @@ from aeroelastic import theodorsen as th
 
 W = np.concatenate([[0.0], np.geomspace(0.01, 4.0, 100)])
 HP = ae.TypicalSection(mu=20, a=-0.2, x_alpha=0.1, r_alpha2=0.24, omega_ratio=0.4)
-#: Hodges & Pierce's example section, flutter speed U_F/(b omega_alpha) as quoted for it (about 2.17; the issue's
-#: brief; see docs/aeroelastic.md for where the number comes from and how it relates to the exact determinant).
+#: Hodges & Pierce's example section, flutter speed U_F/(b omega_alpha) as quoted for it (about 2.17: Hodges &
+#: Pierce, docs/references.md section 7; see docs/aeroelastic.md for where the number comes from and how it relates to the exact determinant).
 CLASSICAL_SPEED = 2.17
 SPEEDS = np.linspace(0.05, 3.0, 60)
 

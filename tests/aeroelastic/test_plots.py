@@ -24,8 +24,27 @@ def test_plots_return_axes():
     assert len(fig.axes) == 3
     t = np.linspace(0, 20, 201)
     g = ae.gust_response(model, sec, 1.0, (t, np.where(t > 1, 0.01, 0.0)))
+    assert len(ae.gust_response_plot(g)) == 5
     axs = ae.gust_response_plot(g, reference=g)
-    assert len(axs) == 5
+    assert len(axs) == 6   # the difference row, zero here
+    assert all(np.all(np.asarray(line.get_ydata()) == 0.0) for line in axs[5].lines)
+    plt.close("all")
+
+
+def test_gust_plot_difference_row_is_per_cent_of_the_reference_peak():
+    # the row that shows the few per cent docs/aeroelastic.md quotes: (response - reference) / peak |reference|
+    import types
+
+    t = np.linspace(0.0, 10.0, 101)
+    ref = types.SimpleNamespace(t=t, plunge=np.sin(t), pitch=2 * np.sin(t), Cl=np.cos(t), Cm=-np.cos(t))
+    resp = types.SimpleNamespace(t=t, u=0 * t, speed=1.0, plunge=1.02 * np.sin(t), pitch=2 * np.sin(t),
+                                 Cl=np.cos(t) + 0.03, Cm=-np.cos(t))
+    axs = ae.gust_response_plot(resp, reference=ref)
+    lines = {line.get_label(): line.get_ydata() for line in axs[5].lines if not line.get_label().startswith("_")}
+    peak = np.max(np.abs(np.sin(t)))
+    np.testing.assert_allclose(lines["plunge"], 2 * np.sin(t) / peak, atol=1e-12)
+    np.testing.assert_allclose(lines["Cl"], 3.0, atol=1e-12)
+    np.testing.assert_allclose(lines["pitch"], 0.0, atol=1e-12)
     plt.close("all")
 
 

@@ -24,7 +24,7 @@ def test_theodorsen_function_against_the_modified_bessel_form():
 def test_sears_function_against_the_bessel_form_and_table():
     S_ref = 1.0 / (1j * K * (special.kv(0, 1j * K) + special.kv(1, 1j * K)))
     np.testing.assert_allclose(th.sears_function(K), S_ref, rtol=1e-10)
-    # tabulated |S| and phase (docs REFERENCES, 3 significant digits): k = 0.05, 0.1, 0.5, 1, 2
+    # tabulated |S| and phase (docs/references.md section 3, 3 significant digits): k = 0.05, 0.1, 0.5, 1, 2
     k = np.array([0.05, 0.1, 0.5, 1.0, 2.0])
     S = th.sears_function(k)
     np.testing.assert_allclose(np.abs(S), [0.914, 0.837, 0.526, 0.390, 0.280], atol=1.5e-3)

@@ -1,4 +1,4 @@
-"""Analytic gust references against the tabulated values of shared/REFERENCES.md section 3."""
+"""Analytic gust references against the tabulated values of docs/references.md section 3."""
 
 import numpy as np
 import pytest

@@ -88,7 +88,7 @@ def test_steady_gain_equals_lift_slope_of_nonlinear_steady_solves(thick):
     # one branch per tie (a one-sided mixture), which the small Cm of a symmetric aerofoil feels most; at
     # alpha = 1 deg, with no ties, the gains agree to 1.4e-3 (test_cm_gain_off_the_symmetric_state_...).
     assert H0[1].real == pytest.approx(slope[1], rel=0.025)
-    # Prandtl-Glauert with thickness (REFERENCES 2) is a loose sanity range on this coarse grid
+    # Prandtl-Glauert with thickness (docs/references.md section 2) is a loose sanity range on this coarse grid
     assert 0.8 < slope[0] / (2 * np.pi / np.sqrt(1 - 0.09) * (1 + 0.77 * 0.1)) < 1.2
 
 

@@ -171,7 +171,7 @@ def test_flat_plate_sharp_edged_gust_against_compressible_kussner():
     edge: +0.047, +0.042, +0.042 against the Amiet step response (0.718, 0.841, 0.923); on the
     121 x 33 grid +0.031, +0.023, +0.019: the gap follows the steady-gain error of the grid (+2 % and
     +0.8 %) and the nearer far field. Tolerance 0.06. Earlier (s < 2) the response is governed by
-    acoustic waves (REFERENCES 3) and is not compared.
+    acoustic waves (docs/references.md section 3) and is not compared.
     """
     from cfd.analytic import kussner, sears_compressible, step_response
     from cfd.flow import FlowCondition

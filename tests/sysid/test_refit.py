@@ -47,7 +47,7 @@ def noisy(G, level, seed):
 
 
 def dc_elimination_oracle(A, C, z, G, dc):
-    """REFERENCES.md section 5: eliminate D. G(z) - G0 = (1 - z) C (zI - A)^-1 (I - A)^-1 B is plain LS in
+    """docs/references.md section 5: eliminate D. G(z) - G0 = (1 - z) C (zI - A)^-1 (I - A)^-1 B is plain LS in
     X = (I - A)^-1 B; then B = (I - A) X and D = G0 - C X. (Unweighted; stacked Re/Im; per input column.)"""
     n = A.shape[0]
     p, m, K = G.shape
@@ -100,7 +100,7 @@ def test_dc_constraint_exact_on_noisy_data_and_matches_oracles(n, p, m, grid):
     scale = np.abs(o.B).max()
     assert np.abs(r.B - o.B).max() < 1e-8 * scale
     assert np.abs(r.D - o.D).max() < 1e-8 * max(1, np.abs(o.D).max())
-    # eliminate-D oracle (REFERENCES.md section 5)
+    # eliminate-D oracle (docs/references.md section 5)
     Be, De = dc_elimination_oracle(A, C, grid, Gn, dc)
     assert np.abs(r.B - Be).max() < 1e-7 * scale
     assert np.abs(r.D - De).max() < 1e-7 * max(1, np.abs(De).max())

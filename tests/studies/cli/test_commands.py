@@ -195,3 +195,94 @@ def test_rom_reports_a_failed_identification(tmp_path, monkeypatch, capsys):
     assert run(["rom", "T2", "--order", "9", "--M", "32", "--out", str(tmp_path), "--quiet"]) == commands.EXIT_INCOMPLETE
     assert "the identification failed: OrderError: too large" in capsys.readouterr().err
     assert not list(tmp_path.glob("*.npz"))
+
+
+def test_rom_defaults_to_the_stable_dc_exact_identification(tmp_path, fake_modules):
+    # a newcomer's `lfdrom rom` must not get the paper's unconstrained fit (spectral radius 1.32 on a NACA0012
+    # M0.5 case) without asking for it
+    fake_modules("studies.runner", "run_study")
+    run(["rom", "T2", "--order", "9", "--M", "32", "--out", str(tmp_path), "--quiet"])
+    (_, config, _), = fake_modules.calls
+    (point,) = config.points()
+    assert point.method.dc_gain == "match" and point.method.stable
+    assert point.case.grid.ni == 181   # the paper grid unless asked
+
+
+@pytest.mark.parametrize("flags, dc_gain, stable", [
+    (["--paper"], "none", False),
+    (["--no-dc-gain", "--no-stable"], "none", False),
+    (["--no-stable"], "match", False),
+    (["--dc-gain", "--stable"], "match", True),
+])
+def test_rom_method_options(flags, dc_gain, stable, tmp_path, fake_modules):
+    fake_modules("studies.runner", "run_study")
+    run(["rom", "T2", "--order", "9", "--M", "32", "--out", str(tmp_path), "--quiet"] + flags)
+    (_, config, _), = fake_modules.calls
+    (point,) = config.points()
+    assert (point.method.dc_gain, point.method.stable) == (dc_gain, stable)
+
+
+def test_rom_coarse_grid(tmp_path, fake_modules):
+    import cfd
+    from studies.grid_spec import COARSE_GRID
+
+    assert COARSE_GRID.kwargs() == dict(cfd.GRID_PRESETS["coarse"])   # one preset, two packages
+    fake_modules("studies.runner", "run_study")
+    run(["rom", "T2", "--order", "9", "--M", "32", "--grid", "coarse", "--out", str(tmp_path), "--quiet"])
+    (_, config, _), = fake_modules.calls
+    (point,) = config.points()
+    assert point.case.grid == COARSE_GRID
+    args = argparse.Namespace(out=tmp_path, case="T2", order=9, M=32, grid="coarse")
+    assert commands._rom_files(args)[0].name == "T2_N9_M32_coarse.npz"   # never overwrites the paper grid's ROM
+
+
+def _fake_rom_run(monkeypatch, metrics):
+    """studies.runner.run_study replaced by one that 'identifies' a ROM with the given metrics."""
+    import studies.runner
+    from studies.results import RomRecord
+
+    def run_study(config, **kw):
+        stored = RomRecord(case="T2", T=1.0, M=32, order=2, method="default", status="ok", metrics=metrics)
+        rec = types.SimpleNamespace(**{k: getattr(stored, k) for k in ("case", "T", "M", "order", "metrics", "ok")},
+                                    label=stored.label, model=lambda outputs=None: None)
+        return types.SimpleNamespace(roms=[rec], missing=[], failed=[], config=config)
+
+    monkeypatch.setattr(studies.runner, "run_study", run_study)
+    import studies.rom_export
+
+    monkeypatch.setattr(studies.rom_export, "export_rom_npz", lambda path, model, meta: Path(path).touch())
+    monkeypatch.setattr(studies.rom_export, "export_rom_mat", lambda path, model, meta: Path(path).touch())
+
+
+@pytest.mark.parametrize("metrics, match", [
+    ({"spectral_radius": 1.32, "frf_max_err_Cl": 0.01, "frf_max_err_Cm": 0.18},
+     r"unstable \(spectral radius 1.32 >= 1\).*\n.*far off.*Cm 18 %"),
+    ({"spectral_radius": 0.998, "frf_max_err_Cl": 0.01, "frf_max_err_Cm": 0.06}, r"far off.*Cm 6 %"),
+    ({"spectral_radius": float("nan"), "frf_max_err_Cl": float("nan"), "frf_max_err_Cm": 0.01},
+     r"unstable \(spectral radius nan.*\n.*far off.*Cl nan %"),
+])
+def test_rom_warns_about_an_unstable_or_poor_model(metrics, match, tmp_path, monkeypatch, capsys):
+    # exit 0 (the ROM was asked for and written) but never without a word, even with --quiet
+    _fake_rom_run(monkeypatch, metrics)
+    assert run(["rom", "T2", "--order", "2", "--M", "32", "--paper", "--out", str(tmp_path), "--quiet"]) == 0
+    captured = capsys.readouterr()
+    assert re.search(match, captured.err)
+    assert "spectral radius" in captured.out   # the summary line, printed despite --quiet
+
+
+def test_rom_sound_model_is_quiet(tmp_path, monkeypatch, capsys):
+    _fake_rom_run(monkeypatch, {"spectral_radius": 0.998, "frf_max_err_Cl": 0.004, "frf_max_err_Cm": 0.0103})
+    assert run(["rom", "T2", "--order", "2", "--M", "32", "--out", str(tmp_path), "--quiet"]) == 0
+    captured = capsys.readouterr()
+    assert captured.err == "" and captured.out.startswith("wrote ")
+
+
+def test_run_names_unstable_roms():
+    from studies.results import RomRecord
+
+    roms = [RomRecord(case="T2", T=1.0, M=32, order=25, method="paper", status="ok", metrics={"spectral_radius": 1.3}),
+            RomRecord(case="T2", T=1.0, M=32, order=25, method="dc_stable", status="ok",
+                      metrics={"spectral_radius": 0.99})]
+    note = commands.unstable_rom_note(types.SimpleNamespace(roms=roms))
+    assert note.startswith("1 of 2 ROM(s) are unstable") and "1.3)" in note
+    assert commands.unstable_rom_note(types.SimpleNamespace(roms=roms[1:])) == ""

@@ -43,3 +43,12 @@ def test_cli_demo_and_help(tmp_path, capsys):
     assert e.value.code == 0
     assert "demo" in capsys.readouterr().out
     assert cli.main([]) == 2
+
+
+def test_demo_says_which_roms_are_unstable(tmp_path, capsys):
+    # the demo shows the paper's plain fit beside the constrained ones: an unstable row says so in words
+    res = run_demo(tmp_path / "out", M=64, orders=(4, 12), verbose=True)
+    lines = [line for line in capsys.readouterr().out.splitlines() if " rho " in line]
+    assert len(lines) == len(res.rows)
+    for row, line in zip(res.rows, lines):
+        assert ("UNSTABLE" in line) == (not row["stable"])

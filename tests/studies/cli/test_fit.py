@@ -1,6 +1,7 @@
 """``lfdrom fit``: the three file formats, recovery of known systems, --order auto, bad files and exit codes."""
 
 import importlib.util
+import re
 import sys
 from pathlib import Path
 
@@ -587,3 +588,36 @@ def test_no_dc_warning_when_none_was_asked(tmp_path, capsys, option, advice):
     out = capsys.readouterr().out
     assert "pass the DC gain as an array" not in out
     assert ("give it with --dc-gain VALUE[,VALUE...]" in out) is advice
+
+
+def test_a_poor_fit_is_warned_about_even_when_quiet(files, tmp_path, capsys):
+    # order 1 for the worked example's four poles: written (exit 0), but never without a word
+    assert cli.main(["fit", str(files["csv"]), "--order", "1", "--out", str(tmp_path / "o"), "--quiet",
+                     "--no-figures"]) == 0
+    err = capsys.readouterr().err
+    assert re.search(r"lfdrom: warning: the ROM is far off its data \(max error / peak: Cl \d", err)
+
+
+@pytest.mark.parametrize("radius, errors, match", [
+    (1.05, [0.01], r"^the ROM is unstable \(spectral radius 1.05 >= 1\)"),
+    (float("nan"), [0.01], r"^the ROM is unstable \(spectral radius nan"),
+    (0.99, [0.2], r"^the ROM is far off its data \(max error / peak: Cl 20 %"),
+    (0.99, [float("nan")], r"^the ROM is far off its data \(max error / peak: Cl nan %"),
+])
+def test_fit_result_warnings(radius, errors, match):
+    import types
+
+    from studies.fit import result_warnings
+
+    res = types.SimpleNamespace(spectral_radius=radius, errors=types.SimpleNamespace(max_rel_per_output=errors))
+    (note,) = result_warnings(types.SimpleNamespace(result=res, data=types.SimpleNamespace(outputs=("Cl",))))
+    assert re.search(match, note)
+    res.spectral_radius, res.errors.max_rel_per_output = 0.99, [0.01]
+    assert result_warnings(types.SimpleNamespace(result=res, data=types.SimpleNamespace(outputs=("Cl",)))) == []
+
+
+def test_fit_and_rom_warn_at_the_same_error():
+    from studies.commands import ROM_ERROR_WARNING
+    from studies.fit import FIT_ERROR_WARNING
+
+    assert FIT_ERROR_WARNING == ROM_ERROR_WARNING
