@@ -224,7 +224,7 @@ def test_rom_method_options(flags, dc_gain, stable, tmp_path, fake_modules):
 
 def test_rom_coarse_grid(tmp_path, fake_modules):
     import cfd
-    from studies.grid_spec import COARSE_GRID
+    from studies.config.grid_spec import COARSE_GRID
 
     assert COARSE_GRID.kwargs() == dict(cfd.GRID_PRESETS["coarse"])   # one preset, two packages
     fake_modules("studies.runner", "run_study")

@@ -607,7 +607,7 @@ def test_a_poor_fit_is_warned_about_even_when_quiet(files, tmp_path, capsys):
 def test_fit_result_warnings(radius, errors, match):
     import types
 
-    from studies.fit import result_warnings
+    from studies.cli.fit import result_warnings
 
     res = types.SimpleNamespace(spectral_radius=radius, errors=types.SimpleNamespace(max_rel_per_output=errors))
     (note,) = result_warnings(types.SimpleNamespace(result=res, data=types.SimpleNamespace(outputs=("Cl",))))
@@ -617,7 +617,7 @@ def test_fit_result_warnings(radius, errors, match):
 
 
 def test_fit_and_rom_warn_at_the_same_error():
-    from studies.commands import ROM_ERROR_WARNING
-    from studies.fit import FIT_ERROR_WARNING
+    from studies.cli.commands import ROM_ERROR_WARNING
+    from studies.cli.fit import FIT_ERROR_WARNING
 
     assert FIT_ERROR_WARNING == ROM_ERROR_WARNING
