@@ -49,7 +49,7 @@ import numpy as np
 
 from sysid import FrequencyResponse
 
-from .frequencies import check_motion_frequencies, check_pivot, check_x_ref, frequency_grid
+from .frequencies import check_motion_frequencies, check_pivot, check_tol, check_x_ref, frequency_grid
 from .linear import LinearError, check_gust_method, check_linear_system, check_outputs
 from .motion import check_inputs
 from .checks import whole_number
@@ -60,17 +60,6 @@ __all__ = ["SweepBasis", "fast_sweep", "gust_operator", "face_gust_vector", "SAF
 # from cfd.sweep_basis)
 
 log = logging.getLogger(__name__)
-
-def _check_tol(tol):
-    try:
-        t = float(tol)
-    except (TypeError, ValueError):
-        raise LinearError(f"tol must be a positive finite number (relative output error, e.g. 1e-8); got {tol!r}") \
-            from None
-    if not np.isfinite(t) or t <= 0.0:
-        raise LinearError(f"tol must be a positive finite number (relative output error, e.g. 1e-8); got {tol!r}")
-    return t
-
 
 def _evaluate_inputs(basis, wf, gust, x_ref, inputs, pivot, caches, sel):
     """Every input's reduced outputs and estimates, shapes (p, m, K), the dual residuals (p, K) (input
@@ -247,7 +236,7 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
         When ``tol`` is not met within ``max_shifts``; the message names the frequencies.
     """
     check_linear_system(lin)
-    tol = _check_tol(tol)
+    tol = check_tol(tol)
     check_gust_method(gust)
     names, rows = check_outputs(outputs)
     inputs = check_inputs(inputs)

@@ -58,14 +58,15 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from .errors import LocalMachError, NonPhysicalStateError, UnsteadyError, UnsteadyStepError  # noqa: F401 (re-exported)
-from .checks import whole_number
+from .checks import callback, flag, log_interval as check_log_interval, whole_number
 from .euler import residual
 from .flow import FlowCondition, primitive
 from .frequencies import check_x_ref
-from .gust import OneMinusCosine, SharpEdged, SineGust, cell_x_gradient, face_gust, gust_face_velocity, svm_source
+from .gust import (OneMinusCosine, SharpEdged, SineGust, cell_x_gradient, check_gust_step, face_gust,
+                   gust_face_velocity, svm_source, warn_unseen)
 from .jacobian import H_STEP, jacobian
 from .linear import METHODS, factorise, grid_permutation, wall_loads
-from .ltd import LTDHistory, phase_error_estimate
+from .ltd import LTDHistory, check_times, phase_error_estimate
 
 __all__ = [
     "UnsteadyError",
@@ -158,14 +159,8 @@ def _check_input(gust, method, dt, t_end):
         raise UnsteadyError(f"method must be one of {METHODS} (split or field velocity method); got {method!r}")
     if not isinstance(gust, (SineGust, OneMinusCosine, SharpEdged)):
         raise UnsteadyError(f"gust must be a cfd.SineGust, OneMinusCosine or SharpEdged; got {type(gust).__name__}")
-    try:
-        dt, t_end = float(dt), float(t_end)
-    except (TypeError, ValueError):
-        raise UnsteadyError("dt and t_end must be real numbers (convective time)") from None
-    if not (math.isfinite(dt) and dt > 0.0):
-        raise UnsteadyError(f"dt = {dt} must be positive and finite (convective time, e.g. 0.02)")
-    if not (math.isfinite(t_end) and t_end >= dt):
-        raise UnsteadyError(f"t_end = {t_end} must be finite and at least one time step (dt = {dt})")
+    dt, t_end = check_times(dt, t_end, UnsteadyError)   # the LTD's step limit, cfd.ltd.MAX_STEPS, before any work
+    check_gust_step(gust, dt, UnsteadyError)
     return dt, t_end
 
 
@@ -307,7 +302,9 @@ def unsteady_response(sol, gust, dt, t_end, method="svm", x_ref=0.0, *, rtol=1e-
     Raises
     ------
     UnsteadyError
-        Unknown method, not a gust, bad ``dt`` or ``t_end``, a non-finite ``x_ref``, a setting out of range
+        Unknown method, not a gust, bad ``dt`` or ``t_end``, more than ``cfd.ltd.MAX_STEPS`` steps (refused before
+        any work, as the LTD), a gust that passes in fewer than ``cfd.gust.MIN_GUST_STEPS`` steps, a ``krylov``
+        that is not a bool, a ``progress`` that is not callable, a negative ``log_interval``, a non-finite ``x_ref``, a setting out of range
         (``rtol``, ``atol`` negative; ``max_iter``, ``max_refactor`` not whole numbers; ``stall_ratio`` outside
         (0, 1]; a limit or ``steady_tol`` not positive; any of them NaN), a non-converged ``sol``.
     UnsteadyStepError
@@ -317,12 +314,17 @@ def unsteady_response(sol, gust, dt, t_end, method="svm", x_ref=0.0, *, rtol=1e-
     Warns
     -----
     RuntimeWarning
-        ``dt`` too large for the gust; a local Mach number above ``separation_mach``.
+        ``dt`` too large for the gust; a local Mach number above ``separation_mach``; a march that ends before the
+        gust reaches ``x_ref``.
     """
     dt, t_end = _check_input(gust, method, dt, t_end)
     x_ref = check_x_ref(x_ref, UnsteadyError)
     snapshot_times = _check_settings(rtol, atol, max_iter, stall_ratio, max_refactor, snapshot_times,
                                      max_phase_error, max_local_mach, separation_mach, steady_tol)
+    krylov = flag("krylov", krylov, UnsteadyError)
+    progress = callback("progress", progress, UnsteadyError)
+    log_interval = check_log_interval(log_interval, UnsteadyError)
+    warn_unseen(gust, t_end, x_ref)
     err = phase_error_estimate(gust, dt)
     if err > max_phase_error:
         warnings.warn(
