@@ -10,7 +10,7 @@ import numpy as np
 from .linear import LinearError
 
 __all__ = ["frequencies", "frequency_grid", "check_position", "check_x_ref", "check_pivot",
-           "check_motion_frequencies", "check_tol", "MAX_FREQUENCIES"]
+           "check_motion_frequencies", "check_tol", "MAX_FREQUENCIES", "MAX_POSITION"]
 
 MAX_FREQUENCIES = 100_000
 """Most frequencies one LFD call takes: each is a sparse factorisation on the direct path (about 0.1 s on the paper
@@ -66,14 +66,25 @@ def frequency_grid(omega, T):
     return w, T
 
 
+MAX_POSITION = 1e4
+"""Largest distance (chords) of a position (``x_ref``, ``pivot``) from the leading edge: the largest far field of a
+C-grid (``cfd.mesh_generation.MAX_FARFIELD``)."""
+
+
 def check_position(name, value, error=LinearError):
-    """A position on the chord line (chords from the leading edge), checked real and finite (else ``error``)."""
+    """A position on the chord line (chords from the leading edge), checked real, finite and within
+    :data:`MAX_POSITION` (else ``error``)."""
     try:
+        if isinstance(value, (bool, np.bool_)):
+            raise TypeError
         x = float(value)
     except (TypeError, ValueError):
         raise error(f"{name} must be a real number (chords from the leading edge); got {value!r}") from None
     if not np.isfinite(x):
         raise error(f"{name} must be finite (chords); got {value!r}")
+    if abs(x) > MAX_POSITION:
+        raise error(f"{name} = {x:g} chords is beyond cfd.frequencies.MAX_POSITION = {MAX_POSITION:g}: positions are "
+                    "in chords from the leading edge (a pivot of 1e300 overflowed the pitch forcing to NaN loads)")
     return x
 
 

@@ -451,6 +451,9 @@ def _march(lin, gusts, dt, t_end, method, x_ref, initial, motion=None, progress=
             moves = [] if motion is None else _radau_motions(lin, t, *motion, stage_times)
             Y, q = _radau(lin, gusts, t, method, initial, moves, m, stage_times, clock)
             moves = [(f, x) for f, x, _ in moves]
+    if not np.all(np.isfinite(Y)):
+        raise LinearError("the march's loads overflowed to inf or NaN: the inputs are too large for floating point "
+                          "(the system is linear: march a unit input and scale the loads)")
     x_of = {f.name: x for f, x in moves}
     pivot = next((f.pivot for f, _ in moves if f.name == "pitch"), None)
     zero = np.zeros(n + 1)

@@ -61,6 +61,12 @@ __all__ = ["SweepBasis", "fast_sweep", "gust_operator", "face_gust_vector", "SAF
 
 log = logging.getLogger(__name__)
 
+MAX_WORKERS = 64
+"""Most worker processes :func:`fast_sweep` starts (``workers``): a fork-context ``ProcessPoolExecutor`` starts all of
+them at its first task, each holding its own factorisations, so ``workers = 10**6`` would fork a million processes
+at once."""
+
+
 def _evaluate_inputs(basis, wf, gust, x_ref, inputs, pivot, caches, sel):
     """Every input's reduced outputs and estimates, shapes (p, m, K), the dual residuals (p, K) (input
     independent), and the worst ratio of estimate to allowance per frequency, shape (K,)."""
@@ -253,9 +259,13 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
     if isinstance(log_interval, bool) or not isinstance(log_interval, (int, float, np.integer, np.floating)) or \
             not log_interval >= 0.0:
         raise LinearError(f"log_interval must be a number of seconds >= 0 (default 60); got {log_interval!r}")
-    if not isinstance(workers, (int, np.integer)) or workers < 1:
+    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
         raise LinearError(f"workers must be a positive integer (processes for the shifts, 1: this one); got "
                           f"{workers!r}")
+    if workers > MAX_WORKERS:
+        raise LinearError(f"workers = {workers} is more than cfd.sweep.MAX_WORKERS = {MAX_WORKERS}: each worker is a "
+                          "forked process holding its own factorisations, and all are started at once; use at most "
+                          "the machine's cores (os.cpu_count())")
     w, T = frequency_grid(omega, T)
     x_ref = check_x_ref(x_ref)
     check_motion_frequencies(inputs, w)

@@ -173,3 +173,4 @@ def test_the_period_of_motion_only_data_is_still_a_period():
 def test_fit_options_are_checked(kwargs, error, match):
     with pytest.raises(error, match=match):
         ae.fit_motion(th.theodorsen_frf(W, -0.2), 2, **kwargs)
+

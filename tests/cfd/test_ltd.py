@@ -438,3 +438,19 @@ def test_progress_and_log_interval_are_checked_before_the_march(lin, kwargs, mat
 def test_booleans_are_not_times(lin):
     with pytest.raises(LinearError, match="dt and t_end must be real numbers"):
         ltd_response(lin, SharpEdged(angle_deg=1.0), True, 1.0)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(pivot=1e300), r"pivot = 1e\+300 chords is beyond cfd.frequencies.MAX_POSITION = 10000"),   # NaN loads
+    (dict(pivot=True), r"pivot must be a real number"),
+    (dict(x_ref=-2e4), r"x_ref = -20000 chords is beyond cfd.frequencies.MAX_POSITION"),
+])
+def test_positions_are_in_chords_near_the_aerofoil(lin, kwargs, match):
+    with pytest.raises(LinearError, match=match):
+        ltd_response(lin, None, 0.1, 1.0, pitch=np.zeros(11), **kwargs)
+
+
+def test_loads_that_overflow_are_refused(lin):
+    # a linear march of a 1e308-chord plunge: the loads (about 50 times the plunge) overflow; none is returned
+    with pytest.raises(LinearError, match=r"overflowed to inf or NaN"), np.errstate(all="ignore"):
+        ltd_response(lin, None, 0.1, 1.0, plunge=np.full(11, 1e308))
