@@ -606,12 +606,6 @@ def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, ma
         interpolated by a cubic spline at the stage times (give a callable for its exact values; it is called
         once with the flat array of all stage times, those of the last step past ``t_end`` included).
 
-    Warns
-    -----
-    RuntimeWarning
-        :func:`phase_error_estimate` above ``max_phase_error``; a march from rest that ends before the gust's front
-        reaches ``x_ref`` (loads of about zero).
-
     Returns
     -------
     LTDHistory
@@ -627,7 +621,13 @@ def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, ma
         ``log_interval``, a motion history of the wrong length or with non-finite values, a non-finite pivot or
         ``x_ref``, a ``max_phase_error`` that is not a positive number, a Radau step that is not a positive whole
         multiple of ``dt``, an ``initial`` that is not a pair of finite real states of shape (4N,), ``lin`` not a
-        ``LinearSystem``.
+        ``LinearSystem``; loads that overflow to inf or NaN (inputs too large for floating point).
+
+    Warns
+    -----
+    RuntimeWarning
+        :func:`phase_error_estimate` above ``max_phase_error``; a march from rest that ends before the gust's front
+        reaches ``x_ref`` (loads of about zero).
     """
     check_linear_system(lin)
     check_gust_method(method)

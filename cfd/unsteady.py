@@ -75,6 +75,7 @@ __all__ = [
     "LocalMachError",
     "UnsteadyHistory",
     "unsteady_response",
+    "MAX_SNAPSHOT_BYTES",
 ]
 
 log = logging.getLogger(__name__)
@@ -152,6 +153,11 @@ class UnsteadyHistory(LTDHistory):
     def cd_total(self):
         """Total (pressure) drag coefficient, shape (n + 1,)."""
         return self.steady_loads[2] + self.cd
+
+
+MAX_SNAPSHOT_BYTES = 4 * 2**30
+"""Most memory the full-state snapshots of :func:`unsteady_response` may take (``snapshot_times``, one state per
+distinct step): 4 GiB, some 12 000 states of the paper grid."""
 
 
 def _check_input(gust, method, dt, t_end):
@@ -304,7 +310,8 @@ def unsteady_response(sol, gust, dt, t_end, method="svm", x_ref=0.0, *, rtol=1e-
     UnsteadyError
         Unknown method, not a gust, bad ``dt`` or ``t_end``, more than ``cfd.ltd.MAX_STEPS`` steps (refused before
         any work, as the LTD), a gust that passes in fewer than ``cfd.gust.MIN_GUST_STEPS`` steps, a ``krylov``
-        that is not a bool, a ``progress`` that is not callable, a negative ``log_interval``, a non-finite ``x_ref``, a setting out of range
+        that is not a bool, a ``progress`` that is not callable, a negative ``log_interval``, snapshots of more than
+        :data:`MAX_SNAPSHOT_BYTES`, a non-finite ``x_ref``, a setting out of range
         (``rtol``, ``atol`` negative; ``max_iter``, ``max_refactor`` not whole numbers; ``stall_ratio`` outside
         (0, 1]; a limit or ``steady_tol`` not positive; any of them NaN), a non-converged ``sol``.
     UnsteadyStepError
@@ -332,12 +339,17 @@ def unsteady_response(sol, gust, dt, t_end, method="svm", x_ref=0.0, *, rtol=1e-
             f"scale (limit {100 * max_phase_error:.2g} %); reduce dt by {math.sqrt(err / max_phase_error):.2g}x",
             RuntimeWarning, stacklevel=2)
     grid, qbar, flow, scheme, R0, r_free, drop = _steady_state(sol, steady_tol)
+    snap_steps = {int(round(min(max(s, 0.0), t_end) / dt)) for s in snapshot_times}
+    if len(snap_steps) * qbar.nbytes > MAX_SNAPSHOT_BYTES:
+        raise UnsteadyError(f"snapshot_times asks for {len(snap_steps)} full states of {qbar.nbytes / 2**20:.3g} MiB, "
+                            f"{len(snap_steps) * qbar.nbytes / 2**30:.3g} GiB, more than MAX_SNAPSHOT_BYTES = "
+                            f"{MAX_SNAPSHOT_BYTES / 2**30:g} GiB: keep the times you will look at (the loads are kept "
+                            "at every step anyway)")
     march = _March(grid, qbar, flow, scheme, R0, r_free, gust, method, dt, rtol, atol, max_iter, stall_ratio,
                    max_refactor, krylov)
     march.info["steady_residual"] = drop
     n = int(round(t_end / dt))
     t = dt * np.arange(n + 1)
-    snap_steps = {int(round(min(max(s, 0.0), t_end) / dt)) for s in snapshot_times}
     loads = np.zeros((n + 1, 3))
     iters = np.zeros(n + 1, dtype=int)
     res = np.zeros(n + 1)

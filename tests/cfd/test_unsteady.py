@@ -249,3 +249,11 @@ def test_linearity_refuses_2d_and_impossible_amplitudes_before_the_ltd(coarse, m
     monkeypatch.setattr("cfd.ltd.ltd_response", no_march)
     with pytest.raises(error, match=match):
         cfd.linearity(coarse, gust(1.0), amplitudes, 0.1, 3.0, lin=object())
+
+
+def test_snapshots_that_cannot_fit_in_memory_are_refused(coarse, monkeypatch):
+    # a snapshot at every one of a million steps: 18 KiB states of this grid, 17 GiB, refused before the march
+    monkeypatch.setattr("cfd.unsteady._March", lambda *a, **k: (_ for _ in ()).throw(AssertionError("marched")))
+    with pytest.raises(UnsteadyError, match=r"snapshot_times asks for 1000000 full states .* more than "
+                                            r"MAX_SNAPSHOT_BYTES = 4 GiB"):
+        unsteady_response(coarse, gust(1.0), 1e-3, 1000.0, snapshot_times=np.arange(1_000_000) * 1e-3)
