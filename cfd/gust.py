@@ -343,8 +343,14 @@ def check_gust_step(gust, dt, error=GustError):
 
 def warn_unseen(gust, t_end, x_ref=0.0, stacklevel=3):
     """Warn (``RuntimeWarning``) when a march that ends at ``t_end`` stops before the gust's front reaches
-    ``x_ref``: its loads are those of the undisturbed flow (about zero), not a gust response."""
+    ``x_ref`` (its loads are those of the undisturbed flow, about zero, not a gust response), or before the peak of
+    a 1-cosine gust reaches it (a gust of 1e300 chords: an input of zeros)."""
     arrival = gust.arrival(x_ref)
+    if isinstance(gust, OneMinusCosine) and arrival < t_end < arrival + 0.5 * gust.length:
+        warnings.warn(f"the march ends at t_end = {t_end:g}, before the peak of the {gust.length:g}-chord gust reaches "
+                      f"x_ref = {x_ref:g} at s = {arrival + 0.5 * gust.length:g}: the loads are those of its rising "
+                      f"part only. March to at least t_end = {arrival + gust.length + 5.0:g} for the whole response",
+                      RuntimeWarning, stacklevel=stacklevel)
     if gust.x0 is not None and t_end <= arrival:
         warnings.warn(f"the march ends at t_end = {t_end:g}, before the gust front (x0 = {gust.x0:g}) reaches x_ref = "
                       f"{x_ref:g} at s = {arrival:g}: the loads will be about zero. March to at least "

@@ -454,3 +454,12 @@ def test_loads_that_overflow_are_refused(lin):
     # a linear march of a 1e308-chord plunge: the loads (about 50 times the plunge) overflow; none is returned
     with pytest.raises(LinearError, match=r"overflowed to inf or NaN"), np.errstate(all="ignore"):
         ltd_response(lin, None, 0.1, 1.0, plunge=np.full(11, 1e308))
+
+
+def test_a_march_that_ends_before_the_gust_peak_warns(lin):
+    # OneMinusCosine(length=1e300) is legal (the uniform-gust limit) but its input is zero over any march
+    g = OneMinusCosine(length=1e300, angle_deg=1.0, x0=-2.0)
+    with pytest.warns(RuntimeWarning, match=r"ends at t_end = 4, before the peak of the 1e\+300-chord gust reaches "
+                                            r"x_ref = 0 at s = 5e\+299"):
+        h = ltd_response(lin, g, 0.1, 4.0)
+    assert np.abs(h.u).max() < 1e-300
