@@ -30,16 +30,26 @@ from .errors import AeroModelError
 from .fit import LOAD_OUTPUTS, MOTION_INPUTS, channel_indices
 from .section import check_section
 
-__all__ = ["change_axes", "to_elastic_axis"]
+__all__ = ["change_axes", "to_elastic_axis", "MAX_AXIS"]
+
+
+MAX_AXIS = 1e4
+"""Largest distance (chords) of an axis from the leading edge that :func:`change_axes` takes: the transfer's terms
+grow with the shift, and a pivot 1e300 chords away gave responses of 8e300 silently."""
 
 
 def _x(name: str, v: Any) -> float:
     try:
+        if isinstance(v, (bool, np.bool_, str, bytes)):
+            raise TypeError
         f = float(v)
     except (TypeError, ValueError):
         raise AeroModelError(f"{name} must be a position in chords from the leading edge, got {v!r}") from None
     if not np.isfinite(f):
         raise AeroModelError(f"{name} must be finite, got {v!r}")
+    if abs(f) > MAX_AXIS:
+        raise AeroModelError(f"{name} = {f:g} chords is beyond MAX_AXIS = {MAX_AXIS:g} from the leading edge; positions "
+                             "are in chords (the elastic axis of a typical section is x = (1 + a) / 2)")
     return f
 
 

@@ -35,12 +35,18 @@ from .errors import AeroModelError, SpeedError
 from .fit import MotionModel, fit_motion
 from .section import TypicalSection, check_section
 
-__all__ = ["coupled_model", "state_matrix", "as_motion_model", "check_speed", "check_axis", "data_axis", "STATE_OUTPUTS", "FIT_OPTIONS"]
+__all__ = ["coupled_model", "state_matrix", "as_motion_model", "check_speed", "check_axis", "data_axis", "STATE_OUTPUTS",
+           "FIT_OPTIONS", "MAX_SPEED"]
 
 STATE_OUTPUTS = ["plunge", "pitch", "plunge_rate", "pitch_rate", "plunge_acc", "pitch_acc"]
 FIT_OPTIONS = ("gust_order", "T", "optimise", "poles")
 """Keyword options of :func:`aeroelastic.fit_motion` that :func:`as_motion_model` (``flutter``, ``gust_response``)
 passes on."""
+
+
+MAX_SPEED = 1e6
+"""Largest speed index ``U / (b omega_alpha)`` :func:`check_speed` accepts: far above any section's flutter speed
+(of the order of ``sqrt(mu)``); at 1e200 the state matrix overflowed (Python's OverflowError)."""
 
 
 def check_speed(speed: Any) -> float:
@@ -58,12 +64,18 @@ def check_speed(speed: Any) -> float:
     Raises
     ------
     SpeedError
-        Not a number, not finite or not positive.
+        Not a number (a bool included), not finite, not positive, or above :data:`MAX_SPEED`.
     """
     try:
+        if isinstance(speed, (bool, np.bool_)):
+            raise TypeError
         V = float(speed)
     except (TypeError, ValueError):
         raise SpeedError(f"speed index U/(b omega_alpha) must be a number, got {speed!r}") from None
+    if V > MAX_SPEED:
+        raise SpeedError(f"speed index U/(b omega_alpha) = {V:g} is above MAX_SPEED = {MAX_SPEED:g}: flutter speed "
+                         "indices are of the order of sqrt(mu) (mu = 1e4 gives about 100); check the units (U / (b "
+                         "omega_alpha), b the semichord)")
     if not math.isfinite(V) or V <= 0:
         raise SpeedError(
             f"speed index U/(b omega_alpha) must be positive and finite, got {speed!r} (the aerodynamic "

@@ -45,13 +45,55 @@ from sysid.arrays import read_only
 
 from .errors import AeroModelError, FitError
 
-__all__ = ["MotionModel", "fit_motion", "channel_indices", "real_array", "MOTION_INPUTS", "LOAD_OUTPUTS", "ROOT_BAND"]
+__all__ = ["MotionModel", "fit_motion", "channel_indices", "real_array", "MOTION_INPUTS", "LOAD_OUTPUTS", "ROOT_BAND",
+           "T_BAND"]
 
 MOTION_INPUTS = ("plunge", "pitch")
 ROOT_BAND = (0.1, 2.0)
 """Optimised lag roots stay within ``[0.1 min(omega > 0), 2 max(omega)]`` of the data."""
 LOAD_OUTPUTS = ("Cl", "Cm")
 
+
+
+T_BAND = 100.0
+"""How far (a factor) the bilinear map's centre frequency ``2 / T`` of the gust identification may lie outside the
+data's positive frequencies. ``omega_d = 2 atan(omega T / 2)``: with ``2 / T`` a hundred times above the highest
+frequency every sample lies below ``omega_d = 0.02`` rad (the model sees the DC gain alone), a hundred times below
+the lowest one every sample lies within 0.02 rad of ``pi`` (the feedthrough alone); ``T = 1e-300`` was accepted."""
+
+
+def _check_T(T, wpos):
+    """``T`` (None or the gust identification's sampling period) checked: a positive finite number whose centre
+    frequency ``2 / T`` lies within :data:`T_BAND` of the data's positive frequencies ``wpos``; else
+    :class:`FitError` (the class a period sysid refused raised before)."""
+    if T is None:
+        return None
+    try:
+        Tf = float("nan") if isinstance(T, (bool, str, bytes)) else float(T)
+    except (TypeError, ValueError):
+        Tf = float("nan")
+    if not (np.isfinite(Tf) and Tf > 0.0):
+        raise FitError(f"T (sampling period of the gust identification, convective time) must be a positive "
+                             f"finite number or None (default 2 / omega_mid), got {T!r}")
+    if wpos.size and not (wpos.min() / T_BAND <= 2.0 / Tf <= wpos.max() * T_BAND):
+        raise FitError(f"T = {Tf:g} puts the bilinear map's centre frequency 2 / T = {2.0 / Tf:.3g} "
+                             f"{'above' if 2.0 / Tf > wpos.max() else 'below'} the data's frequencies ({wpos.min():.3g} "
+                             f"to {wpos.max():.3g}) by more than {T_BAND:g}x: the gust model would see "
+                             f"{'the DC gain' if 2.0 / Tf > wpos.max() else 'the feedthrough'} alone; give T between "
+                             f"{2.0 / (wpos.max() * T_BAND):.3g} and {2.0 / (wpos.min() / T_BAND):.3g}, or None "
+                             f"(default {2.0 / np.sqrt(wpos.min() * wpos.max()):.3g})")
+    return Tf
+
+
+def _check_poles(poles, order):
+    """Initial lag roots: a 1-D array of ``order`` positive finite numbers, else :class:`FitError`."""
+    try:
+        beta = np.asarray(poles, dtype=float)
+    except (TypeError, ValueError):
+        beta = None
+    if beta is None or beta.ndim != 1 or beta.size != order or not np.all(np.isfinite(beta) & (beta > 0)):
+        raise FitError(f"poles must be {order} positive lag roots (U/c), finite, in a 1-D array; got {poles!r}")
+    return beta
 
 
 def real_array(name, a):
@@ -276,9 +318,12 @@ def fit_motion(frf, order: int = 4, *, gust_order: int = 8, T: float | None = No
     Raises
     ------
     AeroModelError
-        Missing channels, no continuous frequencies, or an ``inf`` frequency among the motion data.
+        Missing channels, no continuous frequencies, an ``inf`` frequency among the motion data, an ``optimise``
+        that is not a bool.
     FitError
-        Fewer frequencies than coefficients to fit.
+        Fewer frequencies than coefficients to fit; ``poles`` not ``order`` positive finite numbers in a 1-D array;
+        a ``T`` that is not a positive finite number or whose ``2 / T`` lies more than :data:`T_BAND` times outside
+        the data's positive frequencies (checked before any fit, for motion-only data too).
     """
     import sysid
 
@@ -288,6 +333,8 @@ def fit_motion(frf, order: int = 4, *, gust_order: int = 8, T: float | None = No
         raise AeroModelError("the data have no continuous frequencies; build them with FrequencyResponse.from_continuous")
     if isinstance(order, bool) or not isinstance(order, (int, np.integer)) or order < 0:
         raise FitError(f"order (number of lag roots) must be an integer >= 0, got {order!r}")
+    if not isinstance(optimise, (bool, np.bool_)):
+        raise AeroModelError(f"optimise must be True or False, got {optimise!r}")
     oi = channel_indices(frf.outputs, LOAD_OUTPUTS, "outputs")
     ii = channel_indices(frf.inputs, MOTION_INPUTS, "inputs")
     omega = np.asarray(frf.omega, dtype=float)
@@ -315,10 +362,9 @@ def fit_motion(frf, order: int = 4, *, gust_order: int = 8, T: float | None = No
     W = 1.0 / np.maximum(np.abs(Hm), floor)
 
     wpos = w[w > 0]
+    T = _check_T(T, wpos) if "gust" in frf.inputs else _check_T(T, np.zeros(0))
     if poles is not None:
-        beta = np.asarray(poles, dtype=float).reshape(-1)
-        if beta.size != order or np.any(~(beta > 0)):
-            raise FitError(f"poles must be {order} positive lag roots (U/c), got {poles!r}")
+        beta = _check_poles(poles, order)
     elif order:
         lo = max(wpos.min(), 1e-3 * wpos.max()) if wpos.size else 0.05
         hi = wpos.max() if wpos.size else 1.0

@@ -82,7 +82,28 @@ def _gust_history(gust: Any, t: Any):
         steps = np.diff(t)
         raise AeroModelError(f"t must be equispaced: t[{k + 1}] - t[{k}] = {steps[k]:.6g} but t[1] - t[0] = "
                              f"{steps[0]:.6g}; resample the gust on an equispaced grid (np.interp)")
+    if not np.any(u):
+        raise AeroModelError(f"the gust history u is zero at all {u.size} samples: there is nothing to respond to. A "
+                             "gust shorter than the time step falls between the samples (cfd.ltd_response refuses "
+                             "one shorter than cfd.gust.MIN_GUST_STEPS steps); sample it more finely")
+    _warn_coarse_gust(t, u)
     return t, u
+
+
+MIN_PEAK_SAMPLES = 3
+"""Fewest samples at or above half the gust's peak ``|u|`` below which :func:`gust_response` warns: the input is
+linear between samples, so a gust resolved by one or two samples is a triangle whose height and timing depend on
+where the samples fall (a 1-cosine gust sampled four times per length has three)."""
+
+
+def _warn_coarse_gust(t: np.ndarray, u: np.ndarray) -> None:
+    """Warn when the gust's peak is resolved by fewer than :data:`MIN_PEAK_SAMPLES` samples."""
+    a = np.abs(u)
+    n = int(np.count_nonzero(a >= 0.5 * a.max()))
+    if n < MIN_PEAK_SAMPLES:
+        warnings.warn(f"the gust history reaches half its peak at {n} sample(s) only (step {t[1] - t[0]:.3g}): the "
+                      "input is linear between samples, so the gust's shape and peak are lost; sample at least four "
+                      "times per gust length", RuntimeWarning, stacklevel=4)
 
 
 def simulate(sys, section: TypicalSection, speed: float, t: np.ndarray, u: np.ndarray) -> GustResponse:
@@ -136,8 +157,8 @@ def gust_response(aero: Any, section: TypicalSection, speed: float, gust: Any, t
     Raises
     ------
     AeroModelError
-        ``aero`` neither a model nor data, the model has no gust input, the history is malformed, or a fit option
-        is not in :data:`aeroelastic.coupling.FIT_OPTIONS`.
+        ``aero`` neither a model nor data, the model has no gust input, the history is malformed or zero at every
+        sample (a gust between the samples), or a fit option is not in :data:`aeroelastic.coupling.FIT_OPTIONS`.
     FitError
         Data that cannot be fitted (see :func:`aeroelastic.fit_motion`).
     SectionError
@@ -149,7 +170,9 @@ def gust_response(aero: Any, section: TypicalSection, speed: float, gust: Any, t
     -----
     RuntimeWarning
         The coupled section is unstable at ``speed`` (above its flutter or divergence speed): the history grows
-        without bound, and the warning gives the growth rate.
+        without bound, and the warning gives the growth rate. The gust reaches half its peak at fewer than
+        :data:`MIN_PEAK_SAMPLES` samples. The step samples the section's fastest oscillation fewer than
+        :data:`POINTS_PER_PERIOD` times.
     """
     check_axis(aero, section)
     model = as_motion_model(aero, order, **fit_kw)

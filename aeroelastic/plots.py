@@ -54,8 +54,15 @@ def root_locus_plot(result, ax: Any = None, *, show_lags: bool = True):
     -------
     matplotlib.axes.Axes
         ``ax``, or the new axes.
+
+    Raises
+    ------
+    AeroModelError
+        ``result`` is not a flutter result; ``show_lags`` is not a bool.
     """
     _check_result(result, _FLUTTER_FIELDS, "aeroelastic.flutter")
+    if not isinstance(show_lags, (bool, np.bool_)):
+        raise AeroModelError(f"show_lags must be True or False, got {show_lags!r}")
     plt = _plt()
     if ax is None:
         _, ax = plt.subplots(figsize=(6.0, 4.5))

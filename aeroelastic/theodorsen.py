@@ -31,6 +31,9 @@ from scipy import optimize, special
 from .errors import AeroModelError, SectionError, SpeedError
 from .section import TypicalSection, check_section
 
+MAX_K_POINTS = 100_000
+"""Most grid points ``n_k`` of :func:`flutter_determinant`'s search (one quadratic solve each)."""
+
 __all__ = [
     "theodorsen_function",
     "sears_function",
@@ -38,6 +41,7 @@ __all__ = [
     "theodorsen_gust",
     "theodorsen_frf",
     "flutter_determinant",
+    "MAX_K_POINTS",
     "DeterminantFlutter",
     "theodorsen_jones",
     "sears_jones",
@@ -128,6 +132,21 @@ def sears_function(k: Any, reference: str = "midchord") -> np.ndarray:
     raise AeroModelError(f"reference must be 'midchord' or 'leading_edge', got {reference!r}")
 
 
+def _flag(name: str, value: Any) -> bool:
+    """``value`` if it is a bool, else :class:`AeroModelError` (a truthy string such as ``"no"`` would turn it on)."""
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    raise AeroModelError(f"{name} must be True or False, got {value!r}")
+
+
+def _circulation(circulation: Any):
+    """``circulation`` if it is None or callable, else :class:`AeroModelError`."""
+    if circulation is None or callable(circulation):
+        return circulation
+    raise AeroModelError(f"circulation must be a callable k -> C(k) (e.g. theodorsen_jones) or None, got "
+                         f"{circulation!r}")
+
+
 def _check_a(a: Any) -> float:
     try:
         af = float(a)
@@ -139,7 +158,14 @@ def _check_a(a: Any) -> float:
 
 
 def _as_omega(omega: Any) -> np.ndarray:
-    w = np.asarray(omega, dtype=float).reshape(-1)
+    try:
+        w = np.asarray(omega, dtype=float)
+    except (TypeError, ValueError):
+        raise AeroModelError(f"omega must be an array of real frequencies (U/c units), got {omega!r}") from None
+    if w.ndim > 1:
+        raise AeroModelError(f"omega must be 1-D (one frequency grid), got shape {w.shape}; flatten it yourself if "
+                             "that is what you mean")
+    w = w.reshape(-1)
     if w.size == 0 or np.any(~np.isfinite(w)) or np.any(w < 0):
         raise AeroModelError(
             "omega must be a non-empty 1-D array of finite frequencies >= 0 (U/c units); the motion response is "
@@ -189,6 +215,8 @@ def theodorsen_motion(omega: Any, a: float, quasi_steady: bool = False, circulat
     """
     a = _check_a(a)
     w = _as_omega(omega)
+    quasi_steady = _flag("quasi_steady", quasi_steady)
+    circulation = _circulation(circulation)
     p = 0.5j * w
     if quasi_steady:
         C = np.ones_like(p)
@@ -258,6 +286,7 @@ def theodorsen_frf(omega: Any, a: float, gust: bool = False, quasi_steady: bool 
     """
     import sysid
 
+    gust = _flag("gust", gust)
     H = theodorsen_motion(omega, a, quasi_steady=quasi_steady)
     inputs = ["plunge", "pitch"]
     if gust:
@@ -360,7 +389,12 @@ def flutter_determinant(section, quasi_steady: bool = False, k_range: tuple[floa
                          f"geometric; k = 0 is the steady limit, start at a small k such as 0.02), got {k_range!r}")
     if isinstance(n_k, bool) or not isinstance(n_k, (int, np.integer)) or n_k < 2:
         raise SpeedError(f"n_k must be a whole number >= 2 (grid points in k_range; default 400), got {n_k!r}")
-    Cfun = theodorsen_function if circulation is None else circulation
+    if n_k > MAX_K_POINTS:
+        raise SpeedError(f"n_k = {n_k} grid points is more than MAX_K_POINTS = {MAX_K_POINTS} (one root solve each, "
+                         "0.06 ms measured: n_k = 1e10 would run for a week); the crossing is refined by a root finder, so "
+                         "the default 400 suffices")
+    quasi_steady = _flag("quasi_steady", quasi_steady)
+    Cfun = theodorsen_function if _circulation(circulation) is None else circulation
 
     def C_of(k):
         return 1.0 + 0j if quasi_steady else complex(np.asarray(Cfun(np.array([k])), dtype=complex).reshape(-1)[0])
@@ -399,8 +433,14 @@ def _lag_sum(k: Any, table) -> np.ndarray:
 
 
 def _exponential_sum(tau: Any, table) -> np.ndarray:
-    """``1 - sum A exp(-b tau)`` over the ``(A, b)`` pairs of ``table``, 0 for ``tau < 0``."""
-    t = np.asarray(tau, dtype=float)
+    """``1 - sum A exp(-b tau)`` over the ``(A, b)`` pairs of ``table``, 0 for ``tau < 0``; :class:`AeroModelError`
+    for a ``tau`` that is not real numbers or holds NaN (``+-inf`` are the limits: 1 and 0)."""
+    try:
+        t = np.asarray(tau, dtype=float)
+    except (TypeError, ValueError):
+        raise AeroModelError(f"tau (semichords travelled) must be a number or an array of numbers, got {tau!r}") from None
+    if np.any(np.isnan(t)):
+        raise AeroModelError("tau (semichords travelled) contains NaN; repair or drop those times")
     with np.errstate(over="ignore"):                     # exp of a large negative tau: masked below
         value = 1.0 - sum(A * np.exp(-b * t) for A, b in table)
     return np.where(t < 0.0, 0.0, value)[()]

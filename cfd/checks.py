@@ -1,11 +1,12 @@
 """Argument checks shared by the solvers: whole numbers given as ints, numpy integers or whole-valued floats;
-arrays of real numbers; the message for an argument that is not a grid."""
+arrays of real numbers; the message for an argument that is not a grid; flags, progress callbacks and log intervals
+(each raising the caller's own error class)."""
 
 import math
 
 import numpy as np
 
-__all__ = ["whole_number", "real_array", "kind_of", "not_a_grid"]
+__all__ = ["whole_number", "real_array", "kind_of", "not_a_grid", "flag", "callback", "log_interval"]
 
 
 def whole_number(value, allow_inf=False):
@@ -61,3 +62,34 @@ def kind_of(value):
 def not_a_grid(value):
     """The message for a ``grid`` argument that is not a :class:`cfd.Grid` (each caller raises its own error)."""
     return f"grid must be a cfd.Grid (from cfd.c_grid or cfd.grid_from_nodes); got {type(value).__name__}"
+
+
+def flag(name, value, error):
+    """``value`` if it is a bool (``True``/``False`` or a numpy bool), else ``error`` naming ``name``: a truthy
+    string such as ``"no"`` would otherwise turn an option on."""
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    raise error(f"{name} must be True or False; got {value!r}")
+
+
+def callback(name, value, error):
+    """``value`` if it is None or callable, else ``error`` naming ``name`` (raised before any work, not at the
+    first step)."""
+    if value is None or callable(value):
+        return value
+    raise error(f"{name} must be a callable or None; got {type(value).__name__} {value!r}")
+
+
+def log_interval(value, error):
+    """``log_interval`` (seconds between progress lines) as a float: a number >= 0 (0 logs every step, inf never),
+    else ``error``."""
+    if isinstance(value, (bool, str, bytes)) or value is None:
+        v = math.nan
+    else:
+        try:
+            v = float(value)
+        except (TypeError, ValueError):
+            v = math.nan
+    if not v >= 0.0:
+        raise error(f"log_interval must be a number of seconds >= 0 (default 60; inf: never log); got {value!r}")
+    return v

@@ -173,7 +173,8 @@ def coupled_ltd(lin, gust, dt, t_end, *, mass, stiffness, load, pivot, damping=N
     Raises
     ------
     LinearError
-        Not a gust, bad ``dt`` or ``t_end``, unknown method, a matrix that is not a finite (2, 2) array, a
+        Not a gust, bad ``dt`` or ``t_end`` (more than ``cfd.ltd.MAX_STEPS`` steps included), a gust that passes in
+        fewer than ``cfd.gust.MIN_GUST_STEPS`` steps, unknown method, a matrix that is not a finite (2, 2) array, a
         non-finite pivot or ``x_ref``, a singular coupled step (e.g. ``mass``, ``stiffness`` and ``load`` all zero), or
         ``lin`` not a ``LinearSystem``.
 
@@ -184,9 +185,9 @@ def coupled_ltd(lin, gust, dt, t_end, *, mass, stiffness, load, pivot, damping=N
     """
     check_linear_system(lin)
     check_gust_method(method)
-    dt, t_end = check_march(gust, dt, t_end, max_phase_error)
-    pivot = check_pivot(pivot)
     x_ref = check_x_ref(x_ref)
+    dt, t_end = check_march(gust, dt, t_end, max_phase_error, x_ref)
+    pivot = check_pivot(pivot)
     M = _matrix("mass", mass)
     K = _matrix("stiffness", stiffness)
     L = _matrix("load", load)

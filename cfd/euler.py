@@ -29,7 +29,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import boundary as bc
-from .errors import MeshError
+from .checks import not_a_grid
+from .errors import FlowConditionError, MeshError
 
 __all__ = ["Scheme", "residual", "spectral_radius_sum", "check_state"]
 
@@ -53,6 +54,16 @@ class Scheme:
     k4: float = 1.0 / 64.0
     vortex: bool = False
 
+    def __post_init__(self):
+        for name in ("k2", "k4"):
+            k = getattr(self, name)
+            if isinstance(k, (bool, np.bool_)) or not isinstance(k, (int, float, np.integer, np.floating)) or not (
+                    np.isfinite(k) and k >= 0.0):
+                raise FlowConditionError(f"Scheme.{name} must be a finite number >= 0 (default "
+                                         f"{getattr(Scheme, name):g}); got {k!r}")
+        if not isinstance(self.vortex, (bool, np.bool_)):
+            raise FlowConditionError(f"Scheme.vortex must be True or False; got {self.vortex!r}")
+
 
 DEFAULT_SCHEME = Scheme()
 
@@ -64,7 +75,13 @@ def check_state(grid, q, name="state"):
         raise MeshError(f"{name} has shape {np.shape(q)}; this grid needs (..., {shape[0]}, {shape[1]}, 4)")
 
 
-def _check(grid, q, face_velocity, source):
+def _check(grid, q, flow, scheme, face_velocity, source):
+    if not hasattr(grid, "cell_shape") or not hasattr(grid, "si"):
+        raise MeshError(not_a_grid(grid))
+    if not hasattr(flow, "gamma") or not hasattr(flow, "q"):
+        raise FlowConditionError(f"flow must be a cfd.FlowCondition(mach, alpha_deg); got {type(flow).__name__}")
+    if not isinstance(scheme, Scheme):
+        raise FlowConditionError(f"scheme must be a cfd.Scheme or None; got {type(scheme).__name__}")
     check_state(grid, q)
     shape = grid.cell_shape + (4,)
     if face_velocity is not None:
@@ -261,10 +278,22 @@ def residual(grid, q, flow, *, face_velocity=None, source=None, scheme=None, cir
     -------
     R : ndarray, shape of ``q``
         Units of flux (a_inf times conserved variable times chord).
+
+    Raises
+    ------
+    MeshError
+        ``grid`` not a grid; ``q``, ``face_velocity`` or ``source`` of the wrong shape.
+    FlowConditionError
+        ``flow`` not a :class:`cfd.FlowCondition`, ``scheme`` not a :class:`Scheme`.
+
+    Notes
+    -----
+    A kernel of the solvers, called at every iteration: a NaN in ``q`` gives NaN in ``R`` (the solvers test their
+    states; :func:`cfd.jacobian` and :func:`cfd.solve_steady` refuse a non-finite one).
     """
     scheme = DEFAULT_SCHEME if scheme is None else scheme
     q = np.asarray(q)
-    _check(grid, q, face_velocity, source)
+    _check(grid, q, flow, scheme, face_velocity, source)
     g = flow.gamma
     NI, NJ = grid.cell_shape
     W = np.moveaxis(q, -1, -3)

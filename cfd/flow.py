@@ -17,7 +17,7 @@ import numpy as np
 
 from .errors import FlowConditionError, MeshError
 
-__all__ = ["FlowCondition", "conserved", "primitive", "pressure", "MIN_MACH", "LOW_MACH"]
+__all__ = ["FlowCondition", "conserved", "primitive", "pressure", "check_gamma", "MIN_MACH", "LOW_MACH"]
 
 MIN_MACH = 0.01
 """Lowest free-stream Mach number accepted. The JST dissipation of a compressible scheme scales like ``1 / M`` at
@@ -58,6 +58,8 @@ class FlowCondition:
     def __post_init__(self):
         for name in ("mach", "alpha_deg", "gamma"):
             value = getattr(self, name)
+            if isinstance(value, (bool, np.bool_)):
+                raise FlowConditionError(f"{name} must be a real number; got {value!r}")
             try:
                 value = float(value)
             except (TypeError, ValueError):
@@ -113,6 +115,14 @@ class FlowCondition:
         return 0.5 * self.mach**2
 
 
+def check_gamma(gamma):
+    """Refuse (:class:`FlowConditionError`) a ratio of specific heats that is not a real number in ``(1, 3)``
+    (``gamma = 0`` gave a pressure of -0 silently)."""
+    if isinstance(gamma, (bool, np.bool_)) or not isinstance(gamma, (int, float, np.integer, np.floating)) \
+            or not 1.0 < gamma < 3.0:
+        raise FlowConditionError(f"gamma must be a real number in (1, 3) (air: 1.4); got {gamma!r}")
+
+
 def conserved(rho, u, v, p, gamma=1.4):
     """Conserved variables from primitive ones.
 
@@ -125,8 +135,25 @@ def conserved(rho, u, v, p, gamma=1.4):
     -------
     ndarray, shape (..., 4)
         ``(rho, rho u, rho v, rho E)``.
+
+    Raises
+    ------
+    MeshError
+        Arrays that do not broadcast.
+    FlowConditionError
+        ``gamma`` not a real number in ``(1, 3)``.
+
+    Notes
+    -----
+    An elementwise conversion: NaN or a non-physical value in gives the same out, as NumPy's arithmetic (the
+    solvers check their own states).
     """
-    rho, u, v, p = np.broadcast_arrays(rho, u, v, p)
+    check_gamma(gamma)
+    try:
+        rho, u, v, p = np.broadcast_arrays(rho, u, v, p)
+    except ValueError:
+        raise MeshError(f"rho, u, v and p must broadcast to one shape; got shapes {np.shape(rho)}, {np.shape(u)}, "
+                        f"{np.shape(v)} and {np.shape(p)}") from None
     rho_e = p / (gamma - 1.0) + 0.5 * rho * (u * u + v * v)
     return np.stack([rho, rho * u, rho * v, rho_e], axis=-1)
 
@@ -147,7 +174,14 @@ def primitive(q, gamma=1.4):
     ------
     MeshError
         ``q``'s last axis is not the 4 conserved variables.
+    FlowConditionError
+        ``gamma`` not a real number in ``(1, 3)``.
+
+    Notes
+    -----
+    Elementwise, as :func:`conserved`: NaN in gives NaN out.
     """
+    check_gamma(gamma)
     if np.shape(q)[-1:] != (4,):
         raise MeshError(f"q has shape {np.shape(q)}; conserved states need a last axis of 4 "
                         "(rho, rho u, rho v, rho E)")

@@ -3,12 +3,20 @@
 Shared by the direct path (:mod:`cfd.lfd`) and the fast sweep (:mod:`cfd.sweep`), which accept the same forms.
 """
 
+import math
+
 import numpy as np
 
 from .linear import LinearError
 
 __all__ = ["frequencies", "frequency_grid", "check_position", "check_x_ref", "check_pivot",
-           "check_motion_frequencies"]
+           "check_motion_frequencies", "check_tol", "MAX_FREQUENCIES", "MAX_POSITION"]
+
+MAX_FREQUENCIES = 100_000
+"""Most frequencies one LFD call takes: each is a sparse factorisation on the direct path (about 0.1 s on the paper
+grid, so 1e5 are some 3 hours) and a reduced solve plus its outputs on the fast sweep; the paper's grids have 257. A
+larger array is a mistake of units or of ``sysid.mckelvey_grid``'s ``M`` (1e9 frequencies asked for 8 GB before the
+first solve); split a genuine larger sweep into calls."""
 
 
 def frequencies(omega):
@@ -22,6 +30,9 @@ def frequencies(omega):
         raise LinearError(f"omega must be an array of real frequencies (U/c units); got {omega!r}") from None
     if w.ndim != 1 or w.size == 0:
         raise LinearError(f"omega must be a non-empty 1-D array of frequencies; got shape {w.shape}")
+    if w.size > MAX_FREQUENCIES:
+        raise LinearError(f"omega holds {w.size} frequencies, more than cfd.frequencies.MAX_FREQUENCIES = "
+                          f"{MAX_FREQUENCIES}: check the grid (the paper's has 257), or split the sweep into calls")
     if np.any(np.isnan(w)) or np.any(w == -np.inf):
         raise LinearError("omega contains NaN or -inf; give nonnegative frequencies (inf allowed: feedthrough)")
     if np.any(w < 0.0):
@@ -55,14 +66,25 @@ def frequency_grid(omega, T):
     return w, T
 
 
+MAX_POSITION = 1e4
+"""Largest distance (chords) of a position (``x_ref``, ``pivot``) from the leading edge: the largest far field of a
+C-grid (``cfd.mesh_generation.MAX_FARFIELD``)."""
+
+
 def check_position(name, value, error=LinearError):
-    """A position on the chord line (chords from the leading edge), checked real and finite (else ``error``)."""
+    """A position on the chord line (chords from the leading edge), checked real, finite and within
+    :data:`MAX_POSITION` (else ``error``)."""
     try:
+        if isinstance(value, (bool, np.bool_)):
+            raise TypeError
         x = float(value)
     except (TypeError, ValueError):
         raise error(f"{name} must be a real number (chords from the leading edge); got {value!r}") from None
     if not np.isfinite(x):
         raise error(f"{name} must be finite (chords); got {value!r}")
+    if abs(x) > MAX_POSITION:
+        raise error(f"{name} = {x:g} chords is beyond cfd.frequencies.MAX_POSITION = {MAX_POSITION:g}: positions are "
+                    "in chords from the leading edge (a pivot of 1e300 overflowed the pitch forcing to NaN loads)")
     return x
 
 
@@ -84,3 +106,15 @@ def check_motion_frequencies(inputs, w):
             f"omega = inf has no finite response for the motion input(s) {moving}: the loads of a moving section grow "
             "with the frequency (apparent mass, piston theory). Give finite frequencies (e.g. sysid.mckelvey_grid's "
             "omega[:-1] with T=T) and fit the motion columns with aeroelastic.fit_motion")
+
+
+def check_tol(tol):
+    """The relative error target of the fast sweep, a positive finite number (checked on every path of
+    :func:`cfd.lfd_response`, also the direct one, which ignores it)."""
+    try:
+        t = math.nan if isinstance(tol, (bool, str, bytes)) else float(tol)
+    except (TypeError, ValueError):
+        t = math.nan
+    if not (np.isfinite(t) and t > 0.0):
+        raise LinearError(f"tol must be a positive finite number (relative output error, e.g. 1e-8); got {tol!r}")
+    return t

@@ -32,7 +32,21 @@ import numpy as np
 
 from .errors import GeometryError
 
-__all__ = ["Aerofoil", "TabulatedAerofoil", "naca", "naca64a010"]
+__all__ = ["Aerofoil", "TabulatedAerofoil", "naca", "naca64a010", "MAX_PANELS"]
+
+MAX_PANELS = 1_000_000
+"""Most surface panels of an aerofoil's ``coordinates`` (``n``): 16 MB of points. The paper's grid has 100 wall
+cells; ``n = 1e8`` would ask for 1.6 GB at the first call of ``coordinates()`` (``cfd.naca`` only stored it)."""
+
+
+def _check_panels(n):
+    """Refuse a panel count that is not a whole number in ``[4, MAX_PANELS]`` (:class:`GeometryError`)."""
+    if not isinstance(n, (int, np.integer)) or isinstance(n, bool) or n < 4:
+        raise GeometryError(f"n = {n!r} surface panels is invalid; give an integer >= 4, e.g. n=200")
+    if n > MAX_PANELS:
+        raise GeometryError(f"n = {n} surface panels is more than cfd.geometry.MAX_PANELS = {MAX_PANELS:.0e} "
+                            f"({16 * n / 2**30:.3g} GiB of coordinates); the default n=200 resolves the section, and "
+                            "c_grid takes its own n_surface")
 
 # Closed-trailing-edge thickness coefficients: a0 sqrt(x) + a1 x + a2 x^2 + a3 x^3 + a4 x^4.
 _A0, _A1, _A2, _A3, _A4 = 0.2969, -0.1260, -0.3516, 0.2843, -0.1036
@@ -67,6 +81,7 @@ class Aerofoil:
     _table: tuple = field(default=None, repr=False, compare=False)
 
     def __post_init__(self):
+        _check_panels(self.n)
         # Dense table of (s, cumulative arc length) to place points at given arc positions.
         s = np.linspace(0.0, 1.0, _N_TABLE)
         x, y = self.surface(s)
@@ -162,8 +177,7 @@ class Aerofoil:
             Coordinates in chords.
         """
         n = self.n if n is None else n
-        if not isinstance(n, (int, np.integer)) or isinstance(n, bool) or n < 4:
-            raise GeometryError(f"n = {n!r} surface panels is invalid; give an integer >= 4, e.g. n=200")
+        _check_panels(n)
         return self.surface(np.linspace(0.0, 1.0, int(n) + 1))
 
     # ------------------------------------------------------------------ arc length
@@ -327,8 +341,7 @@ def naca64a010(n=200):
     TabulatedAerofoil
         ``code = "64A010"``, ``t = 0.10`` (maximum thickness of the table, at ``x = 0.40``).
     """
-    if not isinstance(n, (int, np.integer)) or isinstance(n, bool) or n < 4:
-        raise GeometryError(f"n = {n!r} surface panels is invalid; give an integer >= 4, e.g. n=200")
+    _check_panels(n)
     return TabulatedAerofoil(
         code="64A010", m=0.0, p=0.0, t=0.10, n=int(n),
         table_x=tuple(v / 100.0 for v in _NACA64A010_X), table_y=tuple(v / 100.0 for v in _NACA64A010_Y),
@@ -394,6 +407,5 @@ def naca(code, n=200):
             f"NACA code {code!r} gives a camber position but zero camber; a symmetric section is "
             f"\"00{c[2:]}\", a cambered one e.g. \"2{c[1]}{c[2:]}\""
         )
-    if not isinstance(n, (int, np.integer)) or isinstance(n, bool) or n < 4:
-        raise GeometryError(f"n = {n!r} surface panels is invalid; give an integer >= 4, e.g. n=200")
+    _check_panels(n)
     return Aerofoil(code=c, m=m, p=p, t=t, n=int(n))

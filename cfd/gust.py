@@ -37,6 +37,7 @@ zero for a uniform gust (``omega -> 0``) and in a uniform stream (``u_bar = U``)
 """
 
 import math
+import warnings
 from dataclasses import dataclass
 from typing import Optional
 
@@ -49,6 +50,11 @@ __all__ = [
     "OneMinusCosine",
     "SharpEdged",
     "X0_MAX",
+    "MIN_LENGTH",
+    "MIN_GUST_STEPS",
+    "gust_length",
+    "check_gust_step",
+    "warn_unseen",
     "edge_average",
     "harmonic_edge_average",
     "face_gust",
@@ -64,6 +70,21 @@ still of the order of the thickness ratio half a chord ahead of the leading edge
 there at ``s = 0`` meets a non-uniform stream impulsively (a start-up transient that is not part of the
 response to the gust). Upstream of ``x0 = -0.5`` the perturbation is down to a few per cent and
 decays as ``1 / r``; ``x0 <= -2`` is recommended for accurate transients."""
+
+
+MIN_LENGTH = 1e-3
+"""Shortest gust length or sine wavelength (chords). No grid of this package resolves a shorter one: the finest
+cells of ``cfd.c_grid`` are a few thousandths of a chord (wall spacing 0.004, trailing-edge spacing 0.006), and the
+exact face averages of such a gust are those of a zero gust to round-off."""
+
+MIN_GUST_STEPS = 2
+"""Fewest time steps a time march takes while a 1-cosine gust (its ``length``) or one wavelength of a sine gust
+passes a point (the gust is convected at ``U``: ``length / dt`` steps). Fewer, and the samples of the input may all
+miss the gust (a 2-chord gust marched at ``dt = 5``: an input of zeros and loads of about 4e-4 of the true ones) or
+alias the sine; the marches (:func:`cfd.ltd_response`, :func:`cfd.ltd_responses`, :func:`cfd.coupled_ltd`,
+:func:`cfd.unsteady_response`) refuse it. Two steps give three samples of the bump, the least a study may take
+(``studies.schema.MIN_GUST_STEPS`` is the same number, a test checks it); the BDF2 phase-rate warning of
+``cfd.ltd`` asks for about 36 steps per length (1 %)."""
 
 
 class GustError(ValueError):
@@ -175,10 +196,15 @@ class SineGust(_Gust):
             if w <= 0.0:
                 raise GustError(f"omega = {w} must be positive; the omega -> 0 limit is a uniform gust")
             lam = 2.0 * math.pi / w
+            if not lam >= MIN_LENGTH:
+                raise GustError(f"omega = {w} (U/c units) is a wavelength of {lam:.3g} chords, below {MIN_LENGTH:g} "
+                                f"(cfd.gust.MIN_LENGTH): no grid resolves it; use omega <= {2 * math.pi / MIN_LENGTH:.4g}"
+                                " (k = omega / 2; the paper's reach k = 50)")
         else:
             lam = _finite("wavelength", self.wavelength)
-            if lam <= 0.0:
-                raise GustError(f"wavelength = {lam} must be positive (chords)")
+            if not lam >= MIN_LENGTH:
+                raise GustError(f"wavelength = {lam} chords must be at least {MIN_LENGTH:g} (cfd.gust.MIN_LENGTH): no "
+                                "grid resolves a shorter one; give it in chords, e.g. wavelength=4.0")
             w = 2.0 * math.pi / lam
         object.__setattr__(self, "omega", w)
         object.__setattr__(self, "wavelength", lam)
@@ -224,8 +250,9 @@ class OneMinusCosine(_Gust):
 
     def __post_init__(self):
         L = _finite("length", self.length)
-        if L <= 0.0:
-            raise GustError(f"length = {L} must be positive (chords), e.g. length=1.0")
+        if not L >= MIN_LENGTH:
+            raise GustError(f"length = {L} chords is below {MIN_LENGTH:g} (cfd.gust.MIN_LENGTH): no grid resolves a "
+                            "shorter gust; give the length in chords, e.g. length=1.0 (the paper's gusts: 1 to 20)")
         object.__setattr__(self, "length", L)
         object.__setattr__(self, "angle_deg", _angle(self.angle_deg))
         object.__setattr__(self, "x0", _x0(self.x0))
@@ -279,6 +306,56 @@ class SharpEdged(_Gust):
     def antiderivative(self, xi):
         """``F(xi)`` with ``F' = f`` (chords), shape of ``xi``: exact cell and face integrals of the gust."""
         return np.minimum(xi, 0.0)
+
+
+def gust_length(gust):
+    """The length a march must resolve (chords): a 1-cosine gust's ``length``, a sine gust's ``wavelength``; None for
+    the sharp-edged gust (a front, no length: its steps are judged by the phase-rate warning of ``cfd.ltd``)."""
+    if isinstance(gust, OneMinusCosine):
+        return gust.length
+    if isinstance(gust, SineGust):
+        return gust.wavelength
+    return None
+
+
+def check_gust_step(gust, dt, error=GustError):
+    """Refuse (``error``) a time step ``dt`` (convective time) in which the gust passes in fewer than
+    :data:`MIN_GUST_STEPS` steps: the march's samples could all miss it.
+
+    Parameters
+    ----------
+    gust : SineGust, OneMinusCosine or SharpEdged
+    dt : float
+        Convective time step, positive.
+    error : type
+        The caller's exception class (a subclass of ``ValueError``).
+    """
+    L = gust_length(gust)
+    if L is None or L >= MIN_GUST_STEPS * dt * (1.0 - 1e-12):
+        return
+    what = "1-cosine gust of length" if isinstance(gust, OneMinusCosine) else "sine gust of wavelength"
+    raise error(f"the {what} {L:g} chords passes a point in {L / dt:.3g} time steps of dt = {dt:g}, fewer than "
+                f"{MIN_GUST_STEPS} (cfd.gust.MIN_GUST_STEPS): the march's samples can miss the gust altogether "
+                f"(an input of zeros and loads of about zero). Use dt <= {L / MIN_GUST_STEPS:.3g} (the largest step "
+                f"that resolves it; dt <= {L * math.sqrt(0.03) / (2.0 * math.pi):.3g} keeps the BDF2 phase-rate "
+                "error under 1 %), or check that length and dt are both in chords and convective time")
+
+
+def warn_unseen(gust, t_end, x_ref=0.0, stacklevel=3):
+    """Warn (``RuntimeWarning``) when a march that ends at ``t_end`` stops before the gust's front reaches
+    ``x_ref`` (its loads are those of the undisturbed flow, about zero, not a gust response), or before the peak of
+    a 1-cosine gust reaches it (a gust of 1e300 chords: an input of zeros)."""
+    arrival = gust.arrival(x_ref)
+    if isinstance(gust, OneMinusCosine) and arrival < t_end < arrival + 0.5 * gust.length:
+        warnings.warn(f"the march ends at t_end = {t_end:g}, before the peak of the {gust.length:g}-chord gust reaches "
+                      f"x_ref = {x_ref:g} at s = {arrival + 0.5 * gust.length:g}: the loads are those of its rising "
+                      f"part only. March to at least t_end = {arrival + gust.length + 5.0:g} for the whole response",
+                      RuntimeWarning, stacklevel=stacklevel)
+    if gust.x0 is not None and t_end <= arrival:
+        warnings.warn(f"the march ends at t_end = {t_end:g}, before the gust front (x0 = {gust.x0:g}) reaches x_ref = "
+                      f"{x_ref:g} at s = {arrival:g}: the loads will be about zero. March to at least "
+                      f"t_end = {arrival + (gust_length(gust) or 1.0) + 5.0:g}, or start the gust nearer (x0 <= "
+                      f"{X0_MAX:g})", RuntimeWarning, stacklevel=stacklevel)
 
 
 # ---------------------------------------------------------------------------------------------

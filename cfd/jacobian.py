@@ -24,6 +24,8 @@ from functools import lru_cache
 import numpy as np
 import scipy.sparse as sp
 
+from .checks import kind_of, whole_number
+from .errors import FlowConditionError
 from .euler import DEFAULT_SCHEME, lift_coefficient, residual
 
 __all__ = ["jacobian", "cell_stencil", "greedy_colouring", "coloured_complex_step", "residual_derivative"]
@@ -185,9 +187,27 @@ def jacobian(grid, q, flow, *, face_velocity=None, source=None, scheme=None, chu
         Flat ordering of ``q.ravel()``: ``4 * (ic * (nj-1) + jc) + k``. With ``scheme.vortex`` the
         circulation of the far-field vortex is held at its value for ``q`` (its rank-one term is left
         out, so the matrix is then not exact in the far-field rows).
+
+    Raises
+    ------
+    FlowConditionError
+        ``chunk`` not a whole number >= 1; ``q`` not real or holding NaN or inf; as :func:`cfd.residual`.
+    MeshError
+        As :func:`cfd.residual` (``q`` of the wrong shape, ``grid`` not a grid).
     """
     scheme = DEFAULT_SCHEME if scheme is None else scheme
-    q = np.asarray(q, dtype=float)
+    n = whole_number(chunk)
+    if n is None or n < 1:
+        raise FlowConditionError(f"chunk must be a whole number >= 1 (colours per batched residual, default 8); got "
+                                 f"{chunk!r}")
+    chunk = n
+    try:
+        q = np.asarray(q, dtype=float)
+    except (TypeError, ValueError):
+        raise FlowConditionError(f"q must be an array of real conserved states; got {kind_of(q)}") from None
+    if not np.all(np.isfinite(q)):
+        raise FlowConditionError("q contains NaN or inf: the Jacobian of such a state is NaN (with NumPy's warnings); "
+                                 "linearise about a converged, finite steady state (cfd.solve_steady)")
     shape = q.shape
     circulation = None
     if scheme.vortex:

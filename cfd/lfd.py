@@ -25,7 +25,7 @@ import numpy as np
 from sysid import FrequencyResponse
 
 from .gust import face_gust_harmonic
-from .frequencies import check_motion_frequencies, check_pivot, check_x_ref, frequency_grid
+from .frequencies import check_motion_frequencies, check_pivot, check_tol, check_x_ref, frequency_grid
 from .linear import LinearError, check_gust_method, check_linear_system, check_outputs, factorise, grid_permutation
 from .motion import check_inputs, motion_forcing
 
@@ -134,7 +134,8 @@ def lfd_response(lin, omega, gust="svm", outputs=("Cl", "Cm"), x_ref=0.0, T=None
     ------
     LinearError
         Negative, NaN or -inf frequencies, ``inf`` with a motion input, unknown gust method, input, output name
-        or ``method``, a non-finite pivot, bad ``tol``, an unknown keyword option (not in :data:`FAST_OPTIONS`), or
+        or ``method``, a non-finite pivot, a ``tol`` that is not a positive finite number (on either path), more than
+        ``cfd.frequencies.MAX_FREQUENCIES`` frequencies, an unknown keyword option (not in :data:`FAST_OPTIONS`), or
         fast-sweep options with the direct path; ``lin`` not a ``LinearSystem``.
     """
     check_linear_system(lin)
@@ -148,6 +149,7 @@ def lfd_response(lin, omega, gust="svm", outputs=("Cl", "Cm"), x_ref=0.0, T=None
     if unknown:
         raise LinearError(f"unknown option(s) {unknown}: lfd_response's fast-sweep options are {FAST_OPTIONS} "
                           "(method='fast'); check the spelling")
+    tol = check_tol(tol)
     w, T = frequency_grid(omega, T)
     x_ref = check_x_ref(x_ref)
     check_motion_frequencies(inputs, w)

@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .gust import OneMinusCosine, SharpEdged, SineGust
 from .unsteady import UnsteadyError, unsteady_response
 
 __all__ = ["LinearityResult", "linearity"]
@@ -65,8 +66,10 @@ def linearity(sol, gust, amplitudes, dt, t_end, method="svm", x_ref=0.0, lin=Non
     Raises
     ------
     UnsteadyError
-        Empty, zero or non-numeric amplitudes, or a keyword :func:`unsteady_response` does not take (checked
-        before the LTD is computed).
+        Empty, zero, non-numeric or 2-D amplitudes, not a gust, or a keyword :func:`unsteady_response` does not
+        take (checked before the LTD is computed).
+    GustError
+        An amplitude that is not a gust angle (``|a| >= 90``), also before the LTD.
     """
     from dataclasses import replace
 
@@ -79,12 +82,20 @@ def linearity(sol, gust, amplitudes, dt, t_end, method="svm", x_ref=0.0, lin=Non
     if unknown:
         raise UnsteadyError(f"unknown keyword(s) {unknown} for unsteady_response; it takes {settings}")
     try:
-        amps = np.asarray(amplitudes, dtype=float).ravel()
+        amps = np.asarray(amplitudes, dtype=float)
     except (TypeError, ValueError):
         amps = np.array([])   # refused just below, with the value as given
+    if amps.ndim > 1:
+        raise UnsteadyError(f"amplitudes must be a 1-D list of gust angles (deg); got shape {amps.shape}: one run per "
+                            "amplitude, flatten it yourself if that is what you mean")
+    amps = amps.reshape(-1)
     if amps.size == 0 or np.any(amps == 0.0) or not np.all(np.isfinite(amps)):
         raise UnsteadyError(f"amplitudes must be a non-empty list of finite, nonzero gust angles (deg); "
                             f"got {amplitudes!r}")
+    if not isinstance(gust, (SineGust, OneMinusCosine, SharpEdged)):
+        raise UnsteadyError(f"gust must be a cfd.SineGust, OneMinusCosine or SharpEdged; got {type(gust).__name__}")
+    for a in amps:   # every amplitude a gust angle (GustError), before the LTD's work
+        replace(gust, angle_deg=float(a))
     lin = linearise(sol) if lin is None else lin
     h = ltd_response(lin, gust, dt, t_end, method=method, x_ref=x_ref,
                      max_phase_error=kwargs.get("max_phase_error", 0.01))

@@ -37,6 +37,9 @@ def _check_load_input(grid, q, flow):
                                  f"got {type(flow).__name__}")
     q = np.asarray(q)
     check_state(grid, q, "q")
+    if not np.all(np.isfinite(q)):
+        raise FlowConditionError("q contains NaN or inf: its loads would be NaN; compute loads of a converged, finite "
+                                 "state (cfd.solve_steady reports a diverged solve with ConvergenceError)")
     return q
 
 
@@ -62,7 +65,7 @@ def wall_cp(grid, q, flow):
     MeshError
         ``q`` whose last three axes are not ``(ni-1, nj-1, 4)`` (as :func:`cfd.residual`), ``grid`` not a Grid.
     FlowConditionError
-        ``flow`` not a FlowCondition.
+        ``flow`` not a FlowCondition; ``q`` holding NaN or inf.
     """
     q = _check_load_input(grid, q, flow)
     x = grid.x[:, 0]
@@ -91,8 +94,16 @@ def force_coefficients(grid, q, flow, x_ref=(0.25, 0.0)):
     Raises
     ------
     MeshError, FlowConditionError
-        As :func:`wall_cp`.
+        As :func:`wall_cp`; ``x_ref`` not two finite numbers (FlowConditionError; ``(nan, 0)`` gave a NaN ``cm``
+        and a third coordinate was ignored).
     """
+    try:
+        ref = np.asarray(x_ref, dtype=float)
+    except (TypeError, ValueError):
+        ref = np.zeros(0)
+    if ref.shape != (2,) or not np.all(np.isfinite(ref)):
+        raise FlowConditionError(f"x_ref must be a finite point (x, y) in chords, e.g. (0.25, 0.0); got {x_ref!r}")
+    x_ref = ref
     _, cp = wall_cp(grid, q, flow)
     s = grid.sj[:, grid.wall, 0]
     ic = np.arange(grid.wall.start, grid.wall.stop)

@@ -43,15 +43,15 @@ from dataclasses import dataclass
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from .checks import kind_of, real_array
-from .gust import OneMinusCosine, SharpEdged, SineGust, face_gust
+from .checks import callback, kind_of, log_interval as check_log_interval, real_array
+from .gust import OneMinusCosine, SharpEdged, SineGust, check_gust_step, face_gust, warn_unseen
 from .frequencies import check_pivot, check_x_ref
 from .linear import LinearError, check_gust_method, check_linear_system
 from .motion import motion_forcing
 from .radau import RADAU_C, dense_weights, radau_transform, stability_function
 
 __all__ = ["LTDHistory", "ltd_response", "ltd_responses", "phase_error_estimate", "check_march", "SCHEMES",
-           "RADAU_STEP", "radau_substeps", "radau_steps", "gust_frequency", "check_scheme"]
+           "RADAU_STEP", "radau_substeps", "radau_steps", "gust_frequency", "check_scheme", "MAX_STEPS", "check_times"]
 
 log = logging.getLogger(__name__)
 
@@ -178,18 +178,22 @@ histories are marched in pieces, each from the last state of the one before (``i
 limit, ``studies.schema.MAX_STEPS``, is the same number (a test checks it)."""
 
 
-def _check_times(dt, t_end):
+def check_times(dt, t_end, error=LinearError):
+    """``(dt, t_end)`` as floats, checked for every time march (LTD, coupled, nonlinear) before any work: ``dt``
+    positive and finite, ``t_end`` finite and at least ``dt``, at most :data:`MAX_STEPS` steps; else ``error``."""
     try:
+        if isinstance(dt, bool) or isinstance(t_end, bool):
+            raise TypeError
         dt = float(dt)
         t_end = float(t_end)
     except (TypeError, ValueError):
-        raise LinearError("dt and t_end must be real numbers (convective time)") from None
+        raise error("dt and t_end must be real numbers (convective time)") from None
     if not (math.isfinite(dt) and dt > 0.0):
-        raise LinearError(f"dt = {dt} must be positive and finite (convective time, e.g. 0.02)")
+        raise error(f"dt = {dt} must be positive and finite (convective time, e.g. 0.02)")
     if not (math.isfinite(t_end) and t_end >= dt):
-        raise LinearError(f"t_end = {t_end} must be finite and at least one time step (dt = {dt})")
+        raise error(f"t_end = {t_end} must be finite and at least one time step (dt = {dt})")
     if round(t_end / dt) > MAX_STEPS:
-        raise LinearError(f"t_end / dt = {t_end:g} / {dt:g} = {t_end / dt:.3g} steps, more than cfd.ltd.MAX_STEPS = "
+        raise error(f"t_end / dt = {t_end:g} / {dt:g} = {t_end / dt:.3g} steps, more than cfd.ltd.MAX_STEPS = "
                           f"{MAX_STEPS:.0e}: check dt (convective time, c / U; the paper's step is 0.02), or march a "
                           "longer history in pieces, each from the state the last one ended in (initial=)")
     return dt, t_end
@@ -217,15 +221,18 @@ def _warn_phase(gust, dt, max_phase_error, scheme="bdf2", step=None):
         )
 
 
-def check_march(gust, dt, t_end, max_phase_error=0.01):
+def check_march(gust, dt, t_end, max_phase_error=0.01, x_ref=0.0):
     """The checks of :func:`ltd_response` for a march of ``gust`` built elsewhere (``cfd.coupled``).
 
-    Returns the checked ``(dt, t_end)`` (floats); raises :class:`LinearError` for a gust of the wrong type or bad
-    times, and warns (``RuntimeWarning``) when :func:`phase_error_estimate` exceeds ``max_phase_error``.
+    Returns the checked ``(dt, t_end)`` (floats); raises :class:`LinearError` for a gust of the wrong type, bad
+    times or a gust shorter than :data:`cfd.gust.MIN_GUST_STEPS` steps, and warns (``RuntimeWarning``) when
+    :func:`phase_error_estimate` exceeds ``max_phase_error`` or the march ends before the gust reaches ``x_ref``.
     """
     _check_gust(gust)
-    dt, t_end = _check_times(dt, t_end)
+    dt, t_end = check_times(dt, t_end)
+    check_gust_step(gust, dt, LinearError)
     _warn_phase(gust, dt, max_phase_error)
+    warn_unseen(gust, t_end, check_x_ref(x_ref), stacklevel=4)
     return dt, t_end
 
 
@@ -444,6 +451,9 @@ def _march(lin, gusts, dt, t_end, method, x_ref, initial, motion=None, progress=
             moves = [] if motion is None else _radau_motions(lin, t, *motion, stage_times)
             Y, q = _radau(lin, gusts, t, method, initial, moves, m, stage_times, clock)
             moves = [(f, x) for f, x, _ in moves]
+    if not np.all(np.isfinite(Y)):
+        raise LinearError("the march's loads overflowed to inf or NaN: the inputs are too large for floating point "
+                          "(the system is linear: march a unit input and scale the loads)")
     x_of = {f.name: x for f, x in moves}
     pivot = next((f.pivot for f, _ in moves if f.name == "pitch"), None)
     zero = np.zeros(n + 1)
@@ -531,11 +541,16 @@ def ltd_responses(lin, gusts, dt, t_end, method="svm", x_ref=0.0, max_phase_erro
         raise LinearError("gusts is empty: give at least one cfd.SineGust, OneMinusCosine or SharpEdged")
     for gust in gusts:
         _check_gust(gust)
-    dt, t_end = _check_times(dt, t_end)
+    dt, t_end = check_times(dt, t_end)
     x_ref = check_x_ref(x_ref)
     check_scheme(scheme, dt, step)
+    progress = callback("progress", progress, LinearError)
+    log_interval = check_log_interval(log_interval, LinearError)
+    for gust in gusts:
+        check_gust_step(gust, dt, LinearError)
     for gust in gusts:
         _warn_phase(gust, dt, max_phase_error, scheme, step)
+        warn_unseen(gust, t_end, x_ref)
     reps, maps = _shape_groups(gusts)
     marched = _march(lin, reps, dt, t_end, method, x_ref, None, progress=progress, log_interval=log_interval,
                      scheme=scheme, step=step)
@@ -600,11 +615,19 @@ def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, ma
     Raises
     ------
     LinearError
-        Non-positive or non-finite ``dt``, ``t_end < dt``, unknown method or scheme, not a gust, neither a gust
-        nor a motion, a motion history of the wrong length or with non-finite values, a non-finite pivot or
+        Non-positive or non-finite ``dt``, ``t_end < dt``, more than :data:`MAX_STEPS` steps, a gust that passes
+        in fewer than :data:`cfd.gust.MIN_GUST_STEPS` steps (its samples could all miss it), unknown method or
+        scheme, not a gust, neither a gust nor a motion, a ``progress`` that is not callable, a negative
+        ``log_interval``, a motion history of the wrong length or with non-finite values, a non-finite pivot or
         ``x_ref``, a ``max_phase_error`` that is not a positive number, a Radau step that is not a positive whole
         multiple of ``dt``, an ``initial`` that is not a pair of finite real states of shape (4N,), ``lin`` not a
-        ``LinearSystem``.
+        ``LinearSystem``; loads that overflow to inf or NaN (inputs too large for floating point).
+
+    Warns
+    -----
+    RuntimeWarning
+        :func:`phase_error_estimate` above ``max_phase_error``; a march from rest that ends before the gust's front
+        reaches ``x_ref`` (loads of about zero).
     """
     check_linear_system(lin)
     check_gust_method(method)
@@ -613,13 +636,18 @@ def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, ma
                           "t_end, pitch=...))")
     if gust is not None:
         _check_gust(gust)
-    dt, t_end = _check_times(dt, t_end)
+    dt, t_end = check_times(dt, t_end)
     x_ref = check_x_ref(x_ref)
     pivot = check_pivot(pivot)
     check_scheme(scheme, dt, step)
     initial = _check_initial(lin, initial, scheme)
+    progress = callback("progress", progress, LinearError)
+    log_interval = check_log_interval(log_interval, LinearError)
     if gust is not None:
+        check_gust_step(gust, dt, LinearError)
         _warn_phase(gust, dt, max_phase_error, scheme, step)
+        if initial is None:
+            warn_unseen(gust, t_end, x_ref)
     motion = None if plunge is None and pitch is None else (plunge, pitch, pivot)
     return _march(lin, [] if gust is None else [gust], dt, t_end, method, x_ref, initial, motion,
                   progress=progress, log_interval=log_interval, scheme=scheme, step=step)[0]

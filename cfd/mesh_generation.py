@@ -35,6 +35,16 @@ MIN_FARFIELD = 3.0
 the free stream there (:func:`c_grid` refuses less; :func:`cfd.solve_steady` warns for a grid of other origin)."""
 
 
+MAX_FARFIELD = 1e4
+"""Largest far-field distance (chords) of a C-grid: 400 times the paper's 25. Already at 1e3 the default 60 nodes
+outward fold the grid (a typed MeshError); at 1e300 the spacing overflowed (SuperLU's 'Factor is exactly
+singular')."""
+
+MAX_NODES = 4_000_000
+"""Most nodes ``ni * nj`` of a C-grid: 370 times the paper's 181 x 60 (10 860). The grid itself would fit, but no
+solver of this package would: the sparse LU of its Jacobian fills in faster than the node count grows."""
+
+
 def _check_sizes(ni, nj, n_surface, farfield):
     for name, v in (("ni", ni), ("nj", nj), ("n_surface", n_surface)):
         if not isinstance(v, (int, np.integer)) or isinstance(v, bool):
@@ -60,6 +70,12 @@ def _check_sizes(ni, nj, n_surface, farfield):
         raise MeshError(f"farfield = {farfield!r} must be a finite number of chords, e.g. 25 (the default)")
     if farfield < MIN_FARFIELD:
         raise MeshError(f"farfield = {farfield} chords is too close; use at least {MIN_FARFIELD:g} (default 25)")
+    if farfield > MAX_FARFIELD:
+        raise MeshError(f"farfield = {farfield:g} chords is beyond cfd.mesh_generation.MAX_FARFIELD = {MAX_FARFIELD:g}; "
+                        "the far field is in chords (the paper's: 25)")
+    if ni * nj > MAX_NODES:
+        raise MeshError(f"ni * nj = {ni} * {nj} = {ni * nj} nodes is more than cfd.mesh_generation.MAX_NODES = "
+                        f"{MAX_NODES:.0e}: no solver here could factorise its Jacobian (the paper's grid: 181 x 60)")
     return n_wake2 // 2
 
 
@@ -304,13 +320,16 @@ def c_grid(
     MeshError
         If the sizes do not fit the stencil or each other, the far field is too close, the spacings
         are not positive and small enough, a smoother setting is out of range (``max_iter``, ``n_layers`` not
-        whole numbers >= 0, ``tol`` not positive, ``march_distance`` negative, any of them non-finite), or the
-        grid folds (inverted cells).
+        whole numbers >= 0, ``tol`` not positive, ``march_distance`` negative, any of them non-finite), ``smooth``
+        not a bool, ``farfield`` above :data:`MAX_FARFIELD`, more than :data:`MAX_NODES` nodes, or the grid folds
+        (inverted cells).
     """
     if not all(hasattr(foil, a) for a in ("at_arc", "perimeter", "s_leading_edge_arc", "t")):
         raise MeshError(f"foil must be an aerofoil from cfd.naca (e.g. cfd.naca('0012')); got {type(foil).__name__}")
     n_wake = _check_sizes(ni, nj, n_surface, farfield)
     _check_smoothing(max_iter, tol, n_layers, march_distance)
+    if not isinstance(smooth, (bool, np.bool_)):
+        raise MeshError(f"smooth must be True or False; got {smooth!r}")
     if le_spacing is None:
         le_spacing = float(np.clip(0.25 * 1.1019 * foil.t**2, 0.001, 0.005))
     half_len = min(foil.s_leading_edge_arc, foil.perimeter - foil.s_leading_edge_arc)

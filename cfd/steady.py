@@ -47,7 +47,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from .checks import not_a_grid, whole_number
+from .checks import callback, flag, log_interval as check_log_interval, not_a_grid, whole_number
 from .superlu import splu_nested, splu_pivoted
 from .errors import ConvergenceError, FlowConditionError, MeshError
 from .euler import DEFAULT_SCHEME, Scheme, residual as _euler_residual, spectral_radius_sum
@@ -176,7 +176,7 @@ def _positive_setting(name, value, hint, upper=None):
         v = float(value)
     except (TypeError, ValueError):
         v = math.nan
-    if isinstance(value, bool) or not (math.isfinite(v) and v > 0.0 and (upper is None or v < upper)):
+    if isinstance(value, (bool, str, bytes)) or not (math.isfinite(v) and v > 0.0 and (upper is None or v < upper)):
         span = "positive and finite" if upper is None else f"a number in (0, {upper:g})"
         raise FlowConditionError(f"{name} must be {span} ({hint}); got {value!r}")
     return v
@@ -189,6 +189,29 @@ def _count_setting(name, value, hint, allow_inf=False):
     if n is None or n < 0:
         raise FlowConditionError(f"{name} must be a whole number >= 0 ({hint}); got {value!r}")
     return n
+
+
+def _check_continuation(cfl_rk, cfl_max, growth, cfl_min, max_change, max_rise, chord_ratio):
+    """The CFL continuation and step-control settings of :func:`solve_steady`, checked before any work
+    (``FlowConditionError``; ``cfl_rk = -1`` diverged after 90 Runge-Kutta steps, ``chord_ratio = 5`` was taken)."""
+    _positive_setting("cfl_rk", cfl_rk, "CFL number of the Runge-Kutta start, e.g. 2.5")
+    if not (isinstance(cfl_max, (int, float, np.integer, np.floating)) and not isinstance(cfl_max, bool)
+            and cfl_max > 0.0):
+        raise FlowConditionError(f"cfl_max must be a positive number (the cap of the CFL continuation, default 1e10; "
+                                 f"inf: no cap); got {cfl_max!r}")
+    if growth is not None:
+        _positive_setting("growth", growth, "CFL factor after a good step, at least 1, e.g. 3")
+        if growth < 1.0:
+            raise FlowConditionError(f"growth = {growth} would lower the CFL number after every good step; give a "
+                                     "factor >= 1 (e.g. 3), or None for the strategy's default")
+    _positive_setting("cfl_min", cfl_min, "the smallest CFL number tried, e.g. 0.01")
+    _positive_setting("max_change", max_change, "the largest relative change of density or pressure per step, "
+                      "e.g. 0.5")
+    _positive_setting("max_rise", max_rise, "the residual factor that rejects a step, e.g. 2")
+    if isinstance(chord_ratio, bool) or not isinstance(chord_ratio, (int, float, np.integer, np.floating)) \
+            or not 0.0 <= chord_ratio <= 1.0:
+        raise FlowConditionError(f"chord_ratio must be a number in [0, 1] (the residual factor each chord step must "
+                                 f"reach, e.g. 0.5; 0: no further chord steps); got {chord_ratio!r}")
 
 
 def _check_settings(tol, scheme, strategy, n_rk, cfl0, max_newton, max_chord):
@@ -283,9 +306,11 @@ def solve_steady(grid, mach, alpha_deg, *, gamma=1.4, tol=1e-10, scheme=None, q0
     ------
     FlowConditionError
         Mach out of [0.01, 1) (``cfd.flow.MIN_MACH``; a ``RuntimeWarning`` below 0.1), NaN or infinite input, or
-        a non-physical ``q0``; a bad setting: ``tol`` not in (0, 1), ``cfl0`` not positive and finite, ``n_rk``,
-        ``max_newton`` or ``max_chord`` not a whole number >= 0, ``scheme`` not a ``cfd.Scheme`` with finite
-        non-negative constants, or an unknown ``strategy``.
+        a non-physical ``q0``; a bad setting: ``tol`` not in (0, 1), ``cfl0``, ``cfl_rk``, ``cfl_min``,
+        ``max_change`` or ``max_rise`` not positive and finite, ``cfl_max`` not positive, ``growth`` below 1,
+        ``chord_ratio`` not in [0, 1], ``n_rk``, ``max_newton`` or ``max_chord`` not a whole number >= 0,
+        ``scheme`` not a ``cfd.Scheme`` with finite non-negative constants, an unknown ``strategy``, ``verbose``
+        not a bool, ``progress`` not callable, ``log_interval`` negative.
     MeshError
         ``grid`` is not a :class:`cfd.Grid`.
     ConvergenceError
@@ -302,6 +327,10 @@ def solve_steady(grid, mach, alpha_deg, *, gamma=1.4, tol=1e-10, scheme=None, q0
     scheme = DEFAULT_SCHEME if scheme is None else scheme
     tol, n_rk, cfl0, max_newton, max_chord = _check_settings(tol, scheme, strategy, n_rk, cfl0, max_newton,
                                                              max_chord)
+    _check_continuation(cfl_rk, cfl_max, growth, cfl_min, max_change, max_rise, chord_ratio)
+    verbose = flag("verbose", verbose, FlowConditionError)
+    progress = callback("progress", progress, FlowConditionError)
+    log_interval = check_log_interval(log_interval, FlowConditionError)
     chord = strategy == "chord"
     warm = chord and q0 is not None  # a neighbouring converged flow: no RK start, Newton at once
     if n_rk is None:

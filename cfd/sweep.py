@@ -49,7 +49,7 @@ import numpy as np
 
 from sysid import FrequencyResponse
 
-from .frequencies import check_motion_frequencies, check_pivot, check_x_ref, frequency_grid
+from .frequencies import check_motion_frequencies, check_pivot, check_tol, check_x_ref, frequency_grid
 from .linear import LinearError, check_gust_method, check_linear_system, check_outputs
 from .motion import check_inputs
 from .checks import whole_number
@@ -61,15 +61,10 @@ __all__ = ["SweepBasis", "fast_sweep", "gust_operator", "face_gust_vector", "SAF
 
 log = logging.getLogger(__name__)
 
-def _check_tol(tol):
-    try:
-        t = float(tol)
-    except (TypeError, ValueError):
-        raise LinearError(f"tol must be a positive finite number (relative output error, e.g. 1e-8); got {tol!r}") \
-            from None
-    if not np.isfinite(t) or t <= 0.0:
-        raise LinearError(f"tol must be a positive finite number (relative output error, e.g. 1e-8); got {tol!r}")
-    return t
+MAX_WORKERS = 64
+"""Most worker processes :func:`fast_sweep` starts (``workers``): a fork-context ``ProcessPoolExecutor`` starts all of
+them at its first task, each holding its own factorisations, so ``workers = 10**6`` would fork a million processes
+at once."""
 
 
 def _evaluate_inputs(basis, wf, gust, x_ref, inputs, pivot, caches, sel):
@@ -247,7 +242,7 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
         When ``tol`` is not met within ``max_shifts``; the message names the frequencies.
     """
     check_linear_system(lin)
-    tol = _check_tol(tol)
+    tol = check_tol(tol)
     check_gust_method(gust)
     names, rows = check_outputs(outputs)
     inputs = check_inputs(inputs)
@@ -264,9 +259,13 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
     if isinstance(log_interval, bool) or not isinstance(log_interval, (int, float, np.integer, np.floating)) or \
             not log_interval >= 0.0:
         raise LinearError(f"log_interval must be a number of seconds >= 0 (default 60); got {log_interval!r}")
-    if not isinstance(workers, (int, np.integer)) or workers < 1:
+    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
         raise LinearError(f"workers must be a positive integer (processes for the shifts, 1: this one); got "
                           f"{workers!r}")
+    if workers > MAX_WORKERS:
+        raise LinearError(f"workers = {workers} is more than cfd.sweep.MAX_WORKERS = {MAX_WORKERS}: each worker is a "
+                          "forked process holding its own factorisations, and all are started at once; use at most "
+                          "the machine's cores (os.cpu_count())")
     w, T = frequency_grid(omega, T)
     x_ref = check_x_ref(x_ref)
     check_motion_frequencies(inputs, w)

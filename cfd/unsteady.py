@@ -58,14 +58,15 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from .errors import LocalMachError, NonPhysicalStateError, UnsteadyError, UnsteadyStepError  # noqa: F401 (re-exported)
-from .checks import whole_number
+from .checks import callback, flag, log_interval as check_log_interval, whole_number
 from .euler import residual
 from .flow import FlowCondition, primitive
 from .frequencies import check_x_ref
-from .gust import OneMinusCosine, SharpEdged, SineGust, cell_x_gradient, face_gust, gust_face_velocity, svm_source
+from .gust import (OneMinusCosine, SharpEdged, SineGust, cell_x_gradient, check_gust_step, face_gust,
+                   gust_face_velocity, svm_source, warn_unseen)
 from .jacobian import H_STEP, jacobian
 from .linear import METHODS, factorise, grid_permutation, wall_loads
-from .ltd import LTDHistory, phase_error_estimate
+from .ltd import LTDHistory, check_times, phase_error_estimate
 
 __all__ = [
     "UnsteadyError",
@@ -74,6 +75,7 @@ __all__ = [
     "LocalMachError",
     "UnsteadyHistory",
     "unsteady_response",
+    "MAX_SNAPSHOT_BYTES",
 ]
 
 log = logging.getLogger(__name__)
@@ -153,19 +155,18 @@ class UnsteadyHistory(LTDHistory):
         return self.steady_loads[2] + self.cd
 
 
+MAX_SNAPSHOT_BYTES = 4 * 2**30
+"""Most memory the full-state snapshots of :func:`unsteady_response` may take (``snapshot_times``, one state per
+distinct step): 4 GiB, some 12 000 states of the paper grid."""
+
+
 def _check_input(gust, method, dt, t_end):
     if method not in METHODS:
         raise UnsteadyError(f"method must be one of {METHODS} (split or field velocity method); got {method!r}")
     if not isinstance(gust, (SineGust, OneMinusCosine, SharpEdged)):
         raise UnsteadyError(f"gust must be a cfd.SineGust, OneMinusCosine or SharpEdged; got {type(gust).__name__}")
-    try:
-        dt, t_end = float(dt), float(t_end)
-    except (TypeError, ValueError):
-        raise UnsteadyError("dt and t_end must be real numbers (convective time)") from None
-    if not (math.isfinite(dt) and dt > 0.0):
-        raise UnsteadyError(f"dt = {dt} must be positive and finite (convective time, e.g. 0.02)")
-    if not (math.isfinite(t_end) and t_end >= dt):
-        raise UnsteadyError(f"t_end = {t_end} must be finite and at least one time step (dt = {dt})")
+    dt, t_end = check_times(dt, t_end, UnsteadyError)   # the LTD's step limit, cfd.ltd.MAX_STEPS, before any work
+    check_gust_step(gust, dt, UnsteadyError)
     return dt, t_end
 
 
@@ -307,7 +308,10 @@ def unsteady_response(sol, gust, dt, t_end, method="svm", x_ref=0.0, *, rtol=1e-
     Raises
     ------
     UnsteadyError
-        Unknown method, not a gust, bad ``dt`` or ``t_end``, a non-finite ``x_ref``, a setting out of range
+        Unknown method, not a gust, bad ``dt`` or ``t_end``, more than ``cfd.ltd.MAX_STEPS`` steps (refused before
+        any work, as the LTD), a gust that passes in fewer than ``cfd.gust.MIN_GUST_STEPS`` steps, a ``krylov``
+        that is not a bool, a ``progress`` that is not callable, a negative ``log_interval``, snapshots of more than
+        :data:`MAX_SNAPSHOT_BYTES`, a non-finite ``x_ref``, a setting out of range
         (``rtol``, ``atol`` negative; ``max_iter``, ``max_refactor`` not whole numbers; ``stall_ratio`` outside
         (0, 1]; a limit or ``steady_tol`` not positive; any of them NaN), a non-converged ``sol``.
     UnsteadyStepError
@@ -317,12 +321,17 @@ def unsteady_response(sol, gust, dt, t_end, method="svm", x_ref=0.0, *, rtol=1e-
     Warns
     -----
     RuntimeWarning
-        ``dt`` too large for the gust; a local Mach number above ``separation_mach``.
+        ``dt`` too large for the gust; a local Mach number above ``separation_mach``; a march that ends before the
+        gust reaches ``x_ref``.
     """
     dt, t_end = _check_input(gust, method, dt, t_end)
     x_ref = check_x_ref(x_ref, UnsteadyError)
     snapshot_times = _check_settings(rtol, atol, max_iter, stall_ratio, max_refactor, snapshot_times,
                                      max_phase_error, max_local_mach, separation_mach, steady_tol)
+    krylov = flag("krylov", krylov, UnsteadyError)
+    progress = callback("progress", progress, UnsteadyError)
+    log_interval = check_log_interval(log_interval, UnsteadyError)
+    warn_unseen(gust, t_end, x_ref)
     err = phase_error_estimate(gust, dt)
     if err > max_phase_error:
         warnings.warn(
@@ -330,12 +339,17 @@ def unsteady_response(sol, gust, dt, t_end, method="svm", x_ref=0.0, *, rtol=1e-
             f"scale (limit {100 * max_phase_error:.2g} %); reduce dt by {math.sqrt(err / max_phase_error):.2g}x",
             RuntimeWarning, stacklevel=2)
     grid, qbar, flow, scheme, R0, r_free, drop = _steady_state(sol, steady_tol)
+    snap_steps = {int(round(min(max(s, 0.0), t_end) / dt)) for s in snapshot_times}
+    if len(snap_steps) * qbar.nbytes > MAX_SNAPSHOT_BYTES:
+        raise UnsteadyError(f"snapshot_times asks for {len(snap_steps)} full states of {qbar.nbytes / 2**20:.3g} MiB, "
+                            f"{len(snap_steps) * qbar.nbytes / 2**30:.3g} GiB, more than MAX_SNAPSHOT_BYTES = "
+                            f"{MAX_SNAPSHOT_BYTES / 2**30:g} GiB: keep the times you will look at (the loads are kept "
+                            "at every step anyway)")
     march = _March(grid, qbar, flow, scheme, R0, r_free, gust, method, dt, rtol, atol, max_iter, stall_ratio,
                    max_refactor, krylov)
     march.info["steady_residual"] = drop
     n = int(round(t_end / dt))
     t = dt * np.arange(n + 1)
-    snap_steps = {int(round(min(max(s, 0.0), t_end) / dt)) for s in snapshot_times}
     loads = np.zeros((n + 1, 3))
     iters = np.zeros(n + 1, dtype=int)
     res = np.zeros(n + 1)

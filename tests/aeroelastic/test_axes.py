@@ -37,3 +37,13 @@ def test_errors():
     frf = th.theodorsen_frf(W, 0.0)
     with pytest.raises(ae.AeroModelError, match="pivot must be a position"):
         ae.change_axes(frf, pivot="le", moment_axis=0.25, new_axis=0.4)
+
+
+@pytest.mark.parametrize("pivot, match", [
+    (1e300, r"pivot = 1e\+300 chords is beyond MAX_AXIS = 10000"),   # gave responses of 8e300
+    ("0.25", r"pivot must be a position in chords"),
+    (True, r"pivot must be a position in chords"),
+])
+def test_axes_are_positions_near_the_aerofoil(pivot, match):
+    with pytest.raises(ae.AeroModelError, match=match):
+        ae.change_axes(th.theodorsen_frf(np.linspace(0.0, 2.0, 11), -0.2), pivot=pivot, moment_axis=0.25, new_axis=0.4)

@@ -126,8 +126,51 @@ def test_a_gust_output_that_is_zero_everywhere_is_a_zero_row():
 @pytest.mark.parametrize("kwargs, match", [
     (dict(gust_order=0), r"gust column cannot be fitted with gust_order = 0"),
     (dict(gust_order=100), r"gust column cannot be fitted with gust_order = 100 .*choose another gust_order"),
-    (dict(T=-1.0), r"gust column cannot be fitted .*T = -1.0.*sampling period T must be positive"),
 ])
 def test_a_gust_fit_that_sysid_refuses_is_a_fit_error(kwargs, match):
     with pytest.raises(ae.FitError, match=match):
         ae.fit_motion(th.theodorsen_frf(OMEGA, -0.2, gust=True), 4, **kwargs)
+
+
+# --- input checks (issue 34) ---------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("T, match", [
+    (0, r"T \(sampling period .*\) must be a positive finite number or None .*got 0"),
+    (-1.0, r"must be a positive finite number or None"),
+    (np.nan, r"must be a positive finite number or None"),
+    ("2", r"must be a positive finite number or None .*got '2'"),
+    (True, r"must be a positive finite number or None .*got True"),
+    # 2 / T = 2e300, 5e299 times the highest frequency: every sample at omega_d ~ 0 (was accepted)
+    (1e-300, r"T = 1e-300 puts the bilinear map's centre frequency 2 / T = 2e\+300 above the data's frequencies "
+             r"\(0.01 to 4\) by more than 100x: the gust model would see the DC gain alone; give T between 0.005 and "
+             r"2e\+04"),
+    (1e6, r"centre frequency 2 / T = 2e-06 below the data's frequencies .* the feedthrough alone"),
+])
+def test_the_gust_identification_period_is_checked_against_the_data(T, match):
+    # checked before any fit (T = -1 was refused by sysid after the motion fit; T = 1e-300 was accepted)
+    with pytest.raises(ae.FitError, match=match):
+        ae.fit_motion(th.theodorsen_frf(W, -0.2, gust=True), 2, T=T)
+
+
+def test_the_period_band_edges_are_accepted():
+    # 2 / T exactly 100 times the highest and 1/100 of the lowest positive frequency: legal
+    frf = th.theodorsen_frf(W, -0.2, gust=True)
+    for T in (2.0 / (4.0 * ae.fit.T_BAND), 2.0 / (0.01 / ae.fit.T_BAND)):
+        assert ae.fit_motion(frf, 2, gust_order=2, T=T * (1 + 1e-12) if T < 1 else T * (1 - 1e-12)).has_gust
+
+
+def test_the_period_of_motion_only_data_is_still_a_period():
+    with pytest.raises(ae.FitError, match="positive finite number or None"):
+        ae.fit_motion(th.theodorsen_frf(W, -0.2), 2, T=0)
+
+
+@pytest.mark.parametrize("kwargs, error, match", [
+    (dict(optimise="no"), ae.AeroModelError, r"optimise must be True or False, got 'no'"),
+    (dict(poles="ab"), ae.FitError, r"poles must be 2 positive lag roots \(U/c\), finite, in a 1-D array; got 'ab'"),
+    (dict(poles=[[0.1], [1.0]]), ae.FitError, r"poles must be 2 positive lag roots"),
+    (dict(poles=[np.inf, 1.0]), ae.FitError, r"poles must be 2 positive lag roots"),
+])
+def test_fit_options_are_checked(kwargs, error, match):
+    with pytest.raises(error, match=match):
+        ae.fit_motion(th.theodorsen_frf(W, -0.2), 2, **kwargs)
+

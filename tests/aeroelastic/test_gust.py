@@ -130,3 +130,31 @@ def test_a_step_too_coarse_for_the_section_is_reported(theo):
         warnings.simplefilter("error", RuntimeWarning)
         fine = ae.gust_response(theo, HP, 1.2, history(0.05))
     assert abs(np.abs(coarse.pitch).max() / np.abs(fine.pitch).max() - 1.0) > 0.05
+
+
+# --- input checks (issue 34): a gust between the samples, a gust on too few samples --------------------------------
+
+def test_a_gust_history_of_zeros_is_refused(theo):
+    # what cfd.ltd_response returned for a gust shorter than its step: zeros, and a zero response without a word
+    t = np.arange(0.0, 40.0, 5.0)
+    with pytest.raises(ae.AeroModelError, match=r"the gust history u is zero at all 8 samples: there is nothing to "
+                                                r"respond to. A gust shorter than the time step"):
+        ae.gust_response(theo, HP, 1.0, (t, 0.0 * t))
+
+
+def test_a_gust_on_one_or_two_samples_warns(theo):
+    t = np.arange(0.0, 60.0, 0.25)
+    u = np.where(t == 5.0, 0.01, 0.0)                 # a spike: the gust fell on one sample
+    with pytest.warns(RuntimeWarning, match=r"reaches half its peak at 1 sample\(s\) only \(step 0.25\)"):
+        ae.gust_response(theo, HP, 1.0, (t, u))
+    with warnings.catch_warnings():                   # the 10-chord gust on a 0.1 step: no warning
+        warnings.simplefilter("error")
+        ae.gust_response(theo, HP, 1.0, (T, U))
+
+
+def test_a_speed_is_a_number_not_a_flag_nor_astronomical(theo):
+    with pytest.raises(ae.SpeedError, match=r"must be a number, got True"):
+        ae.gust_response(theo, HP, True, (T, U))
+    # 1e200 overflowed in the state matrix (Python's OverflowError)
+    with pytest.raises(ae.SpeedError, match=r"= 1e\+200 is above MAX_SPEED = 1e\+06"):
+        ae.coupled_model(theo, HP, 1e200)

@@ -55,3 +55,12 @@ def test_gust_plot_difference_row_is_per_cent_of_the_reference_peak():
 def test_plots_name_what_they_expected(plot, what, bad):
     with pytest.raises(ae.AeroModelError, match=rf"expected the result of {what}, got {type(bad).__name__}"):
         plot(bad)
+
+
+def test_root_locus_flag_is_a_bool():
+    sec = ae.TypicalSection(20, -0.2, 0.1, 0.24, 0.4)
+    W = np.concatenate([[0.0], np.geomspace(0.01, 4.0, 40)])
+    r = ae.flutter(ae.fit_motion(th.jones_frf(W, sec.a), 2, gust_order=3), sec, np.linspace(0.05, 3.0, 20))
+    with pytest.raises(ae.AeroModelError, match=r"show_lags must be True or False, got 'no'"):
+        ae.root_locus_plot(r, show_lags="no")
+    plt.close("all")

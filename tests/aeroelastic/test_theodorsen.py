@@ -52,7 +52,9 @@ def test_jones_indicial_functions_are_zero_before_the_step(fn):
     out = fn(tau)
     assert np.array_equal(out[:3], [0.0, 0.0, 0.0])
     assert out[3] == fn(0.0) > 0.0 and out[4] > out[3]
-    assert fn(-50.0) == 0.0 and np.isscalar(fn(-50.0)) and np.isnan(fn(np.nan))
+    assert fn(-50.0) == 0.0 and np.isscalar(fn(-50.0))
+    with pytest.raises(AeroModelError, match="NaN"):   # refused, as cfd.wagner and cfd.kussner do (it returned NaN)
+        fn(np.nan)
 
 
 HP_SECTION = dict(mu=20, a=-0.2, x_alpha=0.1, r_alpha2=0.24, omega_ratio=0.4)
@@ -113,3 +115,31 @@ def test_bad_reduced_frequency_is_a_speed_error(k):
         th.theodorsen_function(k)
     with pytest.raises(ae.SpeedError, match="reduced frequencies k"):
         th.sears_function(k)
+
+
+# --- input checks (issue 34) ---------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("call, error, match", [
+    (lambda: th.theodorsen_motion(K, -0.2, quasi_steady="no"), AeroModelError, r"quasi_steady must be True or False"),
+    (lambda: th.theodorsen_motion(K, -0.2, circulation=3), AeroModelError, r"circulation must be a callable"),
+    (lambda: th.theodorsen_frf(K, -0.2, gust="yes"), AeroModelError, r"gust must be True or False, got 'yes'"),
+    (lambda: th.theodorsen_frf(np.ones((2, 2)), -0.2), AeroModelError, r"omega must be 1-D .*got shape \(2, 2\)"),
+    (lambda: th.theodorsen_frf("fast", -0.2), AeroModelError, r"omega must be an array of real frequencies"),
+    (lambda: th.jones_frf(np.ones((2, 2)), -0.2), AeroModelError, r"omega must be 1-D"),
+    (lambda: th.flutter_determinant(ae.TypicalSection(20, -0.2, 0.1, 0.24, 0.4), quasi_steady="no"), AeroModelError,
+     r"quasi_steady must be True or False"),
+    (lambda: th.flutter_determinant(ae.TypicalSection(20, -0.2, 0.1, 0.24, 0.4), n_k=10**10), ae.SpeedError,
+     r"n_k = 10000000000 grid points is more than MAX_K_POINTS = 100000"),
+    (lambda: th.wagner_jones(np.nan), AeroModelError, r"tau .* contains NaN"),
+    (lambda: th.kussner_jones([0.0, np.nan]), AeroModelError, r"tau .* contains NaN"),
+    (lambda: th.wagner_jones("a"), AeroModelError, r"tau .* must be a number or an array of numbers"),
+])
+def test_bad_arguments_are_refused(call, error, match):
+    with pytest.raises(error, match=match):
+        call()
+
+
+def test_the_limits_of_the_step_responses_stay_legal():
+    # before the step 0, long after it 1 (the Jones sums tend to 1 - 0 = 1)
+    assert th.wagner_jones(-np.inf) == 0.0 and th.wagner_jones(np.inf) == 1.0
+    assert th.kussner_jones(-1.0) == 0.0 and th.kussner_jones(np.inf) == 1.0

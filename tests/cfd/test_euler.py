@@ -92,3 +92,33 @@ def test_bad_shapes_raise_mesh_error(kwargs, match):
     q = kwargs.pop("q", _uniform(g, flow))
     with pytest.raises(MeshError, match=match):
         residual(g, q, flow, **kwargs)
+
+
+# --- input checks (issue 34) ---------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(k2=-1.0), r"Scheme.k2 must be a finite number >= 0 \(default 0.5\); got -1.0"),
+    (dict(k4=float("nan")), r"Scheme.k4 must be a finite number >= 0"),
+    (dict(k4="1/64"), r"Scheme.k4 must be a finite number >= 0"),
+    (dict(vortex="no"), r"Scheme.vortex must be True or False; got 'no'"),   # 'no' turned the vortex on
+])
+def test_scheme_constants_are_checked_when_made(kwargs, match):
+    from cfd import FlowConditionError
+
+    with pytest.raises(FlowConditionError, match=match):
+        Scheme(**kwargs)
+
+
+def test_residual_checks_the_types_of_its_arguments():
+    # a string for the grid or the flow raised Python's AttributeError
+    from cfd import FlowConditionError
+
+    g = parabolic_c_grid(thickness=0.12)
+    flow = FlowCondition(0.5)
+    q = _uniform(g, flow)
+    with pytest.raises(MeshError, match="grid must be a cfd.Grid"):
+        residual("grid", q, flow)
+    with pytest.raises(FlowConditionError, match=r"flow must be a cfd.FlowCondition\(mach, alpha_deg\); got str"):
+        residual(g, q, "M0.5")
+    with pytest.raises(FlowConditionError, match=r"scheme must be a cfd.Scheme or None; got dict"):
+        residual(g, q, flow, scheme={"k2": 0.5})

@@ -213,3 +213,13 @@ def test_64a010_goes_through_the_c_grid_generator():
     i = np.arange(grid.n_wake, 97 - grid.n_wake)
     xw, yw = grid.x[i, 0], grid.y[i, 0]
     np.testing.assert_allclose(np.abs(yw), foil.thickness(xw), rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("make", [lambda n: naca("0012", n=n), lambda n: naca64a010(n=n),
+                                  lambda n: Aerofoil("0012", 0.0, 0.0, 0.12, n=n),
+                                  lambda n: naca("0012").coordinates(n)])
+def test_absurd_panel_counts_are_refused_with_their_size(make):
+    # naca("0012", n=100000000) was accepted (1.5 GiB at the first coordinates() call)
+    with pytest.raises(GeometryError, match=r"n = 100000000 surface panels is more than cfd.geometry.MAX_PANELS = "
+                                            r"1e\+06 \(1.49 GiB of coordinates\)"):
+        make(100_000_000)

@@ -267,3 +267,31 @@ def test_sine_gust_face_values_are_the_real_part_of_the_harmonic_ones():
     assert gust.input(s, x_ref) == pytest.approx((U * np.exp(1j * w * s)).real)
     for a, b in zip(face_gust(grid, gust, s), face_gust_harmonic(grid, w, x_ref)):
         np.testing.assert_allclose(a, (U * np.exp(1j * w * s) * b).real, atol=1e-14)
+
+
+# --- input checks (issue 34) ---------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("make, match", [
+    (lambda: OneMinusCosine(length=1e-12, angle_deg=1.0), r"length = 1e-12 chords is below 0.001 \(cfd.gust.MIN_LENGTH\)"),
+    (lambda: OneMinusCosine(length=0.0, angle_deg=1.0), r"length = 0.0 chords is below 0.001"),
+    (lambda: OneMinusCosine(length=-1.0, angle_deg=1.0), r"length = -1.0 chords is below 0.001"),
+    (lambda: SineGust(angle_deg=1.0, wavelength=1e-12), r"wavelength = 1e-12 chords must be at least 0.001"),
+    (lambda: SineGust(angle_deg=1.0, omega=1e12), r"omega = 1000000000000.0 .* use omega <= 6283"),
+])
+def test_gusts_shorter_than_any_grid_resolves_are_refused(make, match):
+    with pytest.raises(GustError, match=match):
+        make()
+
+
+def test_the_shortest_gust_is_accepted():
+    from cfd.gust import MIN_LENGTH
+
+    assert OneMinusCosine(length=MIN_LENGTH, angle_deg=1.0).length == MIN_LENGTH
+    assert SineGust(angle_deg=1.0, omega=2 * np.pi / MIN_LENGTH).wavelength == pytest.approx(MIN_LENGTH, rel=1e-15)
+
+
+def test_the_study_gust_step_rule_is_the_marches():
+    from cfd.gust import MIN_GUST_STEPS
+    from studies.schema import MIN_GUST_STEPS as STUDY_MIN_GUST_STEPS
+
+    assert STUDY_MIN_GUST_STEPS == MIN_GUST_STEPS

@@ -67,3 +67,24 @@ def test_face_velocity_derivative_matches_central_differences(transonic):
     fd = (residual(g, q, flow, face_velocity=(eps * dwi, eps * dwj))
           - residual(g, q, flow, face_velocity=(-eps * dwi, -eps * dwj))) / (2 * eps)
     assert np.max(np.abs(fd - d)) < 1e-7 * np.max(np.abs(d))
+
+
+@pytest.mark.parametrize("chunk", [0, -1, 2.5, "8", True])
+def test_chunk_must_be_a_whole_number_of_colours(transonic, chunk):
+    # chunk=0 raised Python's "range() arg 3 must not be zero"
+    from cfd import FlowConditionError
+
+    grid, flow, q = transonic
+    with pytest.raises(FlowConditionError, match=r"chunk must be a whole number >= 1"):
+        jacobian(grid, q, flow, chunk=chunk)
+
+
+def test_a_state_with_nan_is_refused(transonic):
+    # returned a NaN matrix with hundreds of NumPy RuntimeWarnings
+    from cfd import FlowConditionError
+
+    grid, flow, q = transonic
+    q = np.array(q)
+    q[3, 2, 1] = np.nan
+    with pytest.raises(FlowConditionError, match=r"q contains NaN or inf"):
+        jacobian(grid, q, flow)

@@ -196,3 +196,19 @@ def test_bad_sampling_period_is_refused_up_front(plate, T, method):
     # checked with the frequencies, before any solve (it used to fail only when the response was assembled)
     with pytest.raises(LinearError, match="T \\(sampling period"):
         lfd_response(plate, [0.5, 1.0], T=T, method=method)
+
+
+@pytest.mark.parametrize("tol", [-1.0, 0.0, np.nan, np.inf, "1e-8", True])
+@pytest.mark.parametrize("method", ["direct", "fast"])
+def test_tol_is_checked_on_both_paths(plate, tol, method):
+    # lfd_response(tol=-1) was accepted by the direct path (which does not use it)
+    with pytest.raises(LinearError, match=r"tol must be a positive finite number"):
+        lfd_response(plate, [0.5, 1.0], tol=tol, method=method)
+
+
+def test_absurd_frequency_counts_are_refused_before_any_solve(plate):
+    from cfd.frequencies import MAX_FREQUENCIES
+
+    with pytest.raises(LinearError, match=r"omega holds 100001 frequencies, more than "
+                                          r"cfd.frequencies.MAX_FREQUENCIES = 100000"):
+        lfd_response(plate, np.zeros(MAX_FREQUENCIES + 1))

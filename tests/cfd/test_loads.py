@@ -76,3 +76,23 @@ def test_flow_and_grid_types_are_checked(load):
         load(g, q, 0.5)
     with pytest.raises(MeshError, match="grid must be a cfd.Grid"):
         load(None, q, flow)
+
+
+@pytest.mark.parametrize("x_ref", [(np.nan, 0.0), (0.25, 0.0, 0.0), (0.25,), "quarter"])
+def test_moment_reference_must_be_a_finite_point(x_ref):
+    # (nan, 0) gave a NaN cm, (0.25, 0, 0) was taken as (0.25, 0)
+    g = parabolic_c_grid(thickness=0.1, n_surface=32, n_wake=8, nj=13)
+    flow = FlowCondition(0.5)
+    q = np.broadcast_to(flow.q, g.cell_shape + (4,))
+    with pytest.raises(FlowConditionError, match=r"x_ref must be a finite point \(x, y\) in chords"):
+        force_coefficients(g, q, flow, x_ref=x_ref)
+
+
+@pytest.mark.parametrize("load", [wall_cp, force_coefficients])
+def test_loads_of_a_state_with_nan_are_refused(load):
+    g = parabolic_c_grid(thickness=0.1, n_surface=32, n_wake=8, nj=13)
+    flow = FlowCondition(0.5)
+    q = np.array(np.broadcast_to(flow.q, g.cell_shape + (4,)))
+    q[0, 0, 3] = np.inf
+    with pytest.raises(FlowConditionError, match=r"q contains NaN or inf: its loads would be NaN"):
+        load(g, q, flow)

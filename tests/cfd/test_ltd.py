@@ -381,3 +381,85 @@ def test_scheme_options_are_checked(lin):
         phase_error_estimate(g, 0.05, "radau")
     with pytest.warns(RuntimeWarning, match="reduce dt by"):     # the step is dt itself: only dt can shrink
         ltd_response(lin, g, 0.5, 1.0, scheme="radau5")
+
+
+# --- input checks (issue 34): gusts shorter than the step, marches that miss the gust, callbacks -----------------
+
+@pytest.mark.parametrize("gust, dt, match", [
+    # the issue's two probes: an input history of zeros and loads of about zero, returned with only a phase warning
+    (OneMinusCosine(length=2.0, angle_deg=1.0, x0=-2.0), 5.0, r"length 2 chords passes a point in 0.4 time steps of "
+                                                              r"dt = 5, fewer than 2 .*Use dt <= 1 "),
+    (OneMinusCosine(length=1e-3, angle_deg=1.0, x0=-2.0), 0.1, r"fewer than 2 .*Use dt <= 0.0005 "),
+    (SineGust(angle_deg=1.0, wavelength=0.1), 0.1, r"sine gust of wavelength 0.1 chords .*Use dt <= 0.05 "),
+])
+@pytest.mark.parametrize("march", ["ltd_response", "ltd_responses", "coupled_ltd"])
+def test_a_gust_shorter_than_two_steps_is_refused(lin, gust, dt, match, march):
+    from cfd import coupled_ltd
+
+    calls = {"ltd_response": lambda: ltd_response(lin, gust, dt, 40.0),
+             "ltd_responses": lambda: ltd_responses(lin, [SharpEdged(angle_deg=1.0), gust], dt, 40.0),
+             "coupled_ltd": lambda: coupled_ltd(lin, gust, dt, 40.0, mass=np.eye(2), stiffness=np.eye(2),
+                                                load=np.eye(2), pivot=0.25)}
+    with pytest.raises(LinearError, match=match):
+        calls[march]()
+
+
+def test_a_gust_of_two_steps_is_marched_and_seen(lin):
+    # the limit itself (length = 2 dt) is legal: three samples of the bump, the middle one at its peak
+    g = OneMinusCosine(length=1.0, angle_deg=1.0, x0=-2.0)
+    with pytest.warns(RuntimeWarning, match="phase-rate error"):
+        h = ltd_response(lin, g, 0.5, 6.0)
+    assert h.u.max() == pytest.approx(g.amplitude, rel=1e-12)     # s = 2.5: xi = -0.5, the peak, sampled exactly
+    assert np.abs(h.cl).max() > 0.1 * g.amplitude * 2 * np.pi / 2  # a response of the order of the quasi-steady one
+
+
+@pytest.mark.parametrize("scheme", ["bdf2", "radau5"])
+def test_a_march_that_ends_before_the_gust_arrives_warns(lin, scheme):
+    g = OneMinusCosine(length=1.0, angle_deg=1.0, x0=-5.0)        # reaches x_ref = 0 at s = 5
+    with pytest.warns(RuntimeWarning, match=r"ends at t_end = 2, before the gust front \(x0 = -5\) reaches x_ref = 0 "
+                                            r"at s = 5: the loads will be about zero"):
+        h = ltd_response(lin, g, 0.02, 2.0, scheme=scheme)
+    assert not np.any(h.u)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(progress=3), r"progress must be a callable or None; got int 3"),
+    (dict(log_interval=-1.0), r"log_interval must be a number of seconds >= 0"),
+    (dict(log_interval=float("nan")), r"log_interval must be a number of seconds >= 0"),
+    (dict(log_interval="60"), r"log_interval must be a number of seconds >= 0"),
+])
+@pytest.mark.parametrize("march", [ltd_response, lambda lin, g, *a, **k: ltd_responses(lin, [g], *a, **k)])
+def test_progress_and_log_interval_are_checked_before_the_march(lin, kwargs, match, march):
+    # a progress that is not callable failed with Python's TypeError at the first step, after the factorisation
+    with pytest.raises(LinearError, match=match):
+        march(lin, SharpEdged(angle_deg=1.0), 0.1, 1.0, **kwargs)
+
+
+def test_booleans_are_not_times(lin):
+    with pytest.raises(LinearError, match="dt and t_end must be real numbers"):
+        ltd_response(lin, SharpEdged(angle_deg=1.0), True, 1.0)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(pivot=1e300), r"pivot = 1e\+300 chords is beyond cfd.frequencies.MAX_POSITION = 10000"),   # NaN loads
+    (dict(pivot=True), r"pivot must be a real number"),
+    (dict(x_ref=-2e4), r"x_ref = -20000 chords is beyond cfd.frequencies.MAX_POSITION"),
+])
+def test_positions_are_in_chords_near_the_aerofoil(lin, kwargs, match):
+    with pytest.raises(LinearError, match=match):
+        ltd_response(lin, None, 0.1, 1.0, pitch=np.zeros(11), **kwargs)
+
+
+def test_loads_that_overflow_are_refused(lin):
+    # a linear march of a 1e308-chord plunge: the loads (about 50 times the plunge) overflow; none is returned
+    with pytest.raises(LinearError, match=r"overflowed to inf or NaN"), np.errstate(all="ignore"):
+        ltd_response(lin, None, 0.1, 1.0, plunge=np.full(11, 1e308))
+
+
+def test_a_march_that_ends_before_the_gust_peak_warns(lin):
+    # OneMinusCosine(length=1e300) is legal (the uniform-gust limit) but its input is zero over any march
+    g = OneMinusCosine(length=1e300, angle_deg=1.0, x0=-2.0)
+    with pytest.warns(RuntimeWarning, match=r"ends at t_end = 4, before the peak of the 1e\+300-chord gust reaches "
+                                            r"x_ref = 0 at s = 5e\+299"):
+        h = ltd_response(lin, g, 0.1, 4.0)
+    assert np.abs(h.u).max() < 1e-300

@@ -87,8 +87,16 @@ def test_bad_flow_conditions_raise(grid0012, mach, alpha, match):
         ({"max_newton": 10.5}, "max_newton must be a whole number >= 0"),
         ({"max_chord": -1}, "max_chord must be a whole number >= 0"),
         ({"scheme": "jst"}, "scheme must be a cfd.Scheme"),
-        ({"scheme": cfd.Scheme(k4=float("nan"))}, "scheme.k4 must be a finite number >= 0"),
-        ({"scheme": cfd.Scheme(k2=-1.0)}, "scheme.k2 must be a finite number >= 0"),
+        # a Scheme with bad constants can no longer be made (tests/cfd/test_euler.py)
+        ({"cfl_rk": -1.0}, r"cfl_rk must be positive and finite"),       # diverged after 90 RK steps
+        ({"cfl_min": 0.0}, r"cfl_min must be positive and finite"),
+        ({"cfl_max": float("nan")}, r"cfl_max must be a positive number"),
+        ({"growth": 0.5}, r"growth = 0.5 would lower the CFL number after every good step"),
+        ({"max_change": float("inf")}, r"max_change must be positive and finite"),
+        ({"max_rise": "2"}, r"max_rise must be positive and finite"),
+        ({"chord_ratio": 5.0}, r"chord_ratio must be a number in \[0, 1\]"),      # was taken
+        ({"verbose": "no"}, r"verbose must be True or False; got 'no'"),           # printed every step
+        ({"log_interval": -1.0}, r"log_interval must be a number of seconds >= 0"),
         ({"strategy": "fast"}, "strategy must be one of"),
         ({"strategy": None}, "strategy must be one of"),
     ],
@@ -236,3 +244,15 @@ def test_a_far_field_close_to_the_section_is_reported(grid0012):
     with pytest.warns(RuntimeWarning, match=r"far-field boundary comes within 0\.\d+ chords of mid-chord"):
         with pytest.raises(ConvergenceError):
             cfd.solve_steady(near, 0.5, 2.0, max_newton=0, n_rk=0)
+
+
+def test_a_progress_that_is_not_callable_is_refused_before_any_work(grid0012):
+    # it failed with Python's TypeError after the Runge-Kutta start
+    with pytest.raises(FlowConditionError, match=r"progress must be a callable or None; got int 3"):
+        cfd.solve_steady(grid0012, 0.5, 1.0, progress=3)
+
+
+def test_the_continuation_limits_that_never_bind_are_legal(grid0012):
+    # cfl_max = inf (no cap) and chord_ratio = 1 (chord steps while the residual does not grow) are settings
+    sol = cfd.solve_steady(grid0012, 0.5, 0.0, cfl_max=float("inf"), chord_ratio=1.0, tol=1e-8)
+    assert sol.converged

@@ -308,3 +308,12 @@ def test_shift_workers_bad_input(plate):
     for workers in (0, 1.5, "2"):
         with pytest.raises(LinearError, match="workers must be a positive integer"):
             fast_sweep(plate, [0.0, 1.0], workers=workers)
+
+
+@pytest.mark.parametrize("workers, match", [
+    (True, r"workers must be a positive integer"),                      # was taken as 1
+    (10**6, r"workers = 1000000 is more than cfd.sweep.MAX_WORKERS = 64"),  # would fork a million processes at once
+])
+def test_worker_counts_are_checked_before_any_process_starts(plate, workers, match):
+    with pytest.raises(LinearError, match=match):
+        fast_sweep(plate, np.linspace(0.1, 2.0, 12), workers=workers)

@@ -200,3 +200,60 @@ def test_a_stalled_step_says_what_to_change(coarse):
                                                 r"or allow more with max_refactor") as info:
         unsteady_response(coarse, SharpEdged(angle_deg=20.0, x0=-1.0), 0.2, 3.0, max_refactor=0, max_phase_error=1.0)
     assert info.value.partial is not None
+
+
+# --- input checks (issue 34): the LTD's step limit, gusts shorter than the step, flags and callbacks --------------
+
+def test_the_step_count_is_limited_before_any_work(coarse, monkeypatch):
+    # unsteady_response(sol, gust, 1e-9, 40) tried to allocate 298 GiB of histories: now cfd.ltd.MAX_STEPS, as the LTD
+    from cfd.ltd import MAX_STEPS
+
+    monkeypatch.setattr("cfd.unsteady.residual", lambda *a, **k: (_ for _ in ()).throw(AssertionError("work done")))
+    with pytest.raises(UnsteadyError, match=r"t_end / dt = 40 / 1e-09 = 4e\+10 steps, more than cfd.ltd.MAX_STEPS = "
+                                            r"1e\+06: .*march a longer history in pieces"):
+        unsteady_response(coarse, gust(1.0), 1e-9, 40.0)
+    with pytest.raises(UnsteadyError, match="MAX_STEPS"):     # one step over the limit
+        unsteady_response(coarse, gust(1.0), 1.0, float(MAX_STEPS + 1))
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(gust=OneMinusCosine(length=2.0, angle_deg=1.0), dt=5.0), r"passes a point in 0.4 time steps of dt = 5, "
+                                                                   r"fewer than 2 .*Use dt <= 1 "),
+    (dict(krylov="no"), r"krylov must be True or False; got 'no'"),
+    (dict(krylov=1), r"krylov must be True or False; got 1"),
+    (dict(progress="print"), r"progress must be a callable or None"),
+    (dict(log_interval=-5), r"log_interval must be a number of seconds >= 0"),
+])
+def test_bad_march_settings_are_refused_before_any_work(coarse, monkeypatch, kwargs, match):
+    monkeypatch.setattr("cfd.unsteady.residual", lambda *a, **k: (_ for _ in ()).throw(AssertionError("work done")))
+    args = dict(gust=gust(1.0), dt=0.1, t_end=10.0)
+    args.update(kwargs)
+    with pytest.raises(UnsteadyError, match=match):
+        unsteady_response(coarse, **args)
+
+
+def test_a_march_that_ends_before_the_gust_arrives_warns(coarse):
+    with pytest.warns(RuntimeWarning, match=r"ends at t_end = 0.5, before the gust front \(x0 = -1\) reaches"):
+        h = unsteady_response(coarse, gust(1.0), 0.25, 0.5)
+    assert not np.any(h.u)
+
+
+@pytest.mark.parametrize("amplitudes, error, match", [
+    ([[0.5, 1.0]], UnsteadyError, r"amplitudes must be a 1-D list .*got shape \(1, 2\)"),
+    ([1.0, 95.0], cfd.GustError, r"angle_deg = 95.0 is not a gust angle"),
+])
+def test_linearity_refuses_2d_and_impossible_amplitudes_before_the_ltd(coarse, monkeypatch, amplitudes, error, match):
+    # a 2-D list was flattened silently; a 95 deg amplitude failed only after the LTD and the first amplitudes
+    def no_march(*args, **kw):
+        raise AssertionError("the LTD was computed before the input was checked")
+    monkeypatch.setattr("cfd.ltd.ltd_response", no_march)
+    with pytest.raises(error, match=match):
+        cfd.linearity(coarse, gust(1.0), amplitudes, 0.1, 3.0, lin=object())
+
+
+def test_snapshots_that_cannot_fit_in_memory_are_refused(coarse, monkeypatch):
+    # a snapshot at every one of a million steps: 18 KiB states of this grid, 17 GiB, refused before the march
+    monkeypatch.setattr("cfd.unsteady._March", lambda *a, **k: (_ for _ in ()).throw(AssertionError("marched")))
+    with pytest.raises(UnsteadyError, match=r"snapshot_times asks for 1000000 full states .* more than "
+                                            r"MAX_SNAPSHOT_BYTES = 4 GiB"):
+        unsteady_response(coarse, gust(1.0), 1e-3, 1000.0, snapshot_times=np.arange(1_000_000) * 1e-3)
