@@ -49,6 +49,7 @@ POINT_COLUMNS = (
     Column("u_ref", "U_ref (m/s EAS)", ".3f", r"$U_\mathrm{ref}$ (m/s EAS)"),
     Column("u_sigma", "U_sigma (m/s TAS)", ".3f", r"$U_\sigma$ (m/s TAS)"),
     Column("rom", "ROM"),
+    Column("f_data", "ROM data up to (Hz)", ".4g"),
     Column("seconds", "CPU (s)", ".2f"),
 )
 """Columns of the flight-point table."""
@@ -91,8 +92,18 @@ def point_rows(records) -> list:
         rows.append(dict(point=s.name, case=s.case, mach=s.mach, altitude_m=s.altitude_m, chord_m=s.chord_m,
                          F_g=s.F_g, design_speed=s.design_speed, rho=a["rho"], tas=a["tas"], eas=a["eas"],
                          q=a["q"] / 1e3, time_scale=1e3 * a["time_scale"], u_ref=a["u_ref"], u_sigma=r.u_sigma,
-                         rom=f"order {r.rom['order']}, M {r.rom['M']}, {r.rom['method']}", seconds=r.seconds))
+                         rom=f"order {r.rom['order']}, M {r.rom['M']}, {r.rom['method']}",
+                         f_data=data_band_hz(r), seconds=r.seconds))
     return rows
+
+
+def data_band_hz(record) -> float:
+    """The highest finite frequency (Hz) of the LFD data the point's ROM was identified from: the last but one
+    point of McKelvey's grid (``sysid.mckelvey_grid(M, T)``: ``omega = (2 / T) tan(pi k / (2 M))``, the last one is
+    infinite) in convective units, at the point's ``U / c``."""
+    T, M = float(record.rom["T"]), int(record.rom["M"])
+    omega = (2.0 / T) * math.tan(math.pi * (M - 1) / (2 * M))
+    return omega / (2.0 * math.pi * record.atmosphere["time_scale"])
 
 
 def loads_rows(record) -> list:
@@ -139,6 +150,9 @@ def _point_figure(record, title):
     loads.correlated_loads_plot(tg, ct if y in ct.outputs and x in ct.outputs else None, x=x, y=y, ax=axs[0])
     loads.load_vs_H_plot(tg, ax=axs[1])
     loads.psd_plot(ct, ax=axs[2])
+    axs[2].axvline(data_band_hz(record), color="0.5", ls=":", lw=1.0)
+    axs[2].annotate("ROM data end", (data_band_hz(record), 0.02), xycoords=("data", "axes fraction"), rotation=90,
+                    fontsize=7, color="0.4", ha="right", va="bottom")
     from matplotlib.ticker import MaxNLocator
 
     axs[0].xaxis.set_major_locator(MaxNLocator(5))
@@ -223,7 +237,9 @@ def loads_report(context) -> str:
     write_tables(rows, tables / "loads-points", POINT_COLUMNS, formats=context.formats,
                  caption=f"{config.name}: flight points", label=f"tab:{config.name}-loads-points")
     blocks.append(f"**Flight points** (ICAO standard atmosphere; `U_ref` the discrete gust's reference velocity "
-                  f"at the altitude, `U_sigma` the turbulence intensity with F_g; CPU: the piece's tuned gusts and "
+                  f"at the altitude, `U_sigma` the turbulence intensity with F_g; ROM data up to: the highest finite "
+                  f"frequency of the LFD data the ROM was identified from, at the point's speed and chord (the PSD "
+                  f"and `N0` above it rest on the ROM's extrapolation); CPU: the piece's tuned gusts and "
                   f"turbulence; [CSV]({_rel(tables / 'loads-points.csv', page_dir)})):\n")
     blocks.append(format_table(rows, POINT_COLUMNS, "markdown"))
     env = envelope_rows(records)
@@ -280,7 +296,8 @@ def loads_report(context) -> str:
             blocks.append(f"*{s.name}: correlated loads (left: tuned-gust peaks and the turbulence ellipse, per "
                           "unit span), peak load against the gust gradient H relative to the tuned peak (middle: the "
                           "first grid, the star at the critical H after refinement), and the response PSD to "
-                          "unit-rms von Karman turbulence normalised by `A_bar^2` (right).*\n")
+                          "unit-rms von Karman turbulence normalised by `A_bar^2` (right; dotted: the highest finite frequency of the "
+                          "ROM's LFD data at this point).*\n")
     if not context.figures:
         blocks.append("(Figures not drawn: `figures = false`.)\n")
     return "\n".join(blocks)
