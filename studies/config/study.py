@@ -486,7 +486,8 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
     store_dir = (base / P.string(store, "store")).resolve() if store is not None else output_dir / "store"
     report = parse_report_table(P, data.get("report", {}), base)
     # the sections' tables ([aeroelastic], [nonlinear], ...): studies.sections.protocol
-    study = StudyTables(cases=tuple(sweeps), gusts=tuple(gusts), simulation=sim, cfd=cfd)
+    study = StudyTables(cases=tuple(sweeps), gusts=tuple(gusts), simulation=sim, cfd=cfd, methods=tuple(methods),
+                        M_base=M_base)
     options = tuple((s.name, s.parse(data[s.table], P.err, study)) for s in registered
                     if s.table is not None and s.table in data)
     return StudyConfig(name=name, description=description, source=source, output_dir=output_dir,

@@ -165,12 +165,18 @@ class StudyTables:
     gusts : tuple of studies.config.cases.GustCase
     simulation : studies.config.schema.SimulationOptions
     cfd : studies.config.schema.CFDOptions
+    methods : tuple of studies.config.schema.MethodOptions
+        The identification variants (``[methods]``), for a section that picks one of the study's ROMs.
+    M_base : int or None
+        The computed frequency grid's intervals (``[sweep] M_base``).
     """
 
     cases: tuple
     gusts: tuple
     simulation: Any
     cfd: Any
+    methods: tuple = ()
+    M_base: Optional[int] = None
 
 
 @dataclass(frozen=True)
