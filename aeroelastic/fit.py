@@ -42,6 +42,7 @@ import numpy as np
 from scipy import optimize
 
 from sysid.arrays import read_only
+from sysid.grids import period_factor, period_range
 
 from .errors import AeroModelError, FitError
 
@@ -75,12 +76,12 @@ def _check_T(T, wpos):
     if not (np.isfinite(Tf) and Tf > 0.0):
         raise FitError(f"T (sampling period of the gust identification, convective time) must be a positive "
                              f"finite number or None (default 2 / omega_mid), got {T!r}")
-    if wpos.size and not (wpos.min() / T_BAND <= 2.0 / Tf <= wpos.max() * T_BAND):
+    if wpos.size and period_factor(Tf, wpos) > T_BAND:   # sysid's one rule for a period against a band
         raise FitError(f"T = {Tf:g} puts the bilinear map's centre frequency 2 / T = {2.0 / Tf:.3g} "
                              f"{'above' if 2.0 / Tf > wpos.max() else 'below'} the data's frequencies ({wpos.min():.3g} "
                              f"to {wpos.max():.3g}) by more than {T_BAND:g}x: the gust model would see "
                              f"{'the DC gain' if 2.0 / Tf > wpos.max() else 'the feedthrough'} alone; give T between "
-                             f"{2.0 / (wpos.max() * T_BAND):.3g} and {2.0 / (wpos.min() / T_BAND):.3g}, or None "
+                             f"{period_range(wpos, T_BAND)[0]:.3g} and {period_range(wpos, T_BAND)[1]:.3g}, or None "
                              f"(default {2.0 / np.sqrt(wpos.min() * wpos.max()):.3g})")
     return Tf
 

@@ -80,6 +80,7 @@ from .exit_codes import EXIT_FAILED, EXIT_NOT_WRITTEN, EXIT_OK
 from .exit_codes import EXIT_UNAVAILABLE as EXIT_BAD_INPUT  # 2: bad input, found before anything is computed
 from ..store.files import atomic_write_text, generated_marker, generated_prefix, is_generated_page
 from ..config.numbers import parse_number
+from sysid.grids import period_range
 
 HOLDOUT_RTOL, HOLDOUT_ATOL = 0.1, 1e-6
 
@@ -203,7 +204,7 @@ def check_T_against_data(source, omega, T: float, where: str = "--T") -> None:
     if w.size == 0:
         return
     lo, hi = float(w.min()), float(w.max())
-    T_min, T_max = 2.0 / (T_BAND_FACTOR * hi), 2.0 * T_BAND_FACTOR / lo
+    T_min, T_max = period_range(w, T_BAND_FACTOR)   # sysid's one rule for a period against a band
     if T_min <= T <= T_max:
         return
     side = ("far above the data's band: every sample maps near omega_d = 0 (z = 1), the model would be fitted to "
