@@ -292,6 +292,6 @@ def test_the_shortest_gust_is_accepted():
 
 def test_the_study_gust_step_rule_is_the_marches():
     from cfd.gust import MIN_GUST_STEPS
-    from studies.schema import MIN_GUST_STEPS as STUDY_MIN_GUST_STEPS
+    from studies.config.schema import MIN_GUST_STEPS as STUDY_MIN_GUST_STEPS
 
     assert STUDY_MIN_GUST_STEPS == MIN_GUST_STEPS

@@ -200,7 +200,7 @@ def test_rom_reports_a_failed_identification(tmp_path, monkeypatch, capsys):
 def test_rom_defaults_to_the_stable_dc_exact_identification(tmp_path, fake_modules):
     # a newcomer's `lfdrom rom` must not get the paper's unconstrained fit (spectral radius 1.32 on a NACA0012
     # M0.5 case) without asking for it
-    fake_modules("studies.runner", "run_study")
+    fake_modules("studies.run.runner", "run_study")
     run(["rom", "T2", "--order", "9", "--M", "32", "--out", str(tmp_path), "--quiet"])
     (_, config, _), = fake_modules.calls
     (point,) = config.points()
@@ -215,7 +215,7 @@ def test_rom_defaults_to_the_stable_dc_exact_identification(tmp_path, fake_modul
     (["--dc-gain", "--stable"], "match", True),
 ])
 def test_rom_method_options(flags, dc_gain, stable, tmp_path, fake_modules):
-    fake_modules("studies.runner", "run_study")
+    fake_modules("studies.run.runner", "run_study")
     run(["rom", "T2", "--order", "9", "--M", "32", "--out", str(tmp_path), "--quiet"] + flags)
     (_, config, _), = fake_modules.calls
     (point,) = config.points()
@@ -227,7 +227,7 @@ def test_rom_coarse_grid(tmp_path, fake_modules):
     from studies.config.grid_spec import COARSE_GRID
 
     assert COARSE_GRID.kwargs() == dict(cfd.GRID_PRESETS["coarse"])   # one preset, two packages
-    fake_modules("studies.runner", "run_study")
+    fake_modules("studies.run.runner", "run_study")
     run(["rom", "T2", "--order", "9", "--M", "32", "--grid", "coarse", "--out", str(tmp_path), "--quiet"])
     (_, config, _), = fake_modules.calls
     (point,) = config.points()
@@ -237,9 +237,9 @@ def test_rom_coarse_grid(tmp_path, fake_modules):
 
 
 def _fake_rom_run(monkeypatch, metrics):
-    """studies.runner.run_study replaced by one that 'identifies' a ROM with the given metrics."""
-    import studies.runner
-    from studies.results import RomRecord
+    """studies.run.runner.run_study replaced by one that 'identifies' a ROM with the given metrics."""
+    import studies.run.runner
+    from studies.store.results import RomRecord
 
     def run_study(config, **kw):
         stored = RomRecord(case="T2", T=1.0, M=32, order=2, method="default", status="ok", metrics=metrics)
@@ -247,11 +247,11 @@ def _fake_rom_run(monkeypatch, metrics):
                                     label=stored.label, model=lambda outputs=None: None)
         return types.SimpleNamespace(roms=[rec], missing=[], failed=[], config=config)
 
-    monkeypatch.setattr(studies.runner, "run_study", run_study)
-    import studies.rom_export
+    monkeypatch.setattr(studies.run.runner, "run_study", run_study)
+    import studies.store.rom_export
 
-    monkeypatch.setattr(studies.rom_export, "export_rom_npz", lambda path, model, meta: Path(path).touch())
-    monkeypatch.setattr(studies.rom_export, "export_rom_mat", lambda path, model, meta: Path(path).touch())
+    monkeypatch.setattr(studies.store.rom_export, "export_rom_npz", lambda path, model, meta: Path(path).touch())
+    monkeypatch.setattr(studies.store.rom_export, "export_rom_mat", lambda path, model, meta: Path(path).touch())
 
 
 @pytest.mark.parametrize("metrics, match", [
@@ -278,7 +278,7 @@ def test_rom_sound_model_is_quiet(tmp_path, monkeypatch, capsys):
 
 
 def test_run_names_unstable_roms():
-    from studies.results import RomRecord
+    from studies.store.results import RomRecord
 
     roms = [RomRecord(case="T2", T=1.0, M=32, order=25, method="paper", status="ok", metrics={"spectral_radius": 1.3}),
             RomRecord(case="T2", T=1.0, M=32, order=25, method="dc_stable", status="ok",
