@@ -84,7 +84,9 @@ def _check_stable_poles_kept(A_c: np.ndarray, A_d: np.ndarray, T: float, margin_
     mags = np.abs(s[stable])
     lo, hi = float(mags.min()), float(mags.max())
     eps = np.finfo(float).eps
-    lost = (np.abs(z).max() >= 1.0) or (margin.min() <= 4 * eps)
+    # a stable pole is lost when more discrete poles lie on or outside the circle than the model has unstable
+    # continuous ones (an unstable model's own poles stay outside, as they should: the paper's plain ROMs)
+    lost = (int(np.count_nonzero(np.abs(z) >= 1.0)) > int(np.count_nonzero(~stable))) or (margin.min() <= 4 * eps)
     i = int(np.argmin(margin))
     pole = s[stable][i]
     side = "small" if abs(pole) * T < 2.0 else "large"

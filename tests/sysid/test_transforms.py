@@ -1,6 +1,8 @@
 """Tests of sysid.transforms: bilinear (Eqs. 26, 31) and zero-order-hold (Eq. 32) conversions."""
 
 import control
+import warnings
+
 import numpy as np
 import pytest
 from sysid_synth import random_system
@@ -222,3 +224,18 @@ def test_zoh_of_a_growth_that_overflows_is_refused():
     unstable = control.ss([[1.0]], [[1.0]], [[1.0]], [[0.0]])
     with pytest.raises(ModelError, match=r"exp\(A T\) overflows at T = 1000"):
         c2d_zoh(unstable, 1e3)
+
+
+def test_an_unstable_models_own_pole_outside_the_circle_is_not_a_lost_stable_pole():
+    # the paper's plain ROMs are unstable: re-discretised at the simulation step their unstable pole stays outside
+    # the circle (|z| = (1 + 0.005) / (1 - 0.005)), and the stable one inside; this was refused as "a stable pole
+    # lands on the unit circle" (1 - |z|^2 = 7.3e-4 for the stable pole, far above round-off), which failed 108
+    # ROM-simulation pieces of the paper study
+    import control
+
+    m = control.ss(np.diag([0.5, -0.0182481]), np.ones((2, 1)), np.ones((1, 2)), np.zeros((1, 1)))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        d = c2d_bilinear(m, 0.02)
+    mags = np.sort(np.abs(np.linalg.eigvals(np.asarray(d.A))))
+    np.testing.assert_allclose(mags, [(1 - 0.0182481 * 0.01) / (1 + 0.0182481 * 0.01), 1.005 / 0.995], rtol=1e-9)
