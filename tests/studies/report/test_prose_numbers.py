@@ -31,7 +31,7 @@ EXTERNAL = {
         "T4 Cl 2.9 %, Cm 12.8 %", "T5 Cl 2.7 %, Cm 9.9 %", "33 frequencies 1.4 % against",
         # the signed-extreme peak error of an earlier page
         "reported 189 - 198 %",
-        # ratios of table cells (dc against paper rows), a count of history samples
+        # ratios of table cells (dc against paper rows); a threshold on the histories' error
         "at most 2.2 % of",
         "above 1 % of the LTD peak",
         # the LTD histories' decay (a measurement on the histories, not a table cell)
