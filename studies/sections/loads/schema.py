@@ -92,9 +92,9 @@ FLEXIBLE_OUTPUTS = ("Cl", "Cm", "load_factor", "plunge", "pitch", "plunge_rate",
                     "pitch_acc", "plunge_spring", "pitch_spring")
 """Outputs of a flexible section's gust system (:mod:`loads.flexible`; ``Cm`` about the elastic axis)."""
 
-DEFAULT_FLEXIBLE_OUTPUTS = ("Cl", "Cm", "load_factor", "plunge", "pitch", "plunge_acc", "pitch_acc", "plunge_spring",
-                            "pitch_spring")
-"""The flexible outputs searched by default (and the moments about ``moment_axes``)."""
+DEFAULT_FLEXIBLE_OUTPUTS = ("Cl", "Cm", "load_factor", "plunge", "pitch", "pitch_acc", "plunge_spring", "pitch_spring")
+"""The flexible outputs searched by default: the plunge acceleration as the load factor (in g), ``Cm`` about the
+elastic axis; moments about ``moment_axes`` (``Cm@x``) and the rates when listed in ``flexible_outputs``."""
 
 DEFAULT_DAMPING = 0.02
 """Modal damping ratio of a flexible section when none is given (:class:`loads.FlexibleSection`'s default)."""
@@ -541,7 +541,7 @@ def parse_loads(table: Any, error: Callable[[str, str], Exception], study) -> Lo
             raise error("loads.sections", "flexible sections need the ROMs' outputs Cl and Cm (add them to [cfd] "
                                           "outputs): the gust ROM drives the section")
         flex_avail = list(FLEXIBLE_OUTPUTS) + extra
-        fo = table.get("flexible_outputs", list(DEFAULT_FLEXIBLE_OUTPUTS) + extra)
+        fo = table.get("flexible_outputs", list(DEFAULT_FLEXIBLE_OUTPUTS))
         if isinstance(fo, str):
             fo = [fo]
         if not isinstance(fo, list) or not fo:

@@ -71,6 +71,9 @@ chord_m = 2.0
 """
 
 LOADS = "\n[loads]\nmoment_axes = [0.4]\n" + SECTIONS + POINTS
+# the run's outputs: four (each output's H search costs; the parse tests check the default list)
+RUN = '\n[loads]\nmoment_axes = [0.4]\nflexible_outputs = ["Cl", "load_factor", "plunge_spring", "pitch_spring"]\n'
+
 
 
 def study(extra, aero=AERO):
@@ -88,8 +91,8 @@ def test_parse_flexible_sections():
     assert (s.name, s.mass_kg_m, s.f_h_hz, s.f_alpha_hz, s.damping) == ("stiff", 150.0, 8.0, 24.0, (0.02, 0.02))
     assert s.elastic_axis == pytest.approx(0.4)
     assert opts.rigid and [p.sections for p in opts.points] == [("stiff",), ("stiff",)]
-    assert opts.flexible_outputs == ("Cl", "Cm", "load_factor", "plunge", "pitch", "plunge_acc", "pitch_acc",
-                                     "plunge_spring", "pitch_spring", "Cm@0.400")
+    assert opts.flexible_outputs == ("Cl", "Cm", "load_factor", "plunge", "pitch", "pitch_acc", "plunge_spring",
+                                     "pitch_spring")
     # the motion data are the [aeroelastic] section's: its frequencies (0 added) and lag count
     assert opts.motion_omega == config.aeroelastic.omega and len(opts.motion_omega) == 17 and opts.lags == 2
     assert motion_key(config, "T2") == motion_frf_piece(config.case("T2").case, config.aeroelastic.omega, config.cfd)
@@ -113,6 +116,9 @@ def test_parse_point_sections_and_rigid_off():
                  + 'sections = ["soft"]\n' + POINTS.replace("[0, 6000]", "3000")).loads
     assert not opts.rigid and [p.sections for p in opts.points] == [("soft",), ("soft",), ("stiff", "soft")]
     assert opts.flexible_outputs == ("load_factor",) and opts.section("soft").damping == (0.01, 0.03)
+    # a moment about another axis is searched when listed
+    assert study('\n[loads]\nmoment_axes = [0.25]\nflexible_outputs = ["Cm@0.250", "pitch"]\n' + SECTIONS
+                 + POINTS).loads.flexible_outputs == ("Cm@0.250", "pitch")
     # a rigid-only point of a case without motion data is fine
     assert study("\n[loads]\n" + SECTIONS + POINTS + "sections = []\n", aero="").loads.flexible_cases == ()
 
@@ -211,7 +217,7 @@ def test_the_flexible_task_waits_for_the_motion_frf(computed, tmp_path):
 
 
 def test_flexible_loads_computed_cached_and_as_the_api(computed, tmp_path):
-    config = with_flexible(computed, tmp_path, "\n[loads]\nmoment_axes = [0.4]\n" + SECTIONS + SOFT + POINTS)
+    config = with_flexible(computed, tmp_path, RUN + SECTIONS + SOFT + POINTS)
     inject_theodorsen(config)
     first = run_study(config, progress=False)
     # 2 rigid + 4 flexible loads pieces and the [aeroelastic] section's flutter piece (its motion FRF is stored)
@@ -223,7 +229,7 @@ def test_flexible_loads_computed_cached_and_as_the_api(computed, tmp_path):
     store = open_store(config)
     assert flexible_plan(config, store, False) == {"T2": 2} and loads_plan(config, store, False) == {"T2": 0}
     # without "soft" the study is complete and a run computes nothing (a piece's key holds its own section only)
-    stiff_only = config.with_section("loads", study(LOADS).loads)
+    stiff_only = config.with_section("loads", study(RUN + SECTIONS + POINTS).loads)
     assert run_study(stiff_only, progress=False).run.computed == 0 and load_results(stiff_only).failed == []
     failed = load_results(config).failed
     assert len(failed) == 2 and all("flexible section soft, failed: LoadsModelError: flexible section soft reaches "
@@ -274,3 +280,25 @@ def test_flexible_loads_computed_cached_and_as_the_api(computed, tmp_path):
     # the flexible section's Cm about 0.4 c (its elastic axis) is its Cm, at every peak
     c = stiff.correlated["load_factor"]
     assert c["Cm@0.400"] == pytest.approx(c["Cm"], rel=1e-9, abs=1e-12)
+
+    # the report's loads part: the rigid and flexible rows of an output together, the flexible table, the
+    # refusals, the figures (the section's part alone: the other sections' figures are not this test's)
+    from studies.sections.protocol import ReportContext
+
+    out = tmp_path / "report"
+    text = SECTION.report(ReportContext(results=load_results(config), out_dir=out, page_dir=out,
+                                        page_path=out / "report.md", dpi=40, say=lambda m: None))
+    assert "**Flexible sections**" in text and "**Flexible sections at the flight points**" in text
+    assert f"| Cl | rigid | {rigid.critical_H['Cl']:.4g} |" in text
+    assert f"| Cl | stiff | {stiff.critical_H['Cl']:.4g} |" in text
+    assert text.index("| Cl | rigid |") < text.index("| Cl | stiff |") < text.index("| Cm | rigid |")
+    assert text.index("| Cm@0.400 | rigid |") < text.index("| load_factor | stiff |")
+    assert f"| T2@0m | stiff | {stiff.flexible['mu']:.4g} |" in text
+    assert "Flexible section soft: refused at this point: LoadsModelError: flexible section soft reaches" in text
+    for name in ("loads-points.csv", "loads-flexible.csv", "loads-envelope.csv", "loads-T2_0m.csv"):
+        assert (tmp_path / "report" / "tables" / name).is_file()
+    for name in ("loads-envelope.png", "loads-envelope-stiff.png", "loads-T2_0m.png", "loads-T2_0m-stiff.png",
+                 "loads-T2_6000m-stiff.png"):
+        assert (tmp_path / "report" / "figures" / name).is_file()
+        assert f"figures/{name}" in text
+    assert "| stiff | plunge_spring | N/m |" in text                 # the envelope, per model
