@@ -259,7 +259,7 @@ def _envelope_figure(records, title):
     uy = records[0].all_units[list(records[0].all_outputs).index(y)]
     ax.set_xlabel(f"{x} [{ux}]")
     ax.set_ylabel(f"{y} [{uy}]")
-    ax.set_title(title, fontsize=10)
+    ax.set_title(title, fontsize=9)
     ax.legend(fontsize=7, ncol=2, loc="best")
     fig.tight_layout()
     return fig
@@ -389,8 +389,8 @@ def loads_report(context) -> str:
             x, y = _axes_pair(mine[0])
             path = fig_dir / ("loads-envelope.png" if m == "rigid" else f"loads-envelope-{_safe(m)}.png")
             label = "the rigid aerofoil" if m == "rigid" else f"flexible section {m}"
-            fig = _envelope_figure(mine, f"{config.name}, {label}: correlated loads of every flight point\n{y} "
-                                         f"against {x}; lines: turbulence design ellipses; circles: tuned-gust peaks")
+            fig = _envelope_figure(mine, f"{config.name}, {label}: correlated loads of every flight point, {y} "
+                                         f"against {x}\nlines: turbulence design ellipses; circles: tuned-gust peaks")
             atomic_savefig(fig, path, dpi=context.dpi)
             plt.close(fig)
             say(f"report {config.name}: {path.name}")

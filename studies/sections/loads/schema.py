@@ -2,7 +2,8 @@
 :mod:`studies.sections.loads.study`; report: :mod:`studies.sections.loads.report`).
 
 A study may ask for the certification gust loads of CS-25.341 (:mod:`loads`: tuned discrete 1-cosine gusts and
-continuous von Karman turbulence) of its rigid aerofoil at flight points, from one of its own gust ROMs per case::
+continuous von Karman turbulence) of its rigid aerofoil and of flexible sections at flight points, from one of its
+own gust ROMs per case::
 
     [loads]
     order = 10                        # the ROM (default: the case's highest order of the sweep)
@@ -16,6 +17,18 @@ continuous von Karman turbulence) of its rigid aerofoil at flight points, from o
     n_grid = 24                       # first, geometric grid of H of the search (loads.tuned_gust)
     h_rtol = 1e-4                     # relative width of the final bracket of the critical H
     f_max_hz = 50.0                   # optional cut-off of the turbulence integrals (a ROM with a feedthrough)
+    rigid = true                      # false: flexible sections only
+    flexible_outputs = ["Cl", "load_factor", "plunge_spring", "pitch_spring"]   # default DEFAULT_FLEXIBLE_OUTPUTS
+
+    [[loads.sections]]                # optional: flexible sections (loads.FlexibleSection), dimensional
+    name = "wing"
+    mass_kg_m = 800.0                 # mass per unit span (kg/m)
+    a = -0.2                          # elastic axis, centre of mass, radius of gyration squared (semichords),
+    x_alpha = 0.1                     # as aeroelastic.TypicalSection
+    r_alpha2 = 0.24
+    f_h_hz = 2.0                      # uncoupled plunge and pitch frequencies (Hz)
+    f_alpha_hz = 6.0
+    damping = 0.02                    # modal damping ratio(s) (default 0.02)
 
     [[loads.points]]                  # one or more; each case fixes the aerofoil and the Mach number
     case = "M0.5"
@@ -24,10 +37,15 @@ continuous von Karman turbulence) of its rigid aerofoil at flight points, from o
     F_g = 1.0                         # or z_mo_m, mlw_mtow, mzfw_mtow (loads.alleviation_factor at each altitude)
     design_speed = "VC"               # or "VD" (half the gust velocities)
     name = "cruise"                   # optional (one altitude only); default "<case>@<altitude>m"
+    sections = ["wing"]               # its flexible sections (default: all; [] for rigid loads only)
 
 Every flight point is built at parse time (:class:`loads.FlightPoint`), so that a Mach number, altitude, chord
-or ``F_g`` outside the rule's or the atmosphere's range is refused before any CFD. The flexible section
-(:class:`loads.FlexibleSection`) is not part of the section yet: it needs the case's motion FRF.
+or ``F_g`` outside the rule's or the atmosphere's range is refused before any CFD. A flexible section's
+aerodynamics are the case's motion FRF of the ``[aeroelastic]`` section (its ``motion_frf`` piece, fitted with its
+``lags``) and the case's gust ROM: a flexible point whose case is not among ``[aeroelastic] cases`` is refused at
+parse time (the section reads the ``[aeroelastic]`` options from
+:attr:`studies.sections.protocol.StudyTables.sections`), and so are section parameters that
+:class:`aeroelastic.TypicalSection` refuses.
 
 Piece (kept in the study's :class:`studies.store.cache.ResultStore` like the others)
 -------------------------------------------------------------------------------
@@ -48,8 +66,13 @@ loads  ``peak``, ``critical_H``, ``gust_sign``,          ``outputs``, ``all_outp
 ``p`` outputs searched, ``q`` all outputs of the gust system (the searched ones and the extra moments). The key
 holds the ROM piece's key (:func:`studies.sections.gust_rom.pieces.rom_piece`: steady flow, FRF grid, order, M,
 method), the flight point (Mach, altitude, chord, ``F_g``, design speed: not its name), the outputs, moment axes and
-the search settings; its code version covers ``sysid``, ``loads``, ``aeroelastic`` and this section's modules
-(:data:`LOADS_DEPENDENCIES`). A failed piece is stored as such and computed again by the next run.
+the search settings (:func:`loads_piece`). A flexible section's piece (:func:`flexible_piece`) has the same arrays,
+and in its metadata ``section``, ``mu``, ``speed_index``, ``elastic_axis``, ``flutter`` (the section's flutter or
+divergence at the point: ``found``, ``kind``, ``speed_index``, ``tas``, ``frequency_hz``) and ``fit`` (the motion
+fit's errors and lag roots); its key holds the ROM piece's key, the ``motion_frf`` piece's key
+(:func:`motion_key`) and the lag count, the point, the section's parameters (not its name), the flexible outputs,
+moment axes and the search settings. The code version covers ``sysid``, ``loads``, ``aeroelastic`` and this
+section's modules (:data:`LOADS_DEPENDENCIES`). A failed piece is stored as such and computed again by the next run.
 """
 
 from __future__ import annotations
@@ -409,7 +432,7 @@ def parse_loads(table: Any, error: Callable[[str, str], Exception], study) -> Lo
         raw = [raw]
     if not isinstance(raw, list) or not raw:
         raise error("loads.points", "must be a list of tables ([[loads.points]])")
-    points = []
+    points, origins = [], []          # origins: the [[loads.points]] entry of each point (for messages)
     for i, entry in enumerate(raw):
         key = f"loads.points[{i}]"
         if not isinstance(entry, dict):
@@ -481,6 +504,7 @@ def parse_loads(table: Any, error: Callable[[str, str], Exception], study) -> Lo
                     msg = f"case {case!r} has Mach {mach:g}: {msg}"
                 raise error(where, msg) from None
             points.append(spec)
+            origins.append(i)
     if len(points) > MAX_POINTS:
         raise error("loads.points", f"{len(points)} flight points: at most {MAX_POINTS} per study")
     seen = [p.name.casefold() for p in points]
@@ -493,7 +517,7 @@ def parse_loads(table: Any, error: Callable[[str, str], Exception], study) -> Lo
     # --- the ROM of each case
     methods = list(study.methods)
     mnames = [m.name for m in methods]
-    motion_omega, lags = _motion_data(error, study, points, raw, flex)
+    motion_omega, lags = _motion_data(error, study, points, origins)
     if "method" in table:
         method = table["method"]
         if method not in mnames:
@@ -649,22 +673,20 @@ def _point_sections(error, entry, key, flex_names) -> tuple:
     return tuple(out)
 
 
-def _motion_data(error, study, points, raw_points, flex) -> tuple:
+def _motion_data(error, study, points, origins) -> tuple:
     """``(omega, lags)`` of the ``[aeroelastic]`` section's motion FRF that the flexible points use (``((), 4)``
     without flexible points); :class:`studies.config.StudyConfigError` when a flexible point's case has none."""
     flexible = [p for p in points if p.sections]
     if not flexible:
         return (), 4
-    aero = study.section("aeroelastic") if hasattr(study, "section") else None
+    aero = study.section("aeroelastic")
     if aero is None:
         raise error("loads.sections", "a flexible section needs its case's motion frequency response (inputs "
                                       "plunge and pitch), which the [aeroelastic] section computes: add "
                                       "[aeroelastic] with the cases of the flexible points (" +
                     ", ".join(dict.fromkeys(p.case for p in flexible)) + "), or leave the sections out")
-    for p in flexible:
-        if p.case not in aero.cases:
-            i = next(i for i, e in enumerate(raw_points) if isinstance(e, dict) and
-                     isinstance(e.get("case"), str) and e["case"].casefold() == p.case.casefold())
+    for p, i in zip(points, origins):
+        if p.sections and p.case not in aero.cases:
             raise error(f"loads.points[{i}].case", f"case {p.case!r} has no motion data for the flexible sections "
                                                    f"({', '.join(p.sections)}): add it to [aeroelastic] cases (now "
                                                    f"{', '.join(aero.cases)}), or give this point sections = [] "
