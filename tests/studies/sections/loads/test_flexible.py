@@ -302,3 +302,33 @@ def test_flexible_loads_computed_cached_and_as_the_api(computed, tmp_path):
         assert (tmp_path / "report" / "figures" / name).is_file()
         assert f"figures/{name}" in text
     assert "| stiff | plunge_spring | N/m |" in text                 # the envelope, per model
+
+
+def test_a_failed_fit_or_motion_frf_is_stored_listed_and_retried(computed, tmp_path, monkeypatch):
+    from studies.store.entries import failure_payload
+
+    config = with_flexible(computed, tmp_path, RUN + SECTIONS + POINTS)
+    store = open_store(config)
+    codes = {p: store.code_version(p) for p in ("steady", "frf", "rom", "motion_frf", "flutter", "loads")}
+    # a failed motion FRF: the flexible task stores nothing, the reader says why
+    store.put("motion_frf", motion_key(config, "T2"), *failure_payload("CFDError: the sweep diverged (test)"))
+    assert flexible_task(config, "T2", str(config.store_dir), codes, False) == []
+    failed = load_results(config).failed
+    assert any("loads of T2@6000m, flexible section stiff, its motion FRF (T2) failed: CFDError" in f
+               for f in failed), failed
+
+    # a fit that fails: each piece stored as a failure with its error, computed again by the next run
+    inject_theodorsen(config)
+
+    def refuse(*args, **kwargs):
+        raise ae.FitError("the fit refused these data (test)")
+
+    monkeypatch.setattr(ae, "fit_motion", refuse)
+    reports = flexible_task(config, "T2", str(config.store_dir), codes, False)
+    assert [r["status"] for r in reports] == ["failed", "failed"] and "the fit refused" in reports[0]["error"]
+    assert any("loads of T2@0m, flexible section stiff, failed: FitError: the fit refused" in f
+               for f in load_results(config).failed)
+    assert flexible_plan(config, store, False) == {"T2": 2}
+    monkeypatch.undo()
+    assert [r["status"] for r in flexible_task(config, "T2", str(config.store_dir), codes, False)] == ["ok", "ok"]
+    assert flexible_plan(config, store, False) == {"T2": 0}
