@@ -329,8 +329,9 @@ def loads_report(context) -> str:
               "the design load `A_bar U_sigma`"
               + (f", integrals cut off at {opts.f_max_hz:g} Hz" if opts.f_max_hz is not None else "")
               + "). Loads are increments about the 1 g load; coefficients per the model's units (Cl, Cm about the "
-              "quarter chord for the rigid aerofoil and about the elastic axis for a flexible section, `Cm@x` about "
-              "x chords), SI per unit span beside them (N/m, N m/m).\n"]
+              + ("quarter chord for the rigid aerofoil and about the elastic axis for a flexible section"
+                 if opts.sections else "quarter chord")
+              + ", `Cm@x` about x chords), SI per unit span beside them (N/m, N m/m).\n"]
     if opts.sections:
         omega = [w for w in opts.motion_omega if w > 0]
         blocks.append(
