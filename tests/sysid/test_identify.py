@@ -722,10 +722,11 @@ def test_the_resonance_warning_advises_a_lower_order_only_when_it_helps():
         low = identify(frf, 6, dc_gain="match", stable=True)
     assert low.between_error < 0.8 * res.between_error
     # (2) the true order of a noisy 12-state system: the model has a resonance narrower than 0.1 spacings and is
-    # estimated 7x farther off between the samples than on them; lowering the order makes both the estimate and
-    # the true error between the samples worse (0.037 -> 0.038, 0.0080 -> 0.0095), so the warning must not advise
-    # it (the old one said 'lower the order')
-    frf, dense, truth, peak = _noisy_twelve_states()
+    # estimated far more off between the samples than on them; lowering the order does not lower the estimate
+    # (0.250 -> 0.240) and makes the true error between the samples worse (0.0096 -> 0.0213, measured 2026-12-04),
+    # so the warning must not advise it (the old one said 'lower the order'). (Noise seed 20: with least-squares
+    # residues at the noise level, sysid.noise, the earlier seed 13 no longer has a lower order that is worse.)
+    frf, dense, truth, peak = _noisy_twelve_states(seed=20)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         res = identify(frf, 12, dc_gain="match", stable=True)
