@@ -130,14 +130,15 @@ class _Projection:
         self.s, self.Hs, self.W, self.common_w, self.fixed_d = s, Hs, W, common_w, fixed_d
         self.dc, self.ft, self.mu, self.ridge, self.template, self.floor = dc, ft, mu, ridge, template, floor
         self.s0 = np.array([0.0 + 0j])
+        from scipy.linalg import solve_triangular
+
+        self._solve_triangular = solve_triangular
         self._key = None
         self._r = None
         self._state = None   # (poles, [(Ar, Q, theta) per channel]) at self._key; None after a rejected step
 
     def residual(self, x: np.ndarray) -> np.ndarray:
         """Weighted residuals of all channels (real and imaginary parts, DC penalty, ridge rows), stacked."""
-        from scipy.linalg import solve_triangular
-
         key = x.tobytes()
         if key == self._key:
             return self._r
@@ -164,7 +165,7 @@ class _Projection:
                 dR = np.abs(np.diag(R))
                 if not dR.min() > 1e-14 * dR.max():  # coincident poles: reject this step
                     return self._remember(key, _bad_step(P, K, self.dc, x, Phi.shape[1])[0], None)
-            th = solve_triangular(R, Q.T @ hr)
+            th = self._solve_triangular(R, Q.T @ hr)
             rs.append(Ar @ th - hr)
             parts.append((Ar, Q, th))
         r = np.concatenate(rs)
