@@ -548,7 +548,9 @@ def _reported(res: IdentificationResult, refit_at=None) -> IdentificationResult:
     est = (f"its error between the samples is estimated at {between[i]:.2g} of the peak against {on[i]:.2g} on them "
            f"({list(res.data.outputs)[i]}, sysid.between)")
     if narrow.size:
-        advice = _order_advice(res, refit_at)   # a lower order may remove the resonance: tried before advised
+        # a lower order may remove the resonance: tried before advised (a second fit; skipped when nobody can
+        # read the advice: the warning is ignored)
+        advice = _order_advice(res, refit_at) if not _ignored(RuntimeWarning) else ""
         w, sigma, spacing = narrow[np.argmin(narrow[:, 1] / narrow[:, 2])]
         warnings.warn(
             f"the order-{res.order} model has a resonance at omega = {w:.4g} of half-width {sigma:.3g}, "
@@ -566,6 +568,16 @@ def _reported(res: IdentificationResult, refit_at=None) -> IdentificationResult:
                       f"{where:.4g}; with the bilinear grid a smaller T puts more samples at high omega)",
                       RuntimeWarning, stacklevel=3)
     return res
+
+
+def _ignored(category: type[Warning]) -> bool:
+    """True when a warning of ``category`` would be ignored whatever its message and origin: the first entry of
+    :data:`warnings.filters` that applies to the category is a plain ``"ignore"`` (e.g.
+    ``warnings.simplefilter("ignore")``). Any other filter (by message, module or line; ``"error"``) gives False."""
+    for action, message, cat, module, lineno in warnings.filters:
+        if issubclass(category, cat):
+            return action == "ignore" and message is None and module is None and not lineno
+    return False
 
 
 def _order_advice(res: IdentificationResult, refit_at) -> str:
