@@ -121,8 +121,8 @@ class _Projection:
     """The variable-projection problem of :func:`refine_poles`: its residual and Kaufman Jacobian at the stable
     parameters ``x``, computed apart.
 
-    :func:`sysid.trust_region.least_squares_trf` asks for the residual at every trial step and for the Jacobian only at
-    the accepted ones, so a rejected step costs the least-squares coefficients alone (the derivative columns
+    :func:`sysid.trust_region.least_squares_trf` asks for the residual at every trial step and for the Jacobian only
+    at the accepted ones, so a rejected step costs the least-squares coefficients alone (the derivative columns
     and their projection are about half an evaluation). The residual's factorisation is kept for the Jacobian
     at the same ``x``; the arithmetic is that of one joint evaluation.
     """
@@ -192,8 +192,7 @@ class _Projection:
             V = np.vstack(rows)
             Js.append(V - Q @ (Q.T @ V))  # Kaufman: the projection onto the complement of range(Ar)
         J = np.vstack(Js)
-        if not np.all(np.isfinite(J)):   # a pole on a sample: make the step look bad
-            self._remember(self._key, np.full(r.shape, 1e10), None)
+        if not np.all(np.isfinite(J)):   # (not seen: the residual at x was finite) a zero Jacobian ends the run here
             return np.zeros(J.shape)
         return J
 
