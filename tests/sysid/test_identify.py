@@ -739,3 +739,27 @@ def test_the_resonance_warning_advises_a_lower_order_only_when_it_helps():
     assert low.between_error >= 0.8 * res.between_error
     true_err = [np.abs(r.evaluate(dense)[0, 0] - truth).max() / peak for r in (res, low)]
     assert true_err[1] > true_err[0]
+
+
+@pytest.mark.parametrize("ignore, unrelated", [(True, False), (True, True), (False, False)])
+def test_the_advice_fit_runs_only_when_the_warning_can_be_read(monkeypatch, ignore, unrelated):
+    import importlib
+
+    module = importlib.import_module("sysid.identify")
+    orders = []
+    advice = module._order_advice
+    monkeypatch.setattr(module, "_order_advice", lambda res, refit_at: orders.append(res.order) or advice(res, refit_at))
+    frf, _, _ = _noisy_order_8_fit()   # order 8 warns of a resonance and advises order 6 (test above)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("ignore" if ignore else "always")
+        if unrelated:   # a filter for another message in front (as libraries add on import) does not apply
+            warnings.filterwarnings("always", message="the matrix subclass is not")
+        res = identify(frf, 8, dc_gain="match", stable=True)
+    # the fit at order 6 behind the advice is a second identification: run only when the warning is not ignored;
+    # the model is the same either way
+    assert orders == ([] if ignore else [8])
+    assert ignore or any("Order 6 lowers that estimate" in str(w.message) for w in caught)
+    with warnings.catch_warnings():
+        warnings.simplefilter("always")
+        other = identify(frf, 8, dc_gain="match", stable=True)
+    np.testing.assert_array_equal(res.matrices.C, other.matrices.C)
