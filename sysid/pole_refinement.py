@@ -5,7 +5,6 @@ import warnings
 import numpy as np
 
 from .poles import floor_at, pair_poles, partial_fraction_basis, pole_groups
-from .trust_region import least_squares_trf
 
 __all__ = ["refine_poles", "stable_params", "params_to_poles", "derivative_columns", "derivative_factors"]
 
@@ -112,7 +111,7 @@ def derivative_factors(s, poles, floor=None):
 
 
 def _bad_step(P, K, dc, x, n_coef):
-    """Residual and Jacobian that make the trust-region solver reject a step."""
+    """Residual and Jacobian that make :func:`scipy.optimize.least_squares` reject a step."""
     rows = P * (2 * K + (1 if dc is not None else 0) + n_coef)
     return np.full(rows, 1e10), np.zeros((rows, x.size))
 
@@ -121,7 +120,7 @@ class _Projection:
     """The variable-projection problem of :func:`refine_poles`: its residual and Kaufman Jacobian at the stable
     parameters ``x``, computed apart.
 
-    :func:`sysid.trust_region.least_squares_trf` asks for the residual at every trial step and for the Jacobian only
+    :func:`scipy.optimize.least_squares` asks for the residual at every trial step and for the Jacobian only
     at the accepted ones, so a rejected step costs the least-squares coefficients alone (the derivative columns
     and their projection are about half an evaluation). The residual's factorisation is kept for the Jacobian
     at the same ``x``; the arithmetic is that of one joint evaluation.
@@ -210,9 +209,8 @@ def refine_poles(s, H, poles, *, weights=None, dc=None, ft=None, max_nfev: int =
     the current poles (variable projection, Golub & Pereyra 1973, with Kaufman's Jacobian, BIT 15 (1975)
     49-57: ``J = P_perp (dPhi/dx) theta``). The derivative columns are :func:`derivative_columns`. The poles are parametrised as ``Re a = -exp(u)``, so every
     iterate is stable; ``d_c = ft_c`` is fixed when the feedthrough is given and the DC equality enters as a
-    heavy penalty row (the caller's final convex refit imposes both exactly). The solver is the Trust Region
-    Reflective method of :func:`sysid.trust_region.least_squares_trf` (SciPy's ``least_squares(method="trf",
-    x_scale="jac")``, without importing :mod:`scipy.optimize`).
+    heavy penalty row (the caller's final convex refit imposes both exactly). The solver is
+    :func:`scipy.optimize.least_squares` (``method="trf"``, ``x_scale="jac"``), imported on the first call.
 
     Parameters
     ----------
@@ -239,6 +237,8 @@ def refine_poles(s, H, poles, *, weights=None, dc=None, ft=None, max_nfev: int =
     ndarray, shape (n,), complex
         Refined poles, ``Re < 0`` (the start when the cost did not fall).
     """
+    from scipy.optimize import least_squares
+
     s = np.asarray(s, dtype=complex)
     P, K = H.shape
     W = np.ones((P, K)) if weights is None else np.broadcast_to(np.asarray(weights, dtype=float), (P, K))
@@ -274,8 +274,9 @@ def refine_poles(s, H, poles, *, weights=None, dc=None, ft=None, max_nfev: int =
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         try:
-            sol = least_squares_trf(problem.residual, problem.jacobian, x0, *bounds, max_nfev=max_nfev,
-                                    xtol=1e-12, ftol=1e-12, gtol=1e-12)
+            sol = least_squares(problem.residual, x0, jac=problem.jacobian, method="trf",
+                                x_scale="jac", max_nfev=max_nfev, xtol=1e-12, ftol=1e-12, gtol=1e-12,
+                                bounds=bounds)
         except (np.linalg.LinAlgError, ValueError):
             return poles
     if not np.all(np.isfinite(sol.x)) or not np.sum(sol.fun ** 2) < np.sum(f0 ** 2):
