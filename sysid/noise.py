@@ -12,7 +12,10 @@ estimate is an upper bound of the noise where the grid is too sparse for the res
 carry the response itself), and about the noise where it is dense. Measured on McKelvey's grid (M = 64, T = 1):
 1 % noise on a 4-state system 1.13e-2, on a 12-state system 1.25e-2, 0.3 % on it 4.0e-3; the Sears function
 without noise 1.2e-6; the paper's LFD data (docs/data/frf-T1..T6.npz, 256 samples) 1.6e-8 - 5.0e-6 of the
-peak, where their fits' errors are 1e-4 - 1e-1 (``bench/sysid_truth_between_bench.py``).
+peak, where their fits' errors are 1e-4 - 1e-1 (``tests/sysid/test_noise.py``). On sparse noise-free data it
+measures the response's own curvature instead: every eighth of those samples (33) gives 1e-4 - 8e-3, so a fit of
+such data whose error is within ten times that takes least-squares residues (e.g. the gust model of
+``studies/aeroelastic.toml``'s 33 coarse-grid samples: max error 4.3e-4 -> 5.6e-4 of the peak on them).
 
 :func:`sysid.relocation.fit_relocated` uses it to choose the residue fit: a minimax fit of samples whose
 least-squares error is already at the noise level follows the noise (its error between the samples grows),
