@@ -82,3 +82,23 @@ def test_every_percentage_in_the_prose_is_a_template_or_external(name):
 ])
 def test_the_percentages_found(text, found):
     assert [m.group(0) for m in PERCENT_RE.finditer(text)] == found
+
+
+def test_the_coarse_grid_column_of_the_paper_grid_page_is_that_of_the_linearity_page():
+    # docs/linearity-paper-grid.md's prose copies the 97 x 25 LTD errors from docs/linearity.md's table (another
+    # study's store, which a template cannot read): each copied "Cl / Cm %" must be that table's cell rounded as
+    # written (the number of significant digits given), so that a regenerated linearity page makes this fail
+    import csv
+
+    table = STUDIES.parent / "docs" / "linearity" / "tables" / "linearity.csv"
+    rows = list(csv.DictReader(table.open(encoding="utf-8")))
+    body = _prose("linearity-paper-grid-prose.toml")["summary"]
+    lines = re.findall(r"^\| (T\d) (G\d) (\d+) deg \| [^|]+\| ([\d.]+) / ([\d.]+) % \|$", body, re.M)
+    assert len(lines) == 9
+    for case, gust, angle, cl, cm in lines:
+        row = next(r for r in rows if r["case"] == case and gust in r["gust"].split("/")
+                   and float(r["amplitude_deg"]) == float(angle))
+        for written, column in ((cl, "ltd_error_Cl"), (cm, "ltd_error_Cm")):
+            digits = len(written.replace(".", "").lstrip("0"))
+            value = 100 * float(row[column])
+            assert float(f"{value:.{digits}g}") == float(written), (case, gust, angle, column, value, written)
