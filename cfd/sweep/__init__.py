@@ -36,7 +36,7 @@ the exact residuals of both models (vectors in the small orthonormal basis) the 
 
 reported per output and frequency in ``metadata["error_estimate"]`` (absolute, per radian of gust angle),
 next to the relative dual residual norms ``metadata["residual_norm"]``. The estimate is checked against the
-direct path in ``tests/cfd/test_sweep.py`` (measured effectivities in docs/lfd-sweep.md).
+direct path in ``tests/cfd/sweep/test_sweep.py`` (measured effectivities in docs/lfd-sweep.md).
 
 ``omega = inf`` is the feedthrough ``D`` without a solve (estimate 0); ``omega = 0`` is an ordinary point.
 
