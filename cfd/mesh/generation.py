@@ -71,8 +71,8 @@ def _check_sizes(ni, nj, n_surface, farfield):
     if farfield < MIN_FARFIELD:
         raise MeshError(f"farfield = {farfield} chords is too close; use at least {MIN_FARFIELD:g} (default 25)")
     if farfield > MAX_FARFIELD:
-        raise MeshError(f"farfield = {farfield:g} chords is beyond cfd.mesh.generation.MAX_FARFIELD = {MAX_FARFIELD:g}; "
-                        "the far field is in chords (the paper's: 25)")
+        raise MeshError(f"farfield = {farfield:g} chords is beyond cfd.mesh.generation.MAX_FARFIELD = "
+                        f"{MAX_FARFIELD:g}; the far field is in chords (the paper's: 25)")
     if ni * nj > MAX_NODES:
         raise MeshError(f"ni * nj = {ni} * {nj} = {ni * nj} nodes is more than cfd.mesh.generation.MAX_NODES = "
                         f"{MAX_NODES:.0e}: no solver here could factorise its Jacobian (the paper's grid: 181 x 60)")
