@@ -25,12 +25,12 @@ from scipy import optimize
 
 from sysid.arrays import read_only
 
-from .coupling import as_motion_model, check_axis, state_matrix
+from .coupling import MAX_SPEED, as_motion_model, check_axis, state_matrix
 from .errors import SpeedError
 from .fit import MotionModel
 from .section import TypicalSection, check_section
 
-__all__ = ["FlutterResult", "flutter", "divergence_speed", "root_locus_response"]
+__all__ = ["FlutterResult", "flutter", "divergence_speed", "root_locus_response", "MAX_SPEED_POINTS"]
 
 
 @dataclass(frozen=True)
@@ -129,7 +129,7 @@ def root_locus_response(aero: Any, section: TypicalSection, speeds: Any, *, orde
     aero : MotionModel or sysid.FrequencyResponse
     section : TypicalSection
     speeds : array_like, shape (N,)
-        Positive, finite, strictly increasing speed indices ``U / (b omega_alpha)`` (at least 2; flattened).
+        Positive, finite, strictly increasing speed indices ``U / (b omega_alpha)`` (at least 2, at most :data:`MAX_SPEED_POINTS`; one row or column).
     order : int
         Lag roots of the fit when ``aero`` is data (default 4).
 
@@ -158,16 +158,33 @@ def root_locus_response(aero: Any, section: TypicalSection, speeds: Any, *, orde
     return V, _track(E)
 
 
+MAX_SPEED_POINTS = 100_000
+"""Most speeds of a root locus: one eigenvalue problem and one assignment problem each (about 0.1 ms together
+for the 8 - 12 states of a section with 4 lag roots), so a grid this size takes seconds; a larger one buys no
+accuracy, since :func:`flutter` refines the crossing by root finding between two grid speeds."""
+
+
 def _check_speeds(speeds: Any) -> np.ndarray:
+    """``speeds`` as a 1-D float array, or :class:`SpeedError` saying what is wrong with it."""
     try:
-        V = np.asarray(speeds, dtype=float).reshape(-1)
+        V = np.asarray(speeds, dtype=float)
     except (TypeError, ValueError):
         raise SpeedError(f"speeds must be an array of speed indices, got {speeds!r}") from None
+    if V.ndim > 1 and sum(d > 1 for d in V.shape) > 1:
+        raise SpeedError(f"speeds must be one-dimensional (a grid of speed indices), got an array of shape {V.shape}; "
+                         "pass one row, or call flutter once per row")
+    V = V.reshape(-1)
+    if V.size > MAX_SPEED_POINTS:
+        raise SpeedError(f"speeds has {V.size} points, more than MAX_SPEED_POINTS = {MAX_SPEED_POINTS}: the crossing "
+                         "is refined by root finding between grid speeds, so a few hundred points suffice")
     if V.size < 2 or np.any(~np.isfinite(V)) or np.any(V <= 0) or np.any(np.diff(V) <= 0):
         raise SpeedError(
             "speeds must hold at least 2 positive, finite, strictly increasing speed indices U/(b omega_alpha), e.g. "
             "np.linspace(0.05, 3 * sqrt(mu), 200)"
         )
+    if V[-1] > MAX_SPEED:
+        raise SpeedError(f"speeds go up to {V[-1]:g}, above MAX_SPEED = {MAX_SPEED:g} (speed indices U/(b omega_alpha) "
+                         "of real sections are of order 1 - 10)")
     return V
 
 
@@ -195,7 +212,7 @@ def flutter(aero: Any, section: TypicalSection, speeds: Any = None, *, order: in
         :func:`aeroelastic.fit_motion` (``order`` lag roots, ``fit_kw``) when data are given.
     section : TypicalSection
     speeds : array_like, shape (N,), optional
-        Speed indices ``U / (b omega_alpha)`` of the root locus (flattened), at least 2, positive, finite and
+        Speed indices ``U / (b omega_alpha)`` of the root locus (one row or column), 2 to :data:`MAX_SPEED_POINTS`, positive, finite and
         strictly increasing; default ``np.linspace(0.02, 3, 301) * sqrt(mu)`` (flutter speed indices ``V_f`` up
         to 3, ``N = 301``).
     order : int

@@ -279,6 +279,11 @@ def main(argv=None):
         lines += ["", f"default at or below VF on {wins} of {2 * len(summary)} (case, order, output) points; "
                   f"default s / ROM: max {max(times):.2f}, median {np.median(times):.2f}; default / VF time: "
                   f"median {np.median(np.array(times) / np.array(vf_times)):.1f}."]
+        ratio = {}
+        for (_, n, *_), t, tv in zip(summary, times, vf_times):
+            ratio.setdefault(n, []).append(t / tv)
+        lines += ["", "default / VF time per order, median over the cases (min - max): " + "; ".join(
+            f"{n}: {np.median(r):.1f} ({min(r):.1f} - {max(r):.1f})" for n, r in sorted(ratio.items())) + "."]
     text = "\n".join(lines)
     print(text)
     if args.out:

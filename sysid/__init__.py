@@ -37,11 +37,13 @@ from .order_limits import max_order, min_order
 from .identify import IdentificationResult, StabilisationReport, identify
 from .identification_result import ModelMatrices
 from .diagnostics import DataDiagnostics, diagnose
+from .noise import noise_level
 from .refit import BDFit, CDFit, fit_alternating, fit_bd, fit_cd
 from .stability import StabiliseResult, stabilise
 from .relocation import RelocationResult, fit_relocated
 
 __all__ = [
+    "noise_level",
     # errors
     "ConstraintError",
     "FrequencyDataError",

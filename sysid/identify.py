@@ -548,12 +548,14 @@ def _reported(res: IdentificationResult, refit_at=None) -> IdentificationResult:
     est = (f"its error between the samples is estimated at {between[i]:.2g} of the peak against {on[i]:.2g} on them "
            f"({list(res.data.outputs)[i]}, sysid.between)")
     if narrow.size:
-        advice = _order_advice(res, refit_at)   # a lower order may remove the resonance: tried before advised
         w, sigma, spacing = narrow[np.argmin(narrow[:, 1] / narrow[:, 2])]
-        warnings.warn(
-            f"the order-{res.order} model has a resonance at omega = {w:.4g} of half-width {sigma:.3g}, "
-            f"{sigma / spacing:.2g} of the data's spacing there ({spacing:.3g}): invisible at the samples, so its "
-            f"response between them is not determined by the data; {est}. {advice}", RuntimeWarning, stacklevel=3)
+        text = (f"the order-{res.order} model has a resonance at omega = {w:.4g} of half-width {sigma:.3g}, "
+                f"{sigma / spacing:.2g} of the data's spacing there ({spacing:.3g}): invisible at the samples, so its "
+                f"response between them is not determined by the data; {est}.")
+        # a lower order may remove the resonance: tried before advised (a second fit; skipped when nobody can
+        # read the advice: the warning is ignored)
+        advice = _order_advice(res, refit_at) if not _ignored(RuntimeWarning, text) else ""
+        warnings.warn(f"{text} {advice}", RuntimeWarning, stacklevel=3)
     else:   # no resonance to blame: the data are sparse for what the response does there (e.g. a fast phase)
         from .between import between_deviation
 
@@ -566,6 +568,17 @@ def _reported(res: IdentificationResult, refit_at=None) -> IdentificationResult:
                       f"{where:.4g}; with the bilinear grid a smaller T puts more samples at high omega)",
                       RuntimeWarning, stacklevel=3)
     return res
+
+
+def _ignored(category: type[Warning], text: str) -> bool:
+    """True when a warning of ``category`` whose message starts with ``text`` would be ignored wherever it is issued:
+    the first entry of :data:`warnings.filters` that applies to the category and message (filters match a message
+    from its start) is an ``"ignore"`` without a module or line condition (e.g. ``warnings.simplefilter("ignore")``).
+    A first applicable filter with such a condition, or any other action (``"error"``, ``"always"``), gives False."""
+    for action, message, cat, module, lineno in warnings.filters:
+        if issubclass(category, cat) and (message is None or message.match(text)):
+            return action == "ignore" and module is None and not lineno
+    return False
 
 
 def _order_advice(res: IdentificationResult, refit_at) -> str:

@@ -116,6 +116,90 @@ def _bad_step(P, K, dc, x, n_coef):
     return np.full(rows, 1e10), np.zeros((rows, x.size))
 
 
+class _Projection:
+    """The variable-projection problem of :func:`refine_poles`: its residual and Kaufman Jacobian at the stable
+    parameters ``x``, computed apart.
+
+    :func:`scipy.optimize.least_squares` asks for the residual at every trial step and for the Jacobian only
+    at the accepted ones, so a rejected step costs the least-squares coefficients alone (the derivative columns
+    and their projection are about half an evaluation). The residual's factorisation is kept for the Jacobian
+    at the same ``x``; the arithmetic is that of one joint evaluation.
+    """
+
+    def __init__(self, s, Hs, W, common_w, fixed_d, dc, ft, mu, ridge, template, floor):
+        self.s, self.Hs, self.W, self.common_w, self.fixed_d = s, Hs, W, common_w, fixed_d
+        self.dc, self.ft, self.mu, self.ridge, self.template, self.floor = dc, ft, mu, ridge, template, floor
+        self.s0 = np.array([0.0 + 0j])
+        from scipy.linalg import solve_triangular
+
+        self._solve_triangular = solve_triangular
+        self._key = None
+        self._r = None
+        self._state = None   # (poles, [(Ar, Q, theta) per channel]) at self._key; None after a rejected step
+
+    def residual(self, x: np.ndarray) -> np.ndarray:
+        """Weighted residuals of all channels (real and imaginary parts, DC penalty, ridge rows), stacked."""
+        key = x.tobytes()
+        if key == self._key:
+            return self._r
+        s, W, P, K = self.s, self.W, self.Hs.shape[0], self.Hs.shape[1]
+        pl = params_to_poles(x, self.template, self.floor)
+        Phi = partial_fraction_basis(s, pl)
+        b0 = partial_fraction_basis(self.s0, pl)[0].real
+        if not self.fixed_d:
+            Phi = np.hstack([Phi, np.ones((K, 1))])
+            b0 = np.concatenate([b0, [1.0]])
+        rs, parts = [], []
+        Q = None
+        for c in range(P):
+            hc = [W[c] * self.Hs[c].real, W[c] * self.Hs[c].imag]
+            if self.dc is not None:
+                hc.append(np.array([self.mu * (self.dc[c] - (self.ft[c] if self.fixed_d else 0.0))]))
+            hr = np.concatenate(hc)
+            hr = np.concatenate([hr, np.zeros(Phi.shape[1])])
+            if Q is None or not self.common_w:  # the regression matrix is shared when the weights are
+                Ac = W[c][:, None] * Phi
+                rows = [Ac.real, Ac.imag] + ([self.mu * b0[None, :]] if self.dc is not None else []) + [self.ridge]
+                Ar = np.vstack(rows)
+                Q, R = np.linalg.qr(Ar)
+                dR = np.abs(np.diag(R))
+                if not dR.min() > 1e-14 * dR.max():  # coincident poles: reject this step
+                    return self._remember(key, _bad_step(P, K, self.dc, x, Phi.shape[1])[0], None)
+            th = self._solve_triangular(R, Q.T @ hr)
+            rs.append(Ar @ th - hr)
+            parts.append((Ar, Q, th))
+        r = np.concatenate(rs)
+        if not np.all(np.isfinite(r)):
+            return self._remember(key, np.full(r.shape, 1e10), None)
+        return self._remember(key, r, (pl, parts))
+
+    def jacobian(self, x: np.ndarray, *_) -> np.ndarray:
+        """Kaufman's Jacobian ``P_perp (dPhi / dx) theta`` of :meth:`residual` at ``x``, shape (rows, n_par)."""
+        r = self.residual(x)
+        if self._state is None:   # a rejected point: the residual says so, the Jacobian is zero
+            return np.zeros((r.size, x.size))
+        pl, parts = self._state
+        s, W = self.s, self.W
+        fac, fac0 = derivative_factors(s, pl, self.floor), derivative_factors(self.s0, pl, self.floor)
+        Js = []
+        for c, (Ar, Q, th) in enumerate(parts):
+            V = W[c][:, None] * derivative_columns(s, pl, th, self.floor, fac)  # (K, n_par): (dPhi/dx_q) theta
+            rows = [V.real, V.imag]
+            if self.dc is not None:
+                rows.append(self.mu * derivative_columns(self.s0, pl, th, self.floor, fac0).real)
+            rows.append(np.zeros((Ar.shape[1], V.shape[1])))  # the ridge rows do not depend on the poles
+            V = np.vstack(rows)
+            Js.append(V - Q @ (Q.T @ V))  # Kaufman: the projection onto the complement of range(Ar)
+        J = np.vstack(Js)
+        if not np.all(np.isfinite(J)):   # (not seen: the residual at x was finite) a zero Jacobian ends the run here
+            return np.zeros(J.shape)
+        return J
+
+    def _remember(self, key, r, state):
+        self._key, self._r, self._state = key, r, state
+        return r
+
+
 def refine_poles(s, H, poles, *, weights=None, dc=None, ft=None, max_nfev: int = 60, region=None,
                  ridge_weight: float = 1e-4):
     """Gauss-Newton refinement of stable poles by variable projection.
@@ -125,8 +209,8 @@ def refine_poles(s, H, poles, *, weights=None, dc=None, ft=None, max_nfev: int =
     the current poles (variable projection, Golub & Pereyra 1973, with Kaufman's Jacobian, BIT 15 (1975)
     49-57: ``J = P_perp (dPhi/dx) theta``). The derivative columns are :func:`derivative_columns`. The poles are parametrised as ``Re a = -exp(u)``, so every
     iterate is stable; ``d_c = ft_c`` is fixed when the feedthrough is given and the DC equality enters as a
-    heavy penalty row (the caller's final convex refit imposes both exactly).
-    :func:`scipy.optimize.least_squares` (``method="trf"``).
+    heavy penalty row (the caller's final convex refit imposes both exactly). The solver is
+    :func:`scipy.optimize.least_squares` (``method="trf"``, ``x_scale="jac"``), imported on the first call.
 
     Parameters
     ----------
@@ -153,7 +237,6 @@ def refine_poles(s, H, poles, *, weights=None, dc=None, ft=None, max_nfev: int =
     ndarray, shape (n,), complex
         Refined poles, ``Re < 0`` (the start when the cost did not fall).
     """
-    from scipy.linalg import solve_triangular
     from scipy.optimize import least_squares
 
     s = np.asarray(s, dtype=complex)
@@ -163,8 +246,6 @@ def refine_poles(s, H, poles, *, weights=None, dc=None, ft=None, max_nfev: int =
     fixed_d = ft is not None
     Hs = H - (np.asarray(ft, dtype=float)[:, None] if fixed_d else 0.0)
     mu = 10.0 * np.sqrt(K)
-    s0 = np.array([0.0 + 0j])
-    memo = {}
     # ridge on each coefficient times its basis column's norm at the start: without it the refinement could
     # merge two poles at the edge of the stability region and fit with huge cancelling residues (|C| ~ 1e10
     # for a DC gain of 7 on T4 at N_r = 25), which the evaluated model then loses to round-off (8 digits of
@@ -174,52 +255,9 @@ def refine_poles(s, H, poles, *, weights=None, dc=None, ft=None, max_nfev: int =
     if not fixed_d:
         cn = np.concatenate([cn, [0.0]])
     ridge = np.diag(ridge_weight * cn)
-
-    def evaluate(x):
-        key = x.tobytes()
-        if key in memo:
-            return memo[key]
-        pl = params_to_poles(x, poles, floor)
-        Phi = partial_fraction_basis(s, pl)
-        b0 = partial_fraction_basis(s0, pl)[0].real
-        if not fixed_d:
-            Phi = np.hstack([Phi, np.ones((K, 1))])
-            b0 = np.concatenate([b0, [1.0]])
-        rs, Js = [], []
-        Q = None
-        fac, fac0 = derivative_factors(s, pl, floor), derivative_factors(s0, pl, floor)
-        for c in range(P):
-            hc = [W[c] * Hs[c].real, W[c] * Hs[c].imag]
-            if dc is not None:
-                hc.append(np.array([mu * (dc[c] - (ft[c] if fixed_d else 0.0))]))
-            hr = np.concatenate(hc)
-            hr = np.concatenate([hr, np.zeros(Phi.shape[1])])
-            if Q is None or not common_w:  # the regression matrix is shared when the weights are
-                Ac = W[c][:, None] * Phi
-                rows = [Ac.real, Ac.imag] + ([mu * b0[None, :]] if dc is not None else []) + [ridge]
-                Ar = np.vstack(rows)
-                Q, R = np.linalg.qr(Ar)
-                dR = np.abs(np.diag(R))
-                if not dR.min() > 1e-14 * dR.max():  # coincident poles: reject this step
-                    return _bad_step(P, K, dc, x, Phi.shape[1])
-            th = solve_triangular(R, Q.T @ hr)
-            r = Ar @ th - hr
-            V = W[c][:, None] * derivative_columns(s, pl, th, floor, fac)  # (K, n_par): (dPhi/dx_q) theta
-            parts = [V.real, V.imag]
-            if dc is not None:
-                parts.append(mu * derivative_columns(s0, pl, th, floor, fac0).real)
-            parts.append(np.zeros((Phi.shape[1], V.shape[1])))  # the ridge rows do not depend on the poles
-            V = np.vstack(parts)
-            Js.append(V - Q @ (Q.T @ V))  # Kaufman: the projection onto the complement of range(Ar)
-            rs.append(r)
-        out = (np.concatenate(rs), np.vstack(Js))
-        if not np.all(np.isfinite(out[0])) or not np.all(np.isfinite(out[1])):
-            out = (np.full(out[0].shape, 1e10), np.zeros(out[1].shape))
-        memo.clear()
-        memo[key] = out
-        return out
-
     floor = region[3] if region is not None and len(region) > 3 else None
+    problem = _Projection(s, Hs, W, common_w, fixed_d, dc, ft, mu, ridge, poles, floor)
+
     x0 = stable_params(poles, floor)
     bounds = (-np.inf, np.inf)
     if region is not None:  # box bounds from the region: |Re a| between its right and left edges, |Im a| <= smax
@@ -230,13 +268,13 @@ def refine_poles(s, H, poles, *, weights=None, dc=None, ft=None, max_nfev: int =
         lo[is_im], hi[is_im] = -smax, smax
         x0 = np.clip(x0, lo + 1e-9 * np.abs(lo), hi - 1e-9 * np.abs(hi))
         bounds = (lo, hi)
-    f0 = evaluate(x0)[0]
+    f0 = problem.residual(x0)
     if f0[0] == 1e10:
         return poles
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         try:
-            sol = least_squares(lambda x: evaluate(x)[0], x0, jac=lambda x: evaluate(x)[1], method="trf",
+            sol = least_squares(problem.residual, x0, jac=problem.jacobian, method="trf",
                                 x_scale="jac", max_nfev=max_nfev, xtol=1e-12, ftol=1e-12, gtol=1e-12,
                                 bounds=bounds)
         except (np.linalg.LinAlgError, ValueError):

@@ -218,11 +218,13 @@ def partial_fraction_basis(s: np.ndarray, poles: np.ndarray) -> np.ndarray:
     a = poles[idx]
     t1 = 1.0 / (sf - a[None, :])
     t2 = 1.0 / (sf - np.conj(a)[None, :])
-    real_cols = idx[~pair]
-    pair_cols = idx[pair]
-    Phi[np.ix_(fin, real_cols)] = t1[:, ~pair]
-    Phi[np.ix_(fin, pair_cols)] = t1[:, pair] + t2[:, pair]
-    Phi[np.ix_(fin, pair_cols + 1)] = 1j * (t1[:, pair] - t2[:, pair])
+    rows = Phi if fin.all() else np.zeros((int(fin.sum()), n), dtype=complex)  # the finite rows, filled in place
+    rows[:, idx[~pair]] = t1[:, ~pair]
+    t1p, t2p = t1[:, pair], t2[:, pair]
+    rows[:, idx[pair]] = t1p + t2p
+    rows[:, idx[pair] + 1] = 1j * (t1p - t2p)
+    if rows is not Phi:
+        Phi[fin] = rows
     return Phi
 
 

@@ -78,6 +78,7 @@ from .grids import check_continuous_frequencies, check_distinct, check_period
 from .pole_refinement import refine_poles
 from .poles import (RESOLUTION, discrete_basis, initial_poles, input_normal, modal_realisation,
                     partial_fraction_basis, pole_distance, resolution_floor, stability_region)
+from .noise import noise_level
 from .residues import gap_bounds, minimax_cd
 from .state_space import eigen_parts
 from .vector_fitting import relocate_poles
@@ -170,6 +171,19 @@ class RelocationResult:
 
 
 # --------------------------------------------------------------------------------------------- pipeline
+NOISE_FACTOR = 10.0
+"""A fit is at the noise level when every output's max error on the samples is below this many times the
+estimated noise (:func:`sysid.noise.noise_level`): the largest of K complex Gaussian samples is about
+``sqrt(ln K)`` (2 - 2.5 for K = 64 - 512) standard deviations, and the estimate may be off by a factor of 2."""
+
+
+def at_noise_level(err, noise) -> bool:
+    """Whether max errors ``err`` (p,) are all within :data:`NOISE_FACTOR` times the noise levels ``noise`` (p,),
+    both relative to each output's peak (False for noise-free data)."""
+    noise = np.asarray(noise, dtype=float)
+    return bool(np.all(noise > 0) and np.all(np.asarray(err) <= NOISE_FACTOR * noise))
+
+
 def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson, refine, minimax, budget, region,
               minimax_rounds=0, bound_gaps=False, minimax_within=None):
     """One-input fit: poles relocated on all outputs, residues by convex fits. Returns the candidates (dicts
@@ -263,8 +277,10 @@ def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson,
             pl = pr
             finish(c["label"] + f"+irls{r + 1}", pl, c["its"], refined=True)
         cands.sort(key=lambda c: candidate_score(c["err"]))
-    # minimax residues for the leading candidates (never worse than their least-squares residues)
-    if minimax:
+    # minimax residues for the leading candidates (never worse than their least-squares residues), unless the
+    # least-squares residuals are at the data's noise level: a minimax fit would then follow the noise between
+    # the samples, where least squares averages it (sysid.noise)
+    if minimax and not at_noise_level(cands[0]["err"], noise_level(Hn, omega)):
         wmm = np.broadcast_to(1.0 / peak[:, None, None], (p, 1, K))
         if weights is not None:
             wmm = wmm * np.sqrt(np.asarray(weights)[:, :1])

@@ -461,7 +461,7 @@ def _time_unit(frf) -> str:
 
 def _continuous_poles(res, limit: int = 12) -> str:
     """The ROM's poles mapped to the s-plane, sorted by |s|, as text (at most ``limit``)."""
-    z = np.linalg.eigvals(np.asarray(res.model.A))
+    z = np.linalg.eigvals(np.asarray(res.matrices.A))
     with np.errstate(divide="ignore", invalid="ignore"):
         s = (2.0 / res.T) * (z - 1.0) / (z + 1.0)
     s = s[np.argsort(np.abs(s))]
@@ -571,8 +571,8 @@ def write_outputs(out: FitOutcome, data_path, out_dir, *, command: str | None = 
                 + "; discrete model with the bilinear map, dt = T")
     if out.options.get("dc_values") is not None:
         meta["dc_gain_given"] = out.options["dc_values"]
-    paths = {"npz": export_rom_npz(out_dir / "rom.npz", res.model, meta),
-             "mat": export_rom_mat(out_dir / "rom.mat", res.model, meta)}
+    paths = {"npz": export_rom_npz(out_dir / "rom.npz", res.matrices, meta),
+             "mat": export_rom_mat(out_dir / "rom.mat", res.matrices, meta)}
     md = out_dir / "summary.md"
     atomic_write_text(md, summary_markdown(out, data_path, command))
     paths["summary"] = md

@@ -77,6 +77,7 @@ import importlib
 import math
 import tomllib
 import warnings
+from dataclasses import replace
 from pathlib import Path
 from typing import Any, Mapping
 
@@ -488,8 +489,10 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
     # the sections' tables ([aeroelastic], [nonlinear], ...): studies.sections.protocol
     study = StudyTables(cases=tuple(sweeps), gusts=tuple(gusts), simulation=sim, cfd=cfd, methods=tuple(methods),
                         M_base=M_base)
-    options = tuple((s.name, s.parse(data[s.table], P.err, study)) for s in registered
-                    if s.table is not None and s.table in data)
+    options = ()
+    for s in registered:
+        if s.table is not None and s.table in data:
+            options += ((s.name, s.parse(data[s.table], P.err, replace(study, sections=options))),)
     return StudyConfig(name=name, description=description, source=source, output_dir=output_dir,
                        store_dir=store_dir, cases=tuple(sweeps), gusts=tuple(gusts), M_base=M_base,
                        methods=tuple(methods), simulation=sim, cfd=cfd, report=report, sections=options)

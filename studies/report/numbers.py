@@ -13,11 +13,13 @@ A template is ``{{[AGG:]PATH}}`` with ``PATH`` one of
   and identification method;
 - ``CASE/N_OMEGA/N_R/METHOD/GUST/COLUMN``: a column of the gust-history table (``tables/sims``:
   ``peak_err_Cm``, ``rms_err_Cl``, ``speedup``, ...);
+- ``CASE/COLUMN``: a column of the cost table (``tables/cost``: ``frf_seconds``, ``frf_error_estimate``,
+  ``ltd_seconds``, ``identify_seconds``, ``rom_sim_seconds``, ``speedup``), one row per case;
 - ``CASE/GUST/ANGLE/COLUMN``: a column of the linearity table of a study with a ``[nonlinear]`` section
   (``tables/linearity``: ``ltd_error_Cl``, ``rom_ratio_Cm``, ``n_factorisations``, ...), for the march of that
   case and gust at that gust angle in degrees.
 
-``CASE`` may carry the sampling period, ``T4@2.5`` or ``*@2,4`` (matched as the tables print T, four
+``CASE`` may carry the sampling period (not in a cost template: the cost table's rows are per case), ``T4@2.5`` or ``*@2,4`` (matched as the tables print T, four
 significant digits).
 Each part of the selection is a value, a comma list (``T1,T3``), ``*`` (any) or, for N_OMEGA and N_R, a
 bound (``>=25``, ``<=33``). Without ``AGG`` the selection must be one row; with it, ``min``, ``max``,
@@ -69,10 +71,14 @@ def _parse(body: str) -> tuple:
             raise TemplateError(f"{{{{{body}}}}}: {head.strip()!r} is not one of {', '.join(AGGREGATES)}")
         agg, body = head.strip(), rest
     parts = [p.strip() for p in body.split("/")]
-    if len(parts) not in (4, 5, 6) or not all(parts):
+    if len(parts) not in (2, 4, 5, 6) or not all(parts):
         raise TemplateError(f"{{{{{body}}}}}: give CASE/N_OMEGA/N_R/METHOD/COLUMN (ROM and headline tables), "
-                            "CASE/N_OMEGA/N_R/METHOD/GUST/COLUMN (gust-history table) or CASE/GUST/ANGLE/COLUMN "
-                            "(linearity table)")
+                            "CASE/N_OMEGA/N_R/METHOD/GUST/COLUMN (gust-history table), CASE/COLUMN (cost table) "
+                            "or CASE/GUST/ANGLE/COLUMN (linearity table)")
+    if len(parts) == 2:
+        if "@" in parts[0]:
+            raise TemplateError(f"{{{{{body}}}}}: the cost table has one row per case, not per T; drop the @T")
+        return agg, dict(case=parts[0], T=None), parts[-1], "cost"
     if len(parts) == 4:
         sel = dict(case=parts[0], gust=parts[1], amplitude_deg=parts[2], T=None)
         if parts[2] != "*" and not re.fullmatch(r"(>=|<=|>|<)?[0-9.]+(,[0-9.]+)*", parts[2]):
@@ -146,16 +152,16 @@ def _value(body: str, tables: Mapping) -> str | None:
     from .tables import TableError, cell_text
 
     agg, sel, column, kind = _parse(body)
-    names = {"sims": ("sims",), "linearity": ("linearity",)}.get(kind, ("roms", "summary"))
+    names = {"sims": ("sims",), "linearity": ("linearity",), "cost": ("cost",)}.get(kind, ("roms", "summary"))
     found = [(tables[n][0], {c.key: c for c in tables[n][1]}) for n in names if n in tables]
     found = [(rows, cols) for rows, cols in found if column in cols]
     if not found:
-        from .rows import rom_columns, sim_columns, summary_columns
+        from .rows import cost_columns, rom_columns, sim_columns, summary_columns
 
         if kind == "linearity":  # offered by a section (Section.template_tables) whose results are not stored yet
             return None
-        else:
-            known = {c.key for c in (sim_columns() if kind == "sims" else rom_columns() + summary_columns())}
+        known = {c.key for c in {"sims": sim_columns, "cost": cost_columns}.get(
+            kind, lambda: rom_columns() + summary_columns())()}
         if column not in known:
             raise TemplateError(f"{{{{{body}}}}}: no column {column!r} in the {' or '.join(names)} table")
         return None
@@ -163,7 +169,7 @@ def _value(body: str, tables: Mapping) -> str | None:
     picked = _select(rows, sel)
     if agg is None:
         if len(picked) > 1:
-            what = ("case, gust, angle" if kind == "linearity" else
+            what = ("case, gust, angle" if kind == "linearity" else "case" if kind == "cost" else
                     f"case, N_omega, N_r, method{', gust' if kind == 'sims' else ''}, T with CASE@T")
             raise TemplateError(f"{{{{{body}}}}}: selects {len(picked)} rows; name one ({what}) or aggregate "
                                 f"({'/'.join(AGGREGATES)}:...)")

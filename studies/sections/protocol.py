@@ -169,6 +169,9 @@ class StudyTables:
         The identification variants (``[methods]``), for a section that picks one of the study's ROMs.
     M_base : int or None
         The computed frequency grid's intervals (``[sweep] M_base``).
+    sections : tuple of (str, object)
+        The options of the sections parsed before this one (in the order of :func:`sections`), as ``(name,
+        options)`` pairs: a section that uses another's pieces checks up front that the study asks for them.
     """
 
     cases: tuple
@@ -177,6 +180,11 @@ class StudyTables:
     cfd: Any
     methods: tuple = ()
     M_base: Optional[int] = None
+    sections: tuple = ()
+
+    def section(self, name: str) -> Any:
+        """The options of an earlier-parsed section ``name``, or None when the study does not have it."""
+        return dict(self.sections).get(name)
 
 
 @dataclass(frozen=True)
@@ -383,9 +391,16 @@ def _load() -> None:
 
 
 def sections() -> tuple:
-    """The registered sections, built-in ones first, in registration order."""
+    """The registered sections: the built-in ones first, in the order of :data:`studies.sections.BUILTIN` (whatever
+    order their modules were imported in), then the others in registration order."""
     _load()
-    return tuple(_REGISTRY.values())
+    builtin = list(importlib.import_module("studies.sections").BUILTIN)
+
+    def rank(s):
+        module = type(s).__module__
+        return builtin.index(module) if module in builtin else len(builtin)
+
+    return tuple(sorted(_REGISTRY.values(), key=rank))       # stable: the others keep their registration order
 
 
 def section(name: str) -> Section:

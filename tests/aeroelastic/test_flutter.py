@@ -106,6 +106,25 @@ def test_no_crossing_warns_and_reports(theo):
     assert "no instability" in r.summary()
 
 
+@pytest.mark.parametrize("speeds, match", [
+    (np.linspace(0.1, 2.0, 6).reshape(2, 3), "one-dimensional"),      # was flattened into a non-monotone grid
+    (np.linspace(0.1, 2.0, 100_001), "MAX_SPEED_POINTS"),              # 1e8 points ran for hours
+    ([0.5, 2e6], "MAX_SPEED"),
+])
+def test_speed_grid_shape_and_size_refused(theo, speeds, match):
+    with pytest.raises(ae.SpeedError, match=match):
+        ae.flutter(theo, HP, speeds)
+    with pytest.raises(ae.SpeedError, match=match):
+        ae.root_locus_response(theo, HP, speeds)
+
+
+def test_speed_grid_column_accepted(theo):
+    V = np.linspace(0.5, 3.0, 40)
+    a = ae.flutter(theo, HP, V)
+    b = ae.flutter(theo, HP, V[:, None])
+    assert a.speed_index == b.speed_index
+
+
 @pytest.mark.parametrize("speeds", [[1.0], [0.0, 1.0, 2.0], [2.0, 1.0], [0.5, np.inf]])
 def test_speed_grid_errors(theo, speeds):
     with pytest.raises(ae.SpeedError, match="strictly increasing"):

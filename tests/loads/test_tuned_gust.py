@@ -163,7 +163,10 @@ def test_search_against_the_lfd_data_directly():
     from loads.tuned_gust import peak_over_time
 
     frf = sysid.FrequencyResponse.load("docs/data/frf-T2.npz")
-    rom = sysid.identify(frf, 12, dc_gain="match", stable=True)
+    # the order-12 fit of 256 T2 samples is sparse above k ~ 5 (sysid's between-sample warning, Cm 8 % there);
+    # the gusts of the rule excite omega < 6, where the samples are dense
+    with pytest.warns(RuntimeWarning, match="not pinned down between the samples"):
+        rom = sysid.identify(frf, 12, dc_gain="match", stable=True)
     pt = loads.FlightPoint(0.735, 7000.0, 2.0)
     c = pt.chord_m
     tg = loads.tuned_gust(rom, pt)

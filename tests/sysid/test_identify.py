@@ -722,10 +722,11 @@ def test_the_resonance_warning_advises_a_lower_order_only_when_it_helps():
         low = identify(frf, 6, dc_gain="match", stable=True)
     assert low.between_error < 0.8 * res.between_error
     # (2) the true order of a noisy 12-state system: the model has a resonance narrower than 0.1 spacings and is
-    # estimated 7x farther off between the samples than on them; lowering the order makes both the estimate and
-    # the true error between the samples worse (0.037 -> 0.038, 0.0080 -> 0.0095), so the warning must not advise
-    # it (the old one said 'lower the order')
-    frf, dense, truth, peak = _noisy_twelve_states()
+    # estimated far more off between the samples than on them; lowering the order does not lower the estimate
+    # (0.250 -> 0.240) and makes the true error between the samples worse (0.0096 -> 0.0213, measured 2026-12-04),
+    # so the warning must not advise it (the old one said 'lower the order'). (Noise seed 20: with least-squares
+    # residues at the noise level, sysid.noise, the earlier seed 13 no longer has a lower order that is worse.)
+    frf, dense, truth, peak = _noisy_twelve_states(seed=20)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         res = identify(frf, 12, dc_gain="match", stable=True)
@@ -738,3 +739,27 @@ def test_the_resonance_warning_advises_a_lower_order_only_when_it_helps():
     assert low.between_error >= 0.8 * res.between_error
     true_err = [np.abs(r.evaluate(dense)[0, 0] - truth).max() / peak for r in (res, low)]
     assert true_err[1] > true_err[0]
+
+
+@pytest.mark.parametrize("ignore, unrelated", [(True, False), (True, True), (False, False)])
+def test_the_advice_fit_runs_only_when_the_warning_can_be_read(monkeypatch, ignore, unrelated):
+    import importlib
+
+    module = importlib.import_module("sysid.identify")
+    orders = []
+    advice = module._order_advice
+    monkeypatch.setattr(module, "_order_advice", lambda res, refit_at: orders.append(res.order) or advice(res, refit_at))
+    frf, _, _ = _noisy_order_8_fit()   # order 8 warns of a resonance and advises order 6 (test above)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("ignore" if ignore else "always")
+        if unrelated:   # a filter for another message in front (as libraries add on import) does not apply
+            warnings.filterwarnings("always", message="the matrix subclass is not")
+        res = identify(frf, 8, dc_gain="match", stable=True)
+    # the fit at order 6 behind the advice is a second identification: run only when the warning is not ignored;
+    # the model is the same either way
+    assert orders == ([] if ignore else [8])
+    assert ignore or any("Order 6 lowers that estimate" in str(w.message) for w in caught)
+    with warnings.catch_warnings():
+        warnings.simplefilter("always")
+        other = identify(frf, 8, dc_gain="match", stable=True)
+    np.testing.assert_array_equal(res.matrices.C, other.matrices.C)

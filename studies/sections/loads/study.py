@@ -1,10 +1,14 @@
 """The ``[loads]`` section's tasks, run plan and reader (schema, parsing and keys:
 :mod:`studies.sections.loads.schema`).
 
-:func:`loads_task` computes the loads of every flight point of one case whose piece the store lacks, once the
-case's ROMs are stored (the gust-ROM section's ``roms`` task): the stored ROM as a discrete
+:func:`loads_task` computes the rigid loads of every flight point of one case whose piece the store lacks, once
+the case's ROMs are stored (the gust-ROM section's ``roms`` task): the stored ROM as a discrete
 :class:`control.StateSpace` (``dt = T``, convective), one :func:`loads.gust_system` per flight point shared by
-:func:`loads.tuned_gust` and :func:`loads.continuous_turbulence`. Each point is stored through
+:func:`loads.tuned_gust` and :func:`loads.continuous_turbulence`. :func:`flexible_task` computes the flexible
+sections' loads of the case's points once its ROM and the ``[aeroelastic]`` section's motion FRF are stored
+(:func:`flexible_aero`: the motion FRF about the elastic axis fitted by :func:`aeroelastic.fit_motion`, the gust
+ROM as the gust model, so that rigid and flexible rows share one gust aerodynamics), refusing a point at or above
+the section's flutter or divergence speed there. Each piece is stored through
 :func:`studies.run.compute.compute_piece` (a point that raises is stored as a failure with its error), so an
 interrupted run keeps what it stored and a second run computes nothing. :func:`load_loads` reads the pieces back as
 :class:`LoadsRecord`.
@@ -23,9 +27,14 @@ from ...run.compute import compute_piece, needs_compute, piece_report, pinned_st
 from ...run.progress import piece_reporter, task_key
 from ...store.entries import is_failed
 from ..gust_rom.pieces import rom_piece
-from .schema import PointSpec, loads_piece, rom_point
+from .schema import FlexibleSpec, PointSpec, flexible_piece, loads_piece, motion_key, rom_point
 
-__all__ = ["loads_plan", "loads_status", "loads_task", "loads_payload", "rom_model", "LoadsRecord", "load_loads"]
+__all__ = ["loads_plan", "flexible_plan", "loads_status", "loads_task", "flexible_task", "loads_payload",
+           "flexible_payload", "flexible_aero", "rom_model", "LoadsRecord", "load_loads", "FLUTTER_GRID"]
+
+FLUTTER_GRID = (0.01, 3.0, 300)
+"""Speed indices of the flutter check at a flexible point: ``np.linspace(0.01, 3, 300)`` times the point's own
+(the flutter or divergence speed found up to three times the flight speed; above it, "none below 3 V")."""
 
 
 def _points_of(config, case_name):
@@ -33,12 +42,24 @@ def _points_of(config, case_name):
 
 
 def loads_plan(config, store, force: bool) -> dict:
-    """What the store lacks: case name -> number of loads pieces to compute (empty without the section)."""
+    """What the store lacks: case name -> number of rigid loads pieces to compute (empty without the section)."""
     opts = config.loads
     if opts is None:
         return {}
+    if not opts.rigid:
+        return {case: 0 for case in opts.cases}
     return {case: sum(needs_compute(store, "loads", loads_piece(config, p), force) for p in _points_of(config, case))
             for case in opts.cases}
+
+
+def flexible_plan(config, store, force: bool) -> dict:
+    """What the store lacks: case name -> number of flexible loads pieces to compute (cases with flexible points)."""
+    opts = config.loads
+    if opts is None:
+        return {}
+    return {case: sum(needs_compute(store, "loads", flexible_piece(config, p, opts.section(n)), force)
+                      for p in _points_of(config, case) for n in p.sections)
+            for case in opts.flexible_cases}
 
 
 def _rom_entry(config, store, case_name):
@@ -54,15 +75,21 @@ def loads_status(config, store) -> tuple:
         return missing, failed
     for case in opts.cases:
         rom = _rom_entry(config, store, case)
+        motion = store.get("motion_frf", motion_key(config, case)) if case in opts.flexible_cases else None
         for p in _points_of(config, case):
-            e = store.get("loads", loads_piece(config, p))
-            if e is None:
-                if rom is not None and is_failed(rom):
-                    failed.append(f"loads of {p.name}: its ROM ({case}) failed: {rom.metadata.get('error')}")
-                else:
-                    missing.append(f"loads {case} {p.name}")
-            elif is_failed(e):
-                failed.append(f"loads of {p.name} failed: {e.metadata.get('error')}")
+            for sec in ((None,) if opts.rigid else ()) + p.sections:
+                what = f"loads of {p.name}" + ("" if sec is None else f", flexible section {sec},")
+                key = loads_piece(config, p) if sec is None else flexible_piece(config, p, opts.section(sec))
+                e = store.get("loads", key)
+                if e is None:
+                    if rom is not None and is_failed(rom):
+                        failed.append(f"{what} its ROM ({case}) failed: {rom.metadata.get('error')}")
+                    elif sec is not None and motion is not None and is_failed(motion):
+                        failed.append(f"{what} its motion FRF ({case}) failed: {motion.metadata.get('error')}")
+                    else:
+                        missing.append(f"loads {case} {p.name}" + ("" if sec is None else f" {sec}"))
+                elif is_failed(e):
+                    failed.append(f"{what} failed: {e.metadata.get('error')}")
     return missing, failed
 
 
@@ -91,9 +118,17 @@ def loads_payload(model, spec: PointSpec, opts, rom_info: dict) -> tuple:
     t0 = time.process_time()
     point = spec.flight_point()
     system = loads.gust_system(model, point, moment_axes=opts.moment_axes)
-    tg = loads.tuned_gust(system, point, outputs=opts.outputs, H_range=opts.H_range_m,
+    arrays, meta = _search(system, point, spec, opts, opts.outputs)
+    return arrays, dict(meta, rom=dict(rom_info), seconds=time.process_time() - t0)
+
+
+def _search(system, point, spec: PointSpec, opts, outputs) -> tuple:
+    """The tuned gusts and turbulence of ``system`` at ``point``: ``(arrays, metadata)`` of a loads piece."""
+    import loads
+
+    tg = loads.tuned_gust(system, point, outputs=outputs, H_range=opts.H_range_m,
                           outside_rule=opts.outside_rule, n_grid=opts.n_grid, h_rtol=opts.h_rtol)
-    ct = loads.continuous_turbulence(system, point, outputs=opts.outputs, f_max_hz=opts.f_max_hz)
+    ct = loads.continuous_turbulence(system, point, outputs=outputs, f_max_hz=opts.f_max_hz)
     outs, every = list(tg.outputs), list(tg.all_outputs)
 
     def vec(d):
@@ -118,7 +153,106 @@ def loads_payload(model, spec: PointSpec, opts, rom_info: dict) -> tuple:
                 atmosphere=dict(rho=point.rho, tas=point.tas, eas=point.eas, q=point.q, time_scale=point.time_scale,
                                 speed_of_sound=point.speed_of_sound, u_ref=point.reference_gust_velocity(),
                                 F_g=point.F_g),
-                rom=dict(rom_info), source=ct.source, seconds=time.process_time() - t0)
+                source=ct.source)
+    return arrays, meta
+
+
+def flexible_aero(motion_entry, rom, section: FlexibleSpec, lags: int):
+    """The motion and gust model of a flexible section, about its elastic axis (:class:`aeroelastic.MotionModel`).
+
+    The motion columns (plunge, pitch) of the stored motion FRF are moved to the elastic axis
+    (:func:`aeroelastic.to_elastic_axis`) and fitted in Roger's form (:func:`aeroelastic.fit_motion`, ``lags`` lag
+    roots); the gust model is the case's gust ROM (continuous by the inverse bilinear map, which keeps its frequency
+    response), its moment moved to the elastic axis, ``Cm_e = Cm_{1/4} + (x_e - 1/4) Cl``.
+
+    Parameters
+    ----------
+    motion_entry : studies.store.cache entry
+        The ``motion_frf`` piece (``H`` (2, 3, K), ``omega`` (K,) in U/c; Cl, Cm and pitch about its ``pivot``).
+    rom : control.StateSpace
+        The gust ROM (:func:`rom_model`), outputs containing ``Cl`` and ``Cm`` (quarter chord).
+    section : FlexibleSpec
+    lags : int
+
+    Returns
+    -------
+    aeroelastic.MotionModel
+    """
+    import dataclasses
+
+    import aeroelastic as ae
+    import control
+    import sysid
+
+    from ..aeroelastic.schema import MOTION_INPUTS, MOTION_OUTPUTS, PIVOT
+
+    md = motion_entry.metadata
+    inputs = list(md.get("inputs", MOTION_INPUTS))
+    frf = sysid.FrequencyResponse.from_continuous(motion_entry["H"], motion_entry["omega"], inputs=inputs,
+                                                  outputs=list(md.get("outputs", MOTION_OUTPUTS)))
+    ea = ae.to_elastic_axis(frf, section.typical_section(), pivot=float(md.get("pivot", PIVOT)), moment_axis=PIVOT)
+    cols = [inputs.index("plunge"), inputs.index("pitch")]
+    motion = sysid.FrequencyResponse.from_continuous(np.asarray(ea.H)[:, cols, :], ea.omega,
+                                                     inputs=["plunge", "pitch"], outputs=list(ea.outputs))
+    model = ae.fit_motion(motion, lags)
+    g = sysid.d2c_bilinear(rom) if rom.dt else rom
+    outs = list(g.output_labels)
+    C, D = np.asarray(g.C, dtype=float), np.asarray(g.D, dtype=float)
+    il, im = outs.index("Cl"), outs.index("Cm")
+    shift = section.elastic_axis - PIVOT
+    C2 = np.vstack([C[il], C[im] + shift * C[il]])
+    D2 = np.vstack([D[il], D[im] + shift * D[il]])
+    gust = control.ss(np.asarray(g.A, dtype=float), np.asarray(g.B, dtype=float), C2, D2, inputs=["gust"],
+                      outputs=["Cl", "Cm"])
+    return dataclasses.replace(model, gust=gust, gust_identification=None, gust_max_error=float("nan"))
+
+
+def flexible_payload(aero, spec: PointSpec, section: FlexibleSpec, opts, rom_info: dict) -> tuple:
+    """``(arrays, metadata)`` of the loads piece of one flight point and flexible section.
+
+    The flutter (or divergence) speed of the section at the point's density (``mu = m / (pi rho b^2)``) is found
+    first on :data:`FLUTTER_GRID` (:func:`aeroelastic.flutter`); a point at or above it is refused with a
+    :class:`loads.LoadsModelError` saying both speeds (stored as the piece's failure).
+
+    Parameters
+    ----------
+    aero : aeroelastic.MotionModel
+        :func:`flexible_aero`.
+    spec : PointSpec
+    section : FlexibleSpec
+    opts : LoadsOptions
+    rom_info : dict
+        Order, T, M and method of the gust ROM (stored in the metadata).
+    """
+    import warnings
+
+    import aeroelastic as ae
+    import loads
+
+    t0 = time.process_time()
+    point = spec.flight_point()
+    fs = section.flexible_section(aero)
+    sec = fs.typical_section(point)
+    V = fs.speed_index(point)
+    to_tas = 0.5 * point.chord_m * fs.omega_alpha           # m/s per unit speed index
+    lo, hi, n = FLUTTER_GRID
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)     # "stable over the whole grid" is an answer here
+        fl = ae.flutter(aero, sec, np.linspace(lo, hi, n) * V)
+    flutter = dict(found=bool(fl.found), kind=str(fl.kind), speed_index=float(fl.speed_index),
+                   tas=float(fl.speed_index) * to_tas if fl.found else math.nan,
+                   frequency_hz=float(fl.frequency_ratio) * fs.omega_alpha / (2 * math.pi) if fl.found else math.nan)
+    if fl.found and fl.speed_index <= V:
+        raise loads.LoadsModelError(
+            f"flexible section {section.name} reaches {fl.kind} at {flutter['tas']:.4g} m/s TAS at {spec.altitude_m:g} m "
+            f"(speed index {fl.speed_index:.4g}, mu {sec.mu:.4g}), at or below the flight point's {point.tas:.4g} m/s "
+            f"(speed index {V:.4g}): its gust response grows without bound; stiffen the section (f_alpha_hz, "
+            "f_h_hz), or leave the point out of it (sections = [...] in its [[loads.points]])")
+    system = loads.gust_system(fs, point, moment_axes=opts.moment_axes)
+    arrays, meta = _search(system, point, spec, opts, opts.flexible_outputs)
+    fit = dict(max_error=float(aero.max_error), rms_error=float(aero.rms_error), poles=[float(p) for p in aero.poles])
+    meta = dict(meta, rom=dict(rom_info), section=section.name, mu=float(sec.mu), speed_index=float(V),
+                elastic_axis=float(fs.elastic_axis), flutter=flutter, fit=fit, seconds=time.process_time() - t0)
     return arrays, meta
 
 
@@ -143,7 +277,7 @@ def loads_task(config, case_name: str, root: str, codes: dict, force: bool) -> l
     """
     store = pinned_store(root, codes)
     rom = _rom_entry(config, store, case_name)
-    if rom is None or is_failed(rom):
+    if rom is None or is_failed(rom) or not config.loads.rigid:
         return []
     T, M, order, method = config.loads.rom_of(case_name)
     model = rom_model(rom, T)
@@ -162,6 +296,60 @@ def loads_task(config, case_name: str, root: str, codes: dict, force: bool) -> l
                                        lambda spec=spec: loads_payload(model, spec, config.loads, info))
         reports.append(piece_report("loads", f"loads {spec.name} (M {spec.mach:g}, {spec.altitude_m:g} m, "
                                              f"c {spec.chord_m:g} m)", entry, seconds))
+    return reports
+
+
+def flexible_task(config, case_name: str, root: str, codes: dict, force: bool) -> list:
+    """The flexible sections' loads of every flight point of one case that the store lacks (its ROM and the
+    ``[aeroelastic]`` section's motion FRF stored): one piece per point and section.
+
+    Parameters
+    ----------
+    config, case_name, root, codes, force
+        As for :func:`loads_task`.
+
+    Returns
+    -------
+    list of dict
+        One report per piece stored (none when the ROM or the motion FRF is missing or failed: the reader says so).
+    """
+    store = pinned_store(root, codes)
+    rom = _rom_entry(config, store, case_name)
+    motion = store.get("motion_frf", motion_key(config, case_name))
+    if rom is None or is_failed(rom) or motion is None or is_failed(motion):
+        return []
+    opts = config.loads
+    T, M, order, method = opts.rom_of(case_name)
+    model = rom_model(rom, T)
+    info = dict(order=order, T=T, M=M, method=method)
+    todo = [(p, opts.section(n)) for p in _points_of(config, case_name) for n in p.sections]
+    todo = [(p, s) for p, s in todo if needs_compute(store, "loads", flexible_piece(config, p, s), force)]
+    reporter = piece_reporter(task_key("flexible loads", case_name))
+    fits = {}       # one motion fit per elastic axis (the fit does not depend on mass, frequencies or the point)
+
+    def aero_of(section):
+        if section.a not in fits:
+            try:
+                fits[section.a] = flexible_aero(motion, model, section, opts.lags)
+            except Exception as e:  # noqa: BLE001 - raised again inside each piece's compute: stored as its failure
+                fits[section.a] = e
+        return fits[section.a]
+
+    def compute(spec, section):
+        aero = aero_of(section)
+        if isinstance(aero, Exception):
+            raise aero
+        return flexible_payload(aero, spec, section, opts, info)
+
+    reports = []
+    for i, (spec, section) in enumerate(todo):
+        if reporter is not None:
+            reporter.update(f"{spec.name}, section {section.name} ({i + 1}/{len(todo)})", f"{i + 1}/{len(todo)}",
+                            i / len(todo))
+        entry, seconds = compute_piece(store, "loads", flexible_piece(config, spec, section),
+                                       lambda spec=spec, section=section: compute(spec, section))
+        reports.append(piece_report("loads", f"loads {spec.name} flexible {section.name} (M {spec.mach:g}, "
+                                             f"{spec.altitude_m:g} m, c {spec.chord_m:g} m)", entry, seconds))
     return reports
 
 
@@ -203,6 +391,15 @@ class LoadsRecord:
     n_gradients : int
     seconds : float
         CPU time of the piece (s).
+    all_units : tuple of str
+        SI unit of every output.
+    section : str or None
+        The flexible section's name; None for the rigid aerofoil.
+    flexible : dict
+        For a flexible section: ``mu``, ``speed_index`` (``U / (b omega_alpha)``) at the point, ``elastic_axis``
+        (chords), ``flutter`` (``found``, ``kind``, ``speed_index``, ``tas`` in m/s, ``frequency_hz``: the section's
+        flutter or divergence at the point's density, up to three times its speed) and ``fit`` (the motion fit's
+        ``max_error``, ``rms_error``, lag ``poles``); empty for the rigid aerofoil.
     """
 
     spec: PointSpec
@@ -236,6 +433,13 @@ class LoadsRecord:
     seconds: float = math.nan
 
     all_units: tuple = ()
+    section: Any = None
+    flexible: dict = field(default_factory=dict)
+
+    @property
+    def model(self) -> str:
+        """``"rigid"`` or the flexible section's name."""
+        return "rigid" if self.section is None else self.section
 
     def rho(self, x: str, y: str) -> float:
         """Continuous-turbulence correlation coefficient of outputs ``x`` and ``y``."""
@@ -282,17 +486,22 @@ def _record(spec: PointSpec, e) -> LoadsRecord:
                        scales=dict(zip(every, md["all_scales"])), H_grid=e["H_grid"], peak_vs_H=e["peak_vs_H"],
                        Omega=e["Omega"], psd=e["psd"], histories=hist, rom=dict(md["rom"]),
                        n_gradients=int(md["n_gradients"]), seconds=float(md.get("seconds", math.nan)),
-                       all_units=tuple(md["all_units"]))
+                       all_units=tuple(md["all_units"]), section=md.get("section"),
+                       flexible={k: md[k] for k in ("mu", "speed_index", "elastic_axis", "flutter", "fit") if k in md})
 
 
 def load_loads(config, store) -> list:
-    """The stored loads pieces of a study, as :class:`LoadsRecord` (in the order of the flight points)."""
+    """The stored loads pieces of a study, as :class:`LoadsRecord` (in the order of the flight points; at each, the
+    rigid aerofoil first, then its flexible sections in the order of ``[[loads.sections]]``)."""
     opts = config.loads
     if opts is None:
         return []
     records = []
     for spec in opts.points:
-        e = store.get("loads", loads_piece(config, spec))
-        if e is not None and not is_failed(e):
-            records.append(_record(spec, e))
+        keys = [loads_piece(config, spec)] if opts.rigid else []
+        keys += [flexible_piece(config, spec, s) for s in opts.sections if s.name in spec.sections]
+        for key in keys:
+            e = store.get("loads", key)
+            if e is not None and not is_failed(e):
+                records.append(_record(spec, e))
     return records

@@ -86,6 +86,20 @@ def test_aggregates_select_rows_and_format_as_the_table(tables):
     assert _value(fill("{{mean:synth/33/*/plain/frf_max_err_Cl}}", tables)) == cell_text(sum(both) / 2, col)
 
 
+def test_cost_templates_name_a_case_and_a_column(tables):
+    """CASE/COLUMN: a cell of the cost table (one row per case: the timings stored with the pieces)."""
+    rows, columns = tables["cost"]
+    col = {c.key: c for c in columns}
+    assert _value(fill("{{synth/frf_seconds}}", tables)) == _cell(tables, "cost", "frf_seconds", case="synth")
+    assert _value(fill("{{range:*/identify_seconds}}", tables)) == cell_text(rows[0]["identify_seconds"],
+                                                                             col["identify_seconds"])
+    assert "no result" in fill("{{T9/ltd_seconds}}", tables)
+    with pytest.raises(TemplateError, match="no column 'seconds' in the cost table"):
+        fill("{{synth/seconds}}", tables)
+    with pytest.raises(TemplateError, match="one row per case, not per T"):
+        check_templates("{{synth@2/frf_seconds}}")
+
+
 def test_the_page_keeps_the_template_and_refills_it(small, tmp_path):
     prose = {"frf": "Cm error {{synth/33/6/dc_stable/frf_max_err_Cm}} at N_r = 6."}
     page = make_report(small, tmp_path, prose=prose, figures=False)

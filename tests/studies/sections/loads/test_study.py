@@ -153,7 +153,7 @@ def test_loads_are_computed_cached_and_reported(computed, tmp_path):
     page = make_report(config, tmp_path / "report", figures=True, dpi=40)
     text = page.read_text()
     assert "## Gust loads (CS-25.341)" in text and "### T2@6000m" in text and "**Envelope**" in text
-    assert f"| Cl | {sea.critical_H['Cl']:.4g} |" in text
+    assert f"| Cl | rigid | {sea.critical_H['Cl']:.4g} |" in text
     for name in ("loads-points.csv", "loads-envelope.csv", "loads-T2_0m.csv"):
         assert (tmp_path / "report" / "tables" / name).is_file()
     for name in ("loads-envelope.png", "loads-T2_0m.png", "loads-T2_6000m.png"):
