@@ -57,16 +57,20 @@ class _Alias(importlib.abc.Loader):
 
 
 class LegacyFinder(importlib.abc.MetaPathFinder):
-    """Finds the old module names of :data:`MOVED` (see the module docstring)."""
+    """Finds the old module names of a mapping ``moved`` (old dotted name -> new dotted name; see the module
+    docstring). One finder per mapping: ``studies.legacy`` installs one for the studies package's old paths."""
+
+    def __init__(self, moved: dict):
+        self.moved = moved
 
     def find_spec(self, fullname, path=None, target=None):
-        new = MOVED.get(fullname)
+        new = self.moved.get(fullname)
         if new is None:
             return None
         return importlib.util.spec_from_loader(fullname, _Alias(new))
 
 
-def install() -> None:
-    """Put one :class:`LegacyFinder` on ``sys.meta_path`` (once)."""
-    if not any(isinstance(f, LegacyFinder) for f in sys.meta_path):
-        sys.meta_path.insert(0, LegacyFinder())  # before the editable install's finder
+def install(moved: dict = MOVED) -> None:
+    """Put one :class:`LegacyFinder` of ``moved`` (default :data:`MOVED`) on ``sys.meta_path`` (once)."""
+    if not any(isinstance(f, LegacyFinder) and f.moved is moved for f in sys.meta_path):
+        sys.meta_path.insert(0, LegacyFinder(moved))  # before the editable install's finder
