@@ -22,7 +22,7 @@ Theodorsen's loads with the CFD's moment due to pitch alone) that show which loa
 which the frequency.
 
 Part 2 (coupled time marching). On the last grid, the 1-cosine gust response of the flexible section at a speed
-below flutter from ``cfd.coupled.coupled_ltd`` (the linear CFD and the structure in one BDF2 step) against
+below flutter from ``cfd.ltd.coupled.coupled_ltd`` (the linear CFD and the structure in one BDF2 step) against
 ``aeroelastic.gust_response`` of the coupled ROM fitted from the same grid's frequency responses: plunge, pitch,
 Cl and Cm, max difference over the history divided by the march's peak.
 
@@ -50,7 +50,7 @@ import aeroelastic as ae  # noqa: E402
 import cfd  # noqa: E402
 import sysid  # noqa: E402
 from aeroelastic import theodorsen as th  # noqa: E402
-from cfd.coupled import coupled_ltd  # noqa: E402
+from cfd.ltd.coupled import coupled_ltd  # noqa: E402
 
 SECTION = dict(mu=20.0, a=-0.2, x_alpha=0.1, r_alpha2=0.24, omega_ratio=0.4)   # Hodges & Pierce
 OMEGA = np.concatenate([[0.0], np.geomspace(0.02, 2.0, 24)])   # U/c: k up to 1 (flutter is near k = 0.3)
@@ -64,7 +64,7 @@ def _grid_spec(text):
 
 
 def section_matrices(sec, speed):
-    """``(M, K, L)`` of ``cfd.coupled`` for the typical section at the speed index ``V`` (convective time)."""
+    """``(M, K, L)`` of ``cfd.ltd.coupled`` for the typical section at the speed index ``V`` (convective time)."""
     return sec.mass_matrix, 4.0 / speed**2 * sec.stiffness_matrix, 4.0 * sec.load_matrix
 
 
@@ -244,7 +244,7 @@ def main(argv=None) -> None:
     print("| --- | --- | --- |")
     for k in errs:
         print(f"| {k} | {peaks[k]:.4e} | {errs[k]:.2%} |")
-    axs = ae.gust_response_plot(march, reference=rom, label="coupled CFD march (cfd.coupled, BDF2)",
+    axs = ae.gust_response_plot(march, reference=rom, label="coupled CFD march (cfd.ltd.coupled, BDF2)",
                                 reference_label=f"coupled ROM (aeroelastic.gust_response, {args.order} lags)")
     axs[0].set_title(f"NACA{args.foil} M{args.mach:g}, {fine['spec'][0]}x{fine['spec'][1]} grid, on springs at V = {V:g}: "
                      f"coupled LTD vs coupled ROM\nmax |ROM - LTD| / peak: h {errs['plunge']:.2%}, "

@@ -11,7 +11,7 @@ M = 256, T = 70 / (2 pi)) it
    ``A(sigma) x_k = -b_k - i mach V x_(k-1)`` with ``b_k = B g^(k)(sigma) / k!``: the omega-derivatives of the
    gust's face averages, averages of ``(-i x)^k / k! exp(-i sigma x)`` along each face by 32-point
    Gauss-Legendre quadrature (checked against ``cfd.gust.face_gust_harmonic`` for ``k = 0``);
-3. orthonormalises them into ``W``, nested as in the dual sweep (``cfd.orthonormal.nested_extension``), and
+3. orthonormalises them into ``W``, nested as in the dual sweep (``cfd.sweep.orthonormal.nested_extension``), and
    evaluates the Galerkin outputs ``C W (W^H (J + i mach omega V) W)^-1 (-W^H b(omega))`` at every finite
    frequency after each shift, with the residual-free nested estimate ``10 |y - y_|`` (``y_``: the model without
    each shift's last moment) and its ratio to the true error;
@@ -45,7 +45,7 @@ from bench.lfd_sweep_bench import linear_system  # noqa: E402
 from cfd.gust import face_gust_harmonic  # noqa: E402
 from cfd.linear import check_outputs  # noqa: E402
 from cfd.ordering import nested_dissection, unknown_permutation  # noqa: E402
-from cfd.orthonormal import nested_extension  # noqa: E402
+from cfd.sweep.orthonormal import nested_extension  # noqa: E402
 from cfd.sweep import SweepBasis, fast_sweep  # noqa: E402
 
 TOL = 1e-8

@@ -14,7 +14,7 @@ factorisation, three solves per step) and the three-stage Radau IIA (order 5, L-
 splits into one real and one complex solve per step).
 
 Run: ``.venv/bin/python bench/ltd_schemes.py [--complex-cost 2.0]`` (a second; the Radau IIA tableau and
-stability function are ``cfd.radau``'s).
+stability function are ``cfd.ltd.radau``'s).
 """
 
 import argparse
@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout
-from cfd.radau import RADAU_A, stability_function  # noqa: E402
+from cfd.ltd.radau import RADAU_A, stability_function  # noqa: E402
 
 BDF = {2: [1.5, -2.0, 0.5], 3: [11 / 6, -3.0, 1.5, -1 / 3], 4: [25 / 12, -4.0, 3.0, -4 / 3, 0.25]}
 GAMMA = 0.435866521508459  # Alexander's SDIRK3 (L-stable, stiffly accurate)

@@ -68,7 +68,7 @@ def frequency_grid(omega, T):
 
 MAX_POSITION = 1e4
 """Largest distance (chords) of a position (``x_ref``, ``pivot``) from the leading edge: the largest far field of a
-C-grid (``cfd.mesh_generation.MAX_FARFIELD``)."""
+C-grid (``cfd.mesh.generation.MAX_FARFIELD``)."""
 
 
 def check_position(name, value, error=LinearError):

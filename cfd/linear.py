@@ -48,7 +48,7 @@ from .flow import FlowCondition, pressure
 from .gust import cell_x_gradient, svm_source
 from .jacobian import H_STEP, coloured_complex_step, jacobian
 from .loads import force_coefficients
-from .mesh_metrics import Grid
+from .mesh.metrics import Grid
 from .ordering import nested_dissection, unknown_permutation
 
 __all__ = ["LinearSystem", "linearise", "linearise_state", "wall_loads", "factorise", "OUTPUTS", "METHODS",

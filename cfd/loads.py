@@ -15,7 +15,7 @@ from .checks import not_a_grid
 from .errors import FlowConditionError, MeshError
 from .euler import check_state
 from .flow import FlowCondition
-from .mesh_metrics import Grid
+from .mesh.metrics import Grid
 
 __all__ = ["wall_cp", "force_coefficients"]
 

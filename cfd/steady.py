@@ -55,7 +55,7 @@ from .flow import LOW_MACH, FlowCondition, primitive
 from .jacobian import jacobian
 from .loads import force_coefficients, wall_cp
 from .mesh import Grid
-from .mesh_generation import MIN_FARFIELD
+from .mesh.generation import MIN_FARFIELD
 from .ordering import nested_dissection, unknown_permutation
 
 __all__ = ["SteadySolution", "solve_steady", "factorise"]

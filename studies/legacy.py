@@ -1,7 +1,7 @@
 """The import paths of the flat ``studies`` package (before its sub-packages), kept for one release.
 
 ``import studies.runner`` (or ``from studies.pieces import frf_piece``) still works: :class:`LegacyFinder`, put on
-``sys.meta_path`` by ``import studies``, answers each old module name of :data:`MOVED` with the module at its
+``sys.meta_path`` by ``import studies`` (the finder of :mod:`cfd.legacy`), answers each old module name of :data:`MOVED` with the module at its
 new home (the same module object, so that patching one patches the other) and a ``DeprecationWarning`` that
 names the new path. ``studies.config``, ``studies.report`` and ``studies.cli`` are packages now whose names
 (``studies.config.load_study``, ``studies.report.make_report``, ``studies.cli:main``) keep working unchanged.
@@ -9,11 +9,8 @@ names the new path. ``studies.config``, ``studies.report`` and ``studies.cli`` a
 
 from __future__ import annotations
 
-import importlib
-import importlib.abc
-import importlib.util
-import sys
-import warnings
+from cfd.legacy import LegacyFinder
+from cfd.legacy import install as install_finder
 
 __all__ = ["MOVED", "LegacyFinder", "install"]
 
@@ -67,37 +64,7 @@ MOVED = {f"studies.{old}": f"studies.{new}" for old, new in {
 """Old module name -> its new home."""
 
 
-class _Alias(importlib.abc.Loader):
-    """Loads an old module name as the module at its new home."""
-
-    def __init__(self, target: str):
-        self.target = target
-
-    def create_module(self, spec):
-        warnings.warn(f"{spec.name} moved to {self.target}: import it from there (the old path is kept for one "
-                      "release)", DeprecationWarning, stacklevel=2)
-        module = importlib.import_module(self.target)
-        self.spec = module.__spec__
-        return module
-
-    def exec_module(self, module):
-        """Nothing to run (the module at the new home is imported); the import system has just replaced the
-        module's ``__spec__`` by the old name's: put its own back (``importlib.util.find_spec`` of the new name,
-        e.g. for the sources hashed into the store's keys, reads it)."""
-        module.__spec__ = self.spec
-
-
-class LegacyFinder(importlib.abc.MetaPathFinder):
-    """Finds the old module names of :data:`MOVED` (see the module docstring)."""
-
-    def find_spec(self, fullname, path=None, target=None):
-        new = MOVED.get(fullname)
-        if new is None:
-            return None
-        return importlib.util.spec_from_loader(fullname, _Alias(new))
-
-
 def install() -> None:
-    """Put one :class:`LegacyFinder` on ``sys.meta_path`` (once)."""
-    if not any(isinstance(f, LegacyFinder) for f in sys.meta_path):
-        sys.meta_path.insert(0, LegacyFinder())  # before the editable install's finder
+    """Put the finder of :data:`MOVED` on ``sys.meta_path`` (once): :class:`cfd.legacy.LegacyFinder`, the same
+    machinery as the ``cfd`` package's old paths."""
+    install_finder(MOVED)

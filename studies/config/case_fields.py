@@ -155,7 +155,7 @@ def naca_code(owner: str, code) -> str:
     CaseError
         Not a valid code.
     """
-    from cfd.geometry import naca  # the submodule: works even where the cfd package namespace is bare
+    from cfd.mesh.geometry import naca  # the submodule: works even where the cfd package namespace is bare
 
     try:
         naca(code)

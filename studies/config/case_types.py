@@ -71,7 +71,7 @@ class FlowCase:
 
     def foil(self):
         """The ``cfd.Aerofoil``."""
-        from cfd.geometry import naca
+        from cfd.mesh.geometry import naca
 
         return naca(self.naca)
 

@@ -47,11 +47,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .gust import face_gust
-from .frequencies import check_pivot, check_x_ref
-from .linear import LinearError, check_gust_method, check_linear_system
-from .ltd import check_march
-from .motion import motion_forcing
+from ..gust import face_gust
+from ..frequencies import check_pivot, check_x_ref
+from ..linear import LinearError, check_gust_method, check_linear_system
+from . import check_march
+from ..motion import motion_forcing
 
 __all__ = ["CoupledHistory", "coupled_ltd", "pivot_load_matrix"]
 
@@ -121,7 +121,7 @@ def _matrix(name, a, required=True):
     if a is None:
         if required:
             raise LinearError(f"{name} is required: a (2, 2) array for x = [h, alpha] (nondimensional, see "
-                              "cfd.coupled)")
+                              "cfd.ltd.coupled)")
         return np.zeros((2, 2))
     try:
         m = np.array(a, dtype=float)

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 pytest.importorskip("cfd.steady")
-sys.path.append(str(Path(__file__).parent))
+sys.path.append(str(Path(__file__).parents[1]))  # tests/cfd: flowgrids
 
 from flowgrids import parabolic_c_grid  # noqa: E402
 
@@ -276,7 +276,7 @@ def test_plan_shifts_spreads_side_by_side_shifts_and_sizes_their_blocks():
 def test_worker_processes_give_a_sweep_as_accurate_as_one_process(systems, references):
     """Two shifts per greedy step, factorised in two forked processes: the same accuracy and a bounding
     estimate as the one-process sweep (the basis differs: the shifts are chosen two at a time)."""
-    from cfd.sweep_workers import can_fork_workers
+    from cfd.sweep.workers import can_fork_workers
 
     if not can_fork_workers():
         pytest.skip("no 'fork' start method here")
@@ -297,7 +297,7 @@ def test_worker_processes_give_a_sweep_as_accurate_as_one_process(systems, refer
 
 
 def test_shift_workers_bad_input(plate):
-    from cfd.sweep_workers import ShiftWorkers, shift_workers
+    from cfd.sweep.workers import ShiftWorkers, shift_workers
 
     basis = SweepBasis(plate)
     assert shift_workers(basis, 1) is None

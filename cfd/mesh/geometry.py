@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import GeometryError
+from ..errors import GeometryError
 
 __all__ = ["Aerofoil", "TabulatedAerofoil", "naca", "naca64a010", "MAX_PANELS"]
 
@@ -44,7 +44,7 @@ def _check_panels(n):
     if not isinstance(n, (int, np.integer)) or isinstance(n, bool) or n < 4:
         raise GeometryError(f"n = {n!r} surface panels is invalid; give an integer >= 4, e.g. n=200")
     if n > MAX_PANELS:
-        raise GeometryError(f"n = {n} surface panels is more than cfd.geometry.MAX_PANELS = {MAX_PANELS:.0e} "
+        raise GeometryError(f"n = {n} surface panels is more than cfd.mesh.geometry.MAX_PANELS = {MAX_PANELS:.0e} "
                             f"({16 * n / 2**30:.3g} GiB of coordinates); the default n=200 resolves the section, and "
                             "c_grid takes its own n_surface")
 

@@ -19,8 +19,8 @@ from concurrent.futures import ProcessPoolExecutor
 
 from threadpoolctl import threadpool_limits
 
-from .linear import LinearError
-from .sweep_basis import shift_blocks
+from ..linear import LinearError
+from .basis import shift_blocks
 
 __all__ = ["ShiftWorkers", "shift_workers", "can_fork_workers"]
 
@@ -52,7 +52,7 @@ def can_fork_workers():
 
 
 class ShiftWorkers:
-    """A pool of forked processes computing :func:`cfd.sweep_basis.shift_blocks` for one basis.
+    """A pool of forked processes computing :func:`cfd.sweep.basis.shift_blocks` for one basis.
 
     Use as a context manager (the processes end on exit), or call :meth:`close`.
 
@@ -86,7 +86,7 @@ class ShiftWorkers:
         Returns
         -------
         list of tuple
-            As :func:`cfd.sweep_basis.shift_blocks`.
+            As :func:`cfd.sweep.basis.shift_blocks`.
         """
         futures = [self._pool.submit(_run, self._token, w, k) for w, k in zip(omegas, n_moments)]
         return [f.result() for f in futures]

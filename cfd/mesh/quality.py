@@ -4,9 +4,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .checks import not_a_grid
-from .errors import MeshError
-from .mesh_metrics import Grid
+from ..checks import not_a_grid
+from ..errors import MeshError
+from .metrics import Grid
 
 __all__ = ["grid_quality", "GridQuality"]
 

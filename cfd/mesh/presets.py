@@ -7,8 +7,8 @@ from __future__ import annotations
 
 from types import MappingProxyType
 
-from .errors import MeshError
-from .mesh_generation import c_grid
+from ..errors import MeshError
+from .generation import c_grid
 
 __all__ = ["GRID_PRESETS", "preset_grid"]
 

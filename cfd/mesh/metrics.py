@@ -7,8 +7,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .checks import whole_number
-from .errors import MeshError
+from ..checks import whole_number
+from ..errors import MeshError
 
 __all__ = ["Grid", "grid_from_nodes"]
 

@@ -220,6 +220,6 @@ def test_64a010_goes_through_the_c_grid_generator():
                                   lambda n: naca("0012").coordinates(n)])
 def test_absurd_panel_counts_are_refused_with_their_size(make):
     # naca("0012", n=100000000) was accepted (1.5 GiB at the first coordinates() call)
-    with pytest.raises(GeometryError, match=r"n = 100000000 surface panels is more than cfd.geometry.MAX_PANELS = "
+    with pytest.raises(GeometryError, match=r"n = 100000000 surface panels is more than cfd.mesh.geometry.MAX_PANELS = "
                                             r"1e\+06 \(1.49 GiB of coordinates\)"):
         make(100_000_000)

@@ -11,14 +11,14 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 
-from .checks import whole_number
+from ..checks import whole_number
 from .orthonormal import ColumnBuffer, basis_coefficients, nested_extension, orthonormalise
-from .superlu import splu_nested, splu_pivoted
-from .gust import face_gust_harmonic
-from .frequencies import check_pivot
-from .linear import LinearError, check_gust_method, check_outputs
-from .motion import motion_forcing
-from .ordering import nested_dissection, unknown_permutation
+from ..superlu import splu_nested, splu_pivoted
+from ..gust import face_gust_harmonic
+from ..frequencies import check_pivot
+from ..linear import LinearError, check_gust_method, check_outputs
+from ..motion import motion_forcing
+from ..ordering import nested_dissection, unknown_permutation
 
 __all__ = ["SweepBasis", "gust_operator", "face_gust_vector", "shift_blocks", "SAFETY"]
 
@@ -179,7 +179,7 @@ def shift_blocks(lin, perm, rows, omega, n_moments):
     ``Z(sigma)``, ``(A^-T V) Z(sigma)``, ..., orthonormal among themselves (not yet against any basis).
 
     A pure function of its arguments, so worker processes can run it side by side
-    (:class:`cfd.sweep_workers.ShiftWorkers`).
+    (:class:`cfd.sweep.workers.ShiftWorkers`).
 
     Parameters
     ----------
@@ -375,7 +375,7 @@ class SweepBasis:
         n_moments : sequence of (int or None), optional
             Krylov blocks per shift (None: the basis's ``n_moments``).
         workers : ShiftWorkers, optional
-            Worker processes (:class:`cfd.sweep_workers.ShiftWorkers`); without them the shifts are done one
+            Worker processes (:class:`cfd.sweep.workers.ShiftWorkers`); without them the shifts are done one
             after the other in this process. The basis is the same either way: the shifts join it in the
             order given.
 

@@ -3,10 +3,10 @@ elliptically smoothed outer block and the blend between them. The method is summ
 
 import numpy as np
 
-from .errors import MeshError
-from .mesh_elliptic import elliptic_smooth
-from .mesh_metrics import grid_from_nodes, inverted_cells
-from .mesh_spacing import geometric_distribution, vinokur_distribution
+from ..errors import MeshError
+from .elliptic import elliptic_smooth
+from .metrics import grid_from_nodes, inverted_cells
+from .spacing import geometric_distribution, vinokur_distribution
 
 __all__ = ["c_grid"]
 
@@ -71,10 +71,10 @@ def _check_sizes(ni, nj, n_surface, farfield):
     if farfield < MIN_FARFIELD:
         raise MeshError(f"farfield = {farfield} chords is too close; use at least {MIN_FARFIELD:g} (default 25)")
     if farfield > MAX_FARFIELD:
-        raise MeshError(f"farfield = {farfield:g} chords is beyond cfd.mesh_generation.MAX_FARFIELD = {MAX_FARFIELD:g}; "
-                        "the far field is in chords (the paper's: 25)")
+        raise MeshError(f"farfield = {farfield:g} chords is beyond cfd.mesh.generation.MAX_FARFIELD = "
+                        f"{MAX_FARFIELD:g}; the far field is in chords (the paper's: 25)")
     if ni * nj > MAX_NODES:
-        raise MeshError(f"ni * nj = {ni} * {nj} = {ni * nj} nodes is more than cfd.mesh_generation.MAX_NODES = "
+        raise MeshError(f"ni * nj = {ni} * {nj} = {ni * nj} nodes is more than cfd.mesh.generation.MAX_NODES = "
                         f"{MAX_NODES:.0e}: no solver here could factorise its Jacobian (the paper's grid: 181 x 60)")
     return n_wake2 // 2
 

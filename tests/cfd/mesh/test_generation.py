@@ -187,9 +187,9 @@ def test_grid_quality_names_what_it_got(not_a_grid):
 
 @pytest.mark.parametrize("kwargs, match", [
     (dict(smooth="no"), r"smooth must be True or False; got 'no'"),               # 'no' smoothed
-    (dict(farfield=1e300), r"farfield = 1e\+300 chords is beyond cfd.mesh_generation.MAX_FARFIELD = 10000"),
+    (dict(farfield=1e300), r"farfield = 1e\+300 chords is beyond cfd.mesh.generation.MAX_FARFIELD = 10000"),
     (dict(ni=2001, nj=2001, n_surface=1000), r"ni \* nj = 2001 \* 2001 = 4004001 nodes is more than "
-                                             r"cfd.mesh_generation.MAX_NODES = 4e\+06"),
+                                             r"cfd.mesh.generation.MAX_NODES = 4e\+06"),
 ])
 def test_c_grid_refuses_absurd_settings_before_any_work(kwargs, match):
     # farfield=1e300 failed in SuperLU ("Factor is exactly singular") after overflows

@@ -36,9 +36,14 @@ the exact residuals of both models (vectors in the small orthonormal basis) the 
 
 reported per output and frequency in ``metadata["error_estimate"]`` (absolute, per radian of gust angle),
 next to the relative dual residual norms ``metadata["residual_norm"]``. The estimate is checked against the
-direct path in ``tests/cfd/test_sweep.py`` (measured effectivities in docs/lfd-sweep.md).
+direct path in ``tests/cfd/sweep/test_sweep.py`` (measured effectivities in docs/lfd-sweep.md).
 
 ``omega = inf`` is the feedthrough ``D`` without a solve (estimate 0); ``omega = 0`` is an ordinary point.
+
+The sub-package: this module drives the greedy choice of shifts (:func:`fast_sweep`); :mod:`cfd.sweep.basis`
+holds the reduced basis (:class:`SweepBasis`: the gust operator, the shifted factorisations, the reduced
+evaluation and its error estimate) with the block orthonormalisation of :mod:`cfd.sweep.orthonormal`;
+:mod:`cfd.sweep.workers` factorises several shifts in forked processes.
 """
 
 import logging
@@ -49,15 +54,15 @@ import numpy as np
 
 from sysid import FrequencyResponse
 
-from .frequencies import check_motion_frequencies, check_pivot, check_tol, check_x_ref, frequency_grid
-from .linear import LinearError, check_gust_method, check_linear_system, check_outputs
-from .motion import check_inputs
-from .checks import whole_number
-from .sweep_basis import SAFETY, SweepBasis, face_gust_vector, gust_operator  # noqa: F401
-from .sweep_workers import shift_workers
+from ..frequencies import check_motion_frequencies, check_pivot, check_tol, check_x_ref, frequency_grid
+from ..linear import LinearError, check_gust_method, check_linear_system, check_outputs
+from ..motion import check_inputs
+from ..checks import whole_number
+from .basis import SAFETY, SweepBasis, face_gust_vector, gust_operator  # noqa: F401
+from .workers import shift_workers
 
 __all__ = ["SweepBasis", "fast_sweep", "gust_operator", "face_gust_vector", "SAFETY"]  # (all but fast_sweep
-# from cfd.sweep_basis)
+# from cfd.sweep.basis)
 
 log = logging.getLogger(__name__)
 
@@ -217,7 +222,7 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
         Pitch axis, chords from the leading edge.
     workers : int
         Shifts added per greedy step, factorised side by side in that many forked processes
-        (:mod:`cfd.sweep_workers`); where a process cannot fork (e.g. inside a study worker), one shift per
+        (:mod:`cfd.sweep.workers`); where a process cannot fork (e.g. inside a study worker), one shift per
         step in this process, as with 1. The basis differs from the one-process sweep (its shifts are chosen
         several at a time), the accuracy does not. Each worker holds one factorisation (about 0.5 GB on the
         181 x 60 grid). Measured on the paper grid (T2) on the 2-core machine: 1 worker 101 - 106 s, 2 workers

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 pytest.importorskip("cfd.steady")
-sys.path.append(str(Path(__file__).parent))
+sys.path.append(str(Path(__file__).parents[1]))  # tests/cfd: flowgrids
 
 from flowgrids import parabolic_c_grid  # noqa: E402
 

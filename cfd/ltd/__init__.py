@@ -1,7 +1,7 @@
 """Linear time-domain (LTD) gust response: BDF2 or Radau IIA time marching, factorised once.
 
 Two schemes (``scheme=``): BDF2 (below; the default, and the nonlinear solver's scheme) and the three-stage
-Radau IIA of order 5 (``"radau5"``, :mod:`cfd.radau`): steps of 0.14 (the largest multiple of ``dt`` not above
+Radau IIA of order 5 (``"radau5"``, :mod:`cfd.ltd.radau`): steps of 0.14 (the largest multiple of ``dt`` not above
 :data:`RADAU_STEP`), one real and one complex back-substitution each, the loads written on the ``dt`` grid by
 the collocation polynomial. On the paper's T2 against the LFD at sine gusts (``bench/ltd_radau_bench.py``) its
 amplitude errors are 7 - 17x (omega = 4 pi) and 140 - 180x (2 pi) smaller than BDF2's at ``dt = 0.02``, for
@@ -31,6 +31,11 @@ the march is exactly BDF2 applied to the system written for ``q + V^-1 b1 x`` (n
 rate). A history should start from rest (``x(0) = 0``, and smoothly) for a clean start: a jump at ``s = 0`` is
 an impulsive start, as for the sharp-edged gust. No phase-error warning is given for a motion (no frequency
 scale is known); the BDF2 phase-rate error at a frequency ``omega`` is ``(omega dt)^2 / 3``.
+
+The sub-package: this module marches the linear system alone (:func:`ltd_response`, :func:`ltd_responses`) and
+holds the checks every march shares (:func:`check_march`, :func:`check_times`); :mod:`cfd.ltd.radau` is the
+Radau IIA tableau and its dense output; :mod:`cfd.ltd.coupled` marches the linear system with a two-degree-of-freedom
+structure (:func:`cfd.coupled_ltd`).
 """
 
 import dataclasses
@@ -43,11 +48,11 @@ from dataclasses import dataclass
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from .checks import callback, kind_of, log_interval as check_log_interval, real_array
-from .gust import OneMinusCosine, SharpEdged, SineGust, check_gust_step, face_gust, warn_unseen
-from .frequencies import check_pivot, check_x_ref
-from .linear import LinearError, check_gust_method, check_linear_system
-from .motion import motion_forcing
+from ..checks import callback, kind_of, log_interval as check_log_interval, real_array
+from ..gust import OneMinusCosine, SharpEdged, SineGust, check_gust_step, face_gust, warn_unseen
+from ..frequencies import check_pivot, check_x_ref
+from ..linear import LinearError, check_gust_method, check_linear_system
+from ..motion import motion_forcing
 from .radau import RADAU_C, dense_weights, radau_transform, stability_function
 
 __all__ = ["LTDHistory", "ltd_response", "ltd_responses", "phase_error_estimate", "check_march", "SCHEMES",
@@ -222,7 +227,7 @@ def _warn_phase(gust, dt, max_phase_error, scheme="bdf2", step=None):
 
 
 def check_march(gust, dt, t_end, max_phase_error=0.01, x_ref=0.0):
-    """The checks of :func:`ltd_response` for a march of ``gust`` built elsewhere (``cfd.coupled``).
+    """The checks of :func:`ltd_response` for a march of ``gust`` built elsewhere (``cfd.ltd.coupled``).
 
     Returns the checked ``(dt, t_end)`` (floats); raises :class:`LinearError` for a gust of the wrong type, bad
     times or a gust shorter than :data:`cfd.gust.MIN_GUST_STEPS` steps, and warns (``RuntimeWarning``) when
@@ -358,7 +363,7 @@ def _radau_motions(lin, t, plunge, pitch, pivot, stage_times):
 
 
 def _radau(lin, gusts, t, method, initial, moves, m, stage_times, clock):
-    """Radau IIA (:mod:`cfd.radau`) with steps of ``m`` output intervals, dense output on the grid ``t``;
+    """Radau IIA (:mod:`cfd.ltd.radau`) with steps of ``m`` output intervals, dense output on the grid ``t``;
     ``stage_times`` (n_steps, 3): the convective times of every step's stages (:func:`_stage_times`).
 
     A motion ``x`` (input of ``b0 x + b1 x'``) is marched in the variable ``p = q + V^-1 b1 x / mach``, which
@@ -595,7 +600,7 @@ def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, ma
         Seconds between progress lines on the ``cfd.ltd`` logger (level INFO).
     scheme : {"bdf2", "radau5"}
         ``"bdf2"`` (default): BDF2 with step ``dt`` (one real factorisation, one solve per step).
-        ``"radau5"``: three-stage Radau IIA (order 5, L-stable, :mod:`cfd.radau`) with steps of ``step``, one
+        ``"radau5"``: three-stage Radau IIA (order 5, L-stable, :mod:`cfd.ltd.radau`) with steps of ``step``, one
         real and one complex solve per step (two factorisations), the loads on the ``dt`` grid from its
         collocation polynomial (dense output, ``O(step^4)``). Measured on the paper's gusts
         (``bench/ltd_radau_bench.py``): more accurate than BDF2 at ``dt = 0.02`` for less work

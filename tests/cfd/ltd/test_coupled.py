@@ -1,4 +1,4 @@
-"""cfd.coupled: the linear CFD and a two-degree-of-freedom structure marched together (monolithic BDF2).
+"""cfd.ltd.coupled: the linear CFD and a two-degree-of-freedom structure marched together (monolithic BDF2).
 
 Small parabolic C-grid (49 x 13 nodes, ``flowgrids``); the comparison with the coupled ROM of ``aeroelastic`` on a
 finer grid is in ``bench/cfd_flutter.py`` and docs/aeroelastic.md.
@@ -12,7 +12,7 @@ pytest.importorskip("cfd.steady")
 from flowgrids import parabolic_c_grid  # noqa: E402
 
 from cfd import OneMinusCosine, SharpEdged, SineGust, lfd_response, ltd_response, solve_steady  # noqa: E402
-from cfd.coupled import coupled_ltd, pivot_load_matrix  # noqa: E402
+from cfd.ltd.coupled import coupled_ltd, pivot_load_matrix  # noqa: E402
 from cfd.linear import LinearError, linearise  # noqa: E402
 
 SMALL = dict(n_surface=32, n_wake=8, nj=13)
@@ -20,7 +20,7 @@ PIVOT = 0.4                    # the textbook section's elastic axis, a = -1/5
 
 
 def section(mu=20.0, V=1.5, x_alpha=0.1, r_alpha2=0.24, omega_ratio=0.4):
-    """Typical-section matrices in convective time (module docstring of cfd.coupled)."""
+    """Typical-section matrices in convective time (module docstring of cfd.ltd.coupled)."""
     M = np.array([[2.0, -x_alpha], [-2.0 * x_alpha, r_alpha2]])
     K = 4.0 / V**2 * np.diag([2.0 * omega_ratio**2, r_alpha2])
     L = 4.0 / (np.pi * mu) * np.diag([1.0, 2.0])

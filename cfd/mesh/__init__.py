@@ -23,14 +23,16 @@ Face vectors are normals scaled by the face length (units: chords):
 * ``sj[:, ic, j]``, shape ``(2, ni-1, nj)``: the j-face between cells ``(ic, j-1)`` and ``(ic, j)``
   (the edge from node ``(ic, j)`` to node ``(ic+1, j)``), pointing towards increasing ``j``.
 
-Modules: :mod:`cfd.mesh_metrics` (:class:`Grid`, :func:`grid_from_nodes`), :mod:`cfd.mesh_generation`
-(:func:`c_grid`, with the point distributions of :mod:`cfd.mesh_spacing` and the smoother of
-:mod:`cfd.mesh_elliptic`) and :mod:`cfd.mesh_quality` (:func:`grid_quality`); their public names are importable
-from here.
+The sub-package, in the order of the data: :mod:`cfd.mesh.geometry` (the aerofoil: :func:`cfd.naca`,
+:class:`cfd.Aerofoil`), :mod:`cfd.mesh.spacing` (point distributions) and :mod:`cfd.mesh.elliptic` (the
+smoother), used by :mod:`cfd.mesh.generation` (:func:`c_grid`); :mod:`cfd.mesh.metrics` (:class:`Grid`,
+:func:`grid_from_nodes`: the finite-volume metrics); :mod:`cfd.mesh.quality` (:func:`grid_quality`);
+:mod:`cfd.mesh.presets` (the named grids of :func:`cfd.preset_grid`). The grid's public names are importable from
+here.
 """
 
-from .mesh_generation import c_grid
-from .mesh_metrics import Grid, grid_from_nodes
-from .mesh_quality import GridQuality, grid_quality
+from .generation import c_grid
+from .metrics import Grid, grid_from_nodes
+from .quality import GridQuality, grid_quality
 
 __all__ = ["Grid", "grid_from_nodes", "c_grid", "grid_quality", "GridQuality"]

@@ -1,4 +1,4 @@
-"""Block orthonormalisation for the fast sweep's basis (:mod:`cfd.sweep_basis`): a growable column buffer,
+"""Block orthonormalisation for the fast sweep's basis (:mod:`cfd.sweep.basis`): a growable column buffer,
 Cholesky QR, block Gram-Schmidt with re-orthogonalisation and rank-revealing deflation, and the nested extension
 that keeps the coarse basis a leading subset of the fine one (the error estimate of :mod:`cfd.sweep`)."""
 
