@@ -358,6 +358,8 @@ def test_bad_order(order, match):
         identify(frf, order)
 
 
+# expected: T4 at N_r = 25 on the paper grid is 27 % off between the samples in Cm (the dense LFD: 58 %): the warning is right here
+@pytest.mark.filterwarnings("ignore:the order-25 model:RuntimeWarning")
 def test_default_falls_back_when_the_relocated_model_resonates_between_samples(monkeypatch):
     """The last guard of the default: a relocated model whose gain between the samples (8 points per interval)
     exceeds UNOBSERVED_GAIN_LIMIT times the data's peak is compared with the subspace model, and the one with
@@ -759,7 +761,7 @@ def test_the_advice_fit_runs_only_when_the_warning_can_be_read(monkeypatch, igno
     # the model is the same either way
     assert orders == ([] if ignore else [8])
     assert ignore or any("Order 6 lowers that estimate" in str(w.message) for w in caught)
-    with warnings.catch_warnings():
+    with warnings.catch_warnings(record=True):   # shown (the advice fit runs), and expected
         warnings.simplefilter("always")
         other = identify(frf, 8, dc_gain="match", stable=True)
     np.testing.assert_array_equal(res.matrices.C, other.matrices.C)

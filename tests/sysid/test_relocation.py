@@ -227,6 +227,8 @@ def test_result_never_worse_than_its_candidates():
 
 
 # ---------------------------------------------------------------------------- identify options and paths
+# expected: the lightly damped test system's own resonance (0.5 % damping) lies between the samples
+@pytest.mark.filterwarnings("ignore:the order-6 model has a resonance:RuntimeWarning")
 def test_unconstrained_identify_is_the_subspace_method():
     frf = noisy_frf(seed=7)
     a = identify(frf, 6)
@@ -262,6 +264,8 @@ def test_mimo_auto_keeps_the_subspace_algorithm():
     assert res.model.nstates == 12 and res.max_error < 1e-6 and res.dc_error < 1e-10
 
 
+# expected: the paper data are sparse above k ~ 3 (docs/sysid.md, between the samples)
+@pytest.mark.filterwarnings("ignore:the order-15 model is not pinned down:RuntimeWarning")
 def test_paper_data_beats_the_old_stable_path():
     # T4 (the hardest paper case for Cm): the old stable path's Cm error at N_r = 15 was 0.55 of Cm's peak;
     # stable vector fitting (scikit-rf) at equal order on these data, the peer: 0.0538 (Cl) and 0.0216 (Cm)
@@ -407,6 +411,8 @@ def test_equalities_are_checked_on_the_model_and_against_the_roundoff_of_its_eva
     assert picked[0] is good and not bad["admissible"]
 
 
+# expected: the paper data are sparse above k ~ 3 (docs/sysid.md, between the samples)
+@pytest.mark.filterwarnings("ignore:the order-.* model is not pinned down between the samples:RuntimeWarning")
 @pytest.mark.parametrize("case, order", [("T4", 25), ("T4", 55), ("T5", 55)])
 def test_paper_data_default_stays_within_the_gap_bounds(case, order):
     # without the floor and the bounds these relocations resonated between omega = 14.6 and 29.2 (gain 28 x,
@@ -515,6 +521,8 @@ def test_bad_algorithm_and_margin():
             fit_relocated(frf.omega, frf.z, np.asarray(frf.H), frf.T, 4, resolution=bad)
 
 
+# expected: the lightly damped test system's own resonance (0.5 % damping) lies between the samples
+@pytest.mark.filterwarnings("ignore:the order-6 model has a resonance:RuntimeWarning")
 def test_weights_reach_the_relocation():
     # the studies' "inverse_magnitude" weights (squared-residual weights, shape (p, m, K)) go through the
     # relocation path: the fit still holds the equalities and is stable, and the weights change it
