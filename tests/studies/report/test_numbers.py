@@ -11,39 +11,20 @@ matplotlib.use("Agg")
 
 import pytest  # noqa: E402
 
-from studies.config import loads_study  # noqa: E402
 from studies.report import ReportError, make_report  # noqa: E402
 from studies.report.numbers import TemplateError, check_templates, fill, unfill  # noqa: E402
 from studies.report.rows import report_tables  # noqa: E402
-from studies.cli.synthetic import synthetic_results  # noqa: E402
 from studies.report.tables import cell_text  # noqa: E402
+from smallstudy import small_results  # noqa: E402
 
 STUDIES = Path(__file__).resolve().parents[3] / "studies"
 
-STUDY = """
-name = "small"
-output = "{out}"
-cases = [{{name = "synth", naca = "0012", mach = 0.5}}]
-gusts = ["G3", "G4"]
-[sweep]
-orders = [2, 6]
-T = ["70/(2*pi)"]
-M_base = 32
-M = [32, 16]
-[methods.plain]
-[methods.dc_stable]
-dc_gain = "match"
-stable = true
-[simulation]
-dt = 0.1
-t_end = 20.0
-"""
 
 
 @pytest.fixture(scope="module")
 def small(tmp_path_factory):
     out = tmp_path_factory.mktemp("small")
-    return synthetic_results(loads_study(STUDY.format(out=out.as_posix()), base_dir=out))
+    return small_results(out, ("G3", "G4"))
 
 
 @pytest.fixture(scope="module")

@@ -16,26 +16,15 @@ from studies import report  # noqa: E402
 from studies.config import StudyConfigError, loads_study  # noqa: E402
 from studies.report import ReportError, make_report  # noqa: E402
 from studies.cli.synthetic import synthetic_results  # noqa: E402
+from smallstudy import small_results, small_study_text  # noqa: E402
 
-STUDY = """
-name = "small"
-description = "two methods, two grids, two gusts"
-output = "{out}"
-cases = [{{name = "synth", naca = "0012", mach = 0.5}}]
-gusts = ["G3", "G6", "G4"]
-[sweep]
-orders = [2, 6]
-T = ["70/(2*pi)"]
-M_base = 32
-M = [32, 16]
-[methods.plain]
-[methods.dc_stable]
-dc_gain = "match"
-stable = true
-[simulation]
-dt = 0.1
-t_end = 20.0
-"""
+GUSTS = ("G3", "G6", "G4")
+
+
+def study_text(out):
+    return small_study_text(out, GUSTS, "two methods, two grids, two gusts")
+
+
 
 PAPER_LIKE = """
 name = "paperlike"
@@ -55,9 +44,8 @@ t_end = 12.0
 @pytest.fixture(scope="module")
 def small(tmp_path_factory):
     out = tmp_path_factory.mktemp("small")
-    config = loads_study(STUDY.format(out=out.as_posix()), base_dir=out)
     # one failed identification, one LTD reference missing (with its ROM histories)
-    return synthetic_results(config, fail=[("synth", 16, 6, "plain")], drop=[("synth", "G4")])
+    return small_results(out, GUSTS, fail=[("synth", 16, 6, "plain")], drop=[("synth", "G4")])
 
 
 @pytest.fixture(scope="module")
@@ -188,7 +176,7 @@ def test_paper_mode_names_the_paper_figures_and_claims(paperlike, tmp_path):
 
 def test_make_report_from_a_study_file_with_an_empty_store(tmp_path):
     study = tmp_path / "s.toml"
-    study.write_text(STUDY.format(out=(tmp_path / "out").as_posix()))
+    study.write_text(study_text(tmp_path / "out"))
     page = make_report(study)
     assert page == tmp_path / "out" / "report.md"
     text = page.read_text()
@@ -200,7 +188,7 @@ def test_an_empty_store_does_not_replace_an_existing_page(tmp_path):
     # make_report("studies/paper.toml") on a checkout without the paper's store used to turn the committed page
     # into "0 of 33 identifications done"
     study = tmp_path / "s.toml"
-    study.write_text(STUDY.format(out=(tmp_path / "out").as_posix()))
+    study.write_text(study_text(tmp_path / "out"))
     page = make_report(study)                         # a first report of nothing: there was no page
     page.write_text(page.read_text() + "\nresults of an earlier run\n")
     with pytest.raises(ReportError, match=r"holds no result of this study .*lfdrom run STUDY.toml.*--force-page"):
@@ -219,7 +207,7 @@ def test_paper_prose_fills_every_slot():
 
 def test_make_report_writes_the_study_page(tmp_path):
     study = tmp_path / "s.toml"
-    text = STUDY.format(out=(tmp_path / "out").as_posix())
+    text = study_text(tmp_path / "out")
     study.write_text(text + '\n[report]\npage = "docs/s.md"\nfigures = false\ntitle = "My sweep"\npaper = false\n')
     page = make_report(study)
     assert page == (tmp_path / "docs" / "s.md").resolve() and page.is_file()
@@ -257,7 +245,7 @@ def test_command_line_report(tmp_path, capsys):
     from studies.cli import main
 
     study = tmp_path / "s.toml"
-    study.write_text(STUDY.format(out=(tmp_path / "out").as_posix()))
+    study.write_text(study_text(tmp_path / "out"))
     # nothing computed yet: the page is written (it says what is missing) and the status is "incomplete"
     assert main(["report", str(study), "--out", str(tmp_path / "elsewhere")]) == 3
     assert (tmp_path / "elsewhere" / "report.md").is_file()

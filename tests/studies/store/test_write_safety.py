@@ -22,7 +22,6 @@ from studies import report  # noqa: E402
 from studies.report import figures as report_figures  # noqa: E402
 from studies.report import plots  # noqa: E402
 from studies.store import files  # noqa: E402
-from studies.config import loads_study  # noqa: E402
 from studies.store.files import (  # noqa: E402
     NotWritableError,
     atomic_write_bytes,
@@ -32,35 +31,17 @@ from studies.store.files import (  # noqa: E402
 )
 from studies.report import ReportError, check_page, make_report, read_prose  # noqa: E402
 from studies.store.rom_export import export_rom_mat, export_rom_npz  # noqa: E402
-from studies.cli.synthetic import synthetic_results  # noqa: E402
 from studies.report.tables import write_table, write_tables  # noqa: E402
+from smallstudy import small_results  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[3]
 
-STUDY = """
-name = "small"
-output = "{out}"
-cases = [{{name = "synth", naca = "0012", mach = 0.5}}]
-gusts = ["G3", "G6"]
-[sweep]
-orders = [2, 6]
-T = ["70/(2*pi)"]
-M_base = 32
-M = [32, 16]
-[methods.plain]
-[methods.dc_stable]
-dc_gain = "match"
-stable = true
-[simulation]
-dt = 0.1
-t_end = 20.0
-"""
 
 
 @pytest.fixture(scope="module")
 def small(tmp_path_factory):
     out = tmp_path_factory.mktemp("small")
-    return synthetic_results(loads_study(STUDY.format(out=out.as_posix()), base_dir=out))
+    return small_results(out, ("G3", "G6"))
 
 
 def temp_files(folder: Path) -> list:
