@@ -1,8 +1,8 @@
 """The module paths of the flat cfd package still import, for one release, as the modules at their new homes
 (``cfd.mesh``, ``cfd.sweep``, ``cfd.ltd``) with a DeprecationWarning; the project's own code, tests, benchmarks,
-documentation and study files use the new homes only."""
+documentation and study files use the new homes only (the old paths' imports and the project-wide import scan:
+tests/test_legacy_paths.py)."""
 
-import ast
 import importlib
 import re
 import sys
@@ -14,15 +14,6 @@ import cfd
 from cfd.legacy import MOVED
 
 ROOT = Path(__file__).resolve().parents[2]
-
-
-@pytest.mark.parametrize("old", sorted(MOVED))
-def test_old_path_is_the_new_module_with_a_warning(old):
-    sys.modules.pop(old, None)
-    with pytest.warns(DeprecationWarning, match=rf"{old} moved to {MOVED[old]}"):
-        module = importlib.import_module(old)
-    assert module is importlib.import_module(MOVED[old])
-    assert module.__spec__.name == MOVED[old]  # find_spec of the new name (hashed into store keys) unchanged
 
 
 def test_from_import_of_an_old_path_gives_the_same_objects():
@@ -54,25 +45,6 @@ def test_public_names_keep_their_path(name):
 def test_modules_that_became_packages_keep_their_names(module, names):
     mod = importlib.import_module(module)
     assert all(hasattr(mod, name) for name in names)
-
-
-def _imports(path: Path):
-    for node in ast.walk(ast.parse(path.read_text(), filename=str(path))):
-        if isinstance(node, ast.Import):
-            yield from (alias.name for alias in node.names)
-        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
-            yield node.module
-            yield from (f"{node.module}.{alias.name}" for alias in node.names)
-
-
-def test_project_imports_no_old_path():
-    old = []
-    for folder in ("cfd", "sysid", "aeroelastic", "loads", "studies", "tests", "bench"):
-        for path in sorted((ROOT / folder).rglob("*.py")):
-            if path.name == "test_legacy.py" or "__pycache__" in path.parts:
-                continue
-            old += [f"{path.relative_to(ROOT)}: {name}" for name in _imports(path) if name in MOVED]
-    assert not old
 
 
 def test_docs_and_study_files_name_no_old_path():
