@@ -63,5 +63,4 @@ def noise_level(H, omega) -> np.ndarray:
     peak = np.abs(Hf).max(axis=(1, 2))
     d4 = np.abs(np.diff(Hf, 4, axis=-1))
     sigma = np.median(d4, axis=-1).max(axis=1) / _SCALE
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(peak > 0, sigma / np.where(peak > 0, peak, 1.0), 0.0)
+    return np.divide(sigma, peak, out=np.zeros(p), where=peak > 0)
