@@ -4,6 +4,7 @@ import warnings
 
 import numpy as np
 
+from .levenberg_marquardt import bounded_levenberg_marquardt
 from .poles import floor_at, pair_poles, partial_fraction_basis, pole_groups
 
 __all__ = ["refine_poles", "stable_params", "params_to_poles", "derivative_columns", "derivative_factors"]
@@ -111,7 +112,8 @@ def derivative_factors(s, poles, floor=None):
 
 
 def _bad_step(P, K, dc, x, n_coef):
-    """Residual and Jacobian that make :func:`scipy.optimize.least_squares` reject a step."""
+    """Residual and Jacobian that make :func:`sysid.levenberg_marquardt.bounded_levenberg_marquardt` reject a
+    step."""
     rows = P * (2 * K + (1 if dc is not None else 0) + n_coef)
     return np.full(rows, 1e10), np.zeros((rows, x.size))
 
@@ -120,8 +122,8 @@ class _Projection:
     """The variable-projection problem of :func:`refine_poles`: its residual and Kaufman Jacobian at the stable
     parameters ``x``, computed apart.
 
-    :func:`scipy.optimize.least_squares` asks for the residual at every trial step and for the Jacobian only
-    at the accepted ones, so a rejected step costs the least-squares coefficients alone (the derivative columns
+    :func:`sysid.levenberg_marquardt.bounded_levenberg_marquardt` asks for the residual at every trial step and
+    for the Jacobian only at the accepted ones, so a rejected step costs the least-squares coefficients alone (the derivative columns
     and their projection are about half an evaluation). The residual's factorisation is kept for the Jacobian
     at the same ``x``; the arithmetic is that of one joint evaluation.
     """
@@ -136,11 +138,15 @@ class _Projection:
         self._key = None
         self._r = None
         self._state = None   # (poles, [(Ar, Q, theta) per channel]) at self._key; None after a rejected step
+        self._prev = (None, None, None)   # (key, r, state) of the point before, while it was good
 
     def residual(self, x: np.ndarray) -> np.ndarray:
         """Weighted residuals of all channels (real and imaginary parts, DC penalty, ridge rows), stacked."""
         key = x.tobytes()
         if key == self._key:
+            return self._r
+        if key == self._prev[0]:   # back at the last point after a rejected trial (the Jacobian is wanted there)
+            self._prev, (self._key, self._r, self._state) = (self._key, self._r, self._state), self._prev
             return self._r
         s, W, P, K = self.s, self.W, self.Hs.shape[0], self.Hs.shape[1]
         pl = params_to_poles(x, self.template, self.floor)
@@ -196,6 +202,8 @@ class _Projection:
         return J
 
     def _remember(self, key, r, state):
+        if self._state is not None:   # keep the last good point: the solver returns to it after a rejected trial
+            self._prev = (self._key, self._r, self._state)
         self._key, self._r, self._state = key, r, state
         return r
 
@@ -209,8 +217,8 @@ def refine_poles(s, H, poles, *, weights=None, dc=None, ft=None, max_nfev: int =
     the current poles (variable projection, Golub & Pereyra 1973, with Kaufman's Jacobian, BIT 15 (1975)
     49-57: ``J = P_perp (dPhi/dx) theta``). The derivative columns are :func:`derivative_columns`. The poles are parametrised as ``Re a = -exp(u)``, so every
     iterate is stable; ``d_c = ft_c`` is fixed when the feedthrough is given and the DC equality enters as a
-    heavy penalty row (the caller's final convex refit imposes both exactly). The solver is
-    :func:`scipy.optimize.least_squares` (``method="trf"``, ``x_scale="jac"``), imported on the first call.
+    heavy penalty row (the caller's final convex refit imposes both exactly). The solver is the bounded
+    Levenberg-Marquardt of :mod:`sysid.levenberg_marquardt` (scaled by the Jacobian's column norms).
 
     Parameters
     ----------
@@ -237,8 +245,6 @@ def refine_poles(s, H, poles, *, weights=None, dc=None, ft=None, max_nfev: int =
     ndarray, shape (n,), complex
         Refined poles, ``Re < 0`` (the start when the cost did not fall).
     """
-    from scipy.optimize import least_squares
-
     s = np.asarray(s, dtype=complex)
     P, K = H.shape
     W = np.ones((P, K)) if weights is None else np.broadcast_to(np.asarray(weights, dtype=float), (P, K))
@@ -266,18 +272,23 @@ def refine_poles(s, H, poles, *, weights=None, dc=None, ft=None, max_nfev: int =
         hi = np.full(x0.size, np.log(min(-(c0 - r0), smax)))
         is_im = _imag_param_mask(poles)
         lo[is_im], hi[is_im] = -smax, smax
+        if floor is not None:   # a real pole is no narrower than a pair at omega = 0 may be
+            is_real = np.ones(x0.size, dtype=bool)
+            is_real[is_im] = False
+            is_real[np.flatnonzero(is_im) - 1] = False
+            f0_real = float(np.interp(0.0, *floor))
+            lo[is_real] = np.maximum(lo[is_real], np.log(max(f0_real, 1e-300)))
         x0 = np.clip(x0, lo + 1e-9 * np.abs(lo), hi - 1e-9 * np.abs(hi))
         bounds = (lo, hi)
     f0 = problem.residual(x0)
     if f0[0] == 1e10:
         return poles
-    with warnings.catch_warnings():
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
         warnings.simplefilter("ignore")
         try:
-            sol = least_squares(problem.residual, x0, jac=problem.jacobian, method="trf",
-                                x_scale="jac", max_nfev=max_nfev, xtol=1e-12, ftol=1e-12, gtol=1e-12,
-                                bounds=bounds)
-        except (np.linalg.LinAlgError, ValueError):
+            sol = bounded_levenberg_marquardt(problem.residual, problem.jacobian, x0, bounds[0], bounds[1],
+                                              max_nfev=max_nfev, xtol=1e-12, ftol=1e-12, gtol=1e-12)
+        except np.linalg.LinAlgError:
             return poles
     if not np.all(np.isfinite(sol.x)) or not np.sum(sol.fun ** 2) < np.sum(f0 ** 2):
         return poles
