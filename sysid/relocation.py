@@ -102,8 +102,16 @@ __all__ = [
 #: stability disc already ends at |s| ~ 360, 12 times the top data frequency; 4 was measured to cost
 #: accuracy: T4 N_r 25 Cm 0.76 % -> 3.8 %).
 _MAX_POLE_FACTOR = 20.0
-#: Candidates (best first) that get the bounded residue fit when they break the gap bounds.
-_GAP_REFITS = 3
+#: What each ``effort`` of :func:`fit_relocated` runs (``None``: the parameter's own default): Lawson
+#: iterations, the starts refined by Gauss-Newton, the candidates given minimax residues, the candidates given
+#: bounded residues when they break the gap bounds (``gap_refits``), and where the second, floored pass starts
+#: (``floored_starts``: ``"all"`` the same starts as the first pass, relocated from scratch; an integer ``k``: the
+#: first pass's ``k`` best candidates, relocated ``floored_iterations`` times under the floor).
+EFFORTS = {
+    "fast": dict(iterations=12, lawson=0, refine=1, minimax=1, gap_refits=1, floored_starts=1, floored_iterations=0),
+    "thorough": dict(iterations=12, lawson=5, refine=None, minimax=2, gap_refits=3, floored_starts="all",
+                     floored_iterations=None),
+}
 #: A fit that breaks the gap bounds is still taken when its worst error is this many times smaller than that
 #: of every fit within them (:func:`pick_candidates`): the data then determine the resonance.
 _TRUST_FACTOR = 100.0
@@ -185,7 +193,7 @@ def at_noise_level(err, noise) -> bool:
 
 
 def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson, refine, minimax, budget, region,
-              minimax_rounds=0, bound_gaps=False, minimax_within=None):
+              minimax_rounds=0, bound_gaps=False, minimax_within=None, gap_refits=3):
     """One-input fit: poles relocated on all outputs, residues by convex fits. Returns the candidates (dicts
     with ``err``, ``eq`` and ``gap``, see :func:`pick_candidates`); with ``bound_gaps`` the leading ones that
     break the :func:`gap_bounds` get bounded minimax residues (:func:`sysid.candidates.bound_candidate_gaps`)."""
@@ -302,16 +310,17 @@ def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson,
     if bound_gaps:
         wbm = np.broadcast_to(1.0 / peak[:, None, None], (p, 1, K))
         cands.sort(key=lambda c: candidate_score(c["err"]))
-        for c in cands[:_GAP_REFITS]:
+        for c in cands[:gap_refits]:
             if c["gap"] > 1.0 and time.perf_counter() - t0 <= budget:
                 bound_candidate_gaps(c, z, G, dc, ft, wbm, zb, ub, peak, within=minimax_within)
     return cands
 
 
 def fit_relocated(omega, z, G, T, order, *, dc_gain=None, feedthrough=None, weights=None, start_poles=None,
-                  margin: float = 1e-3, iterations: int = 12, lawson: int = 5, refine: int | None = None, minimax: int = 2,
-                  minimax_rounds: int = 0, resolution: float = RESOLUTION, minimax_within: float | None = None,
-                  budget: float | None = None) -> RelocationResult:
+                  margin: float = 1e-3, iterations: int | None = None, lawson: int | None = None, refine: int | None = None,
+                  minimax: int | None = None, minimax_rounds: int = 0, resolution: float = RESOLUTION,
+                  minimax_within: float | None = None, budget: float | None = None,
+                  effort: str = "fast") -> RelocationResult:
     """Stable discrete model by pole relocation and convex residue fits (the module docstring's steps 1-4).
 
     Parameters
@@ -339,15 +348,14 @@ def fit_relocated(omega, z, G, T, order, *, dc_gain=None, feedthrough=None, weig
         The discrete model's spectral radius is at most ``1 - margin`` (poles kept in
         :func:`stability_region`); ``0 < margin < 1``.
     iterations, lawson : int
-        Relocation and Lawson iterations (:func:`relocate_poles`).
+        Relocation and Lawson iterations (:func:`relocate_poles`); default the ``effort``'s (12 and 0, or 12 and 5).
     refine : int, optional
         Number of distinct relocated starts from which the Gauss-Newton pole refinement
         (:func:`refine_poles`) runs (0: none; the Lawson candidate of the best start is refined too).
-        Default: 3 up to 40 states, 2 above (an evaluation costs ~n^2 K; measured on the paper data at
-        N_r = 35 and 55 on a loaded 2-core machine: 3 starts 2.0 s mean, worst error ratio to VF 0.46;
-        2 starts 1.5 s, 0.77).
-    minimax : int
-        Number of leading candidates that get the minimax residue fit (0: least squares only).
+        Default: the ``effort``'s: 1 (``"fast"``), or 3 up to 40 states and 2 above (``"thorough"``).
+    minimax : int, optional
+        Number of leading candidates that get the minimax residue fit (0: least squares only); default the
+        ``effort``'s (1 or 2).
     minimax_rounds : int
         Rounds of Lawson-weighted Gauss-Newton (IRLS towards the minimax poles) from the best candidate,
         each one more candidate (default 0). Measured on the paper data at N_r = 9 and 15: 3 rounds lower
@@ -368,6 +376,15 @@ def fit_relocated(omega, z, G, T, order, *, dc_gain=None, feedthrough=None, weig
     budget : float, optional
         Seconds after which optional stages (refinement, further minimax fits) are skipped. ``None``
         (default): run every stage, so the result does not depend on the machine's speed.
+    effort : {"fast", "thorough"}
+        How many candidates the fit builds (:data:`EFFORTS`). ``"fast"`` (default): the relocation from every
+        start, Gauss-Newton from the best, minimax residues for it; where the free poles break the gap bounds,
+        the floored pass starts from the first pass's best poles. ``"thorough"``: Lawson iterations and
+        Gauss-Newton from up to three starts, minimax residues for two candidates, bounded residues for three,
+        and a floored pass relocated from every start again. Measured side by side with stable vector fitting
+        (VF) on T1-T6 at N_r = 10 - 60 (docs/sysid.md, "Speed"): ``"fast"`` takes about 2 - 3 times VF's time
+        at the median and ``"thorough"`` about 6 times, with errors 0.51 and 0.46 of VF's (geometric means).
+        Both are deterministic.
 
     Returns
     -------
@@ -385,8 +402,19 @@ def fit_relocated(omega, z, G, T, order, *, dc_gain=None, feedthrough=None, weig
     ConstraintError
         ``dc_gain`` / ``feedthrough`` complex, NaN or of the wrong shape, or inconsistent constraints (from
         :func:`sysid.refit.fit_cd`).
+    OptionError
+        ``effort`` not one of :data:`EFFORTS`.
     """
     from threadpoolctl import threadpool_limits
+
+    if not isinstance(effort, str) or effort not in EFFORTS:
+        raise OptionError(f"effort must be one of {tuple(EFFORTS)}; got {effort!r}")
+    plan = dict(EFFORTS[effort])
+    iterations = plan.pop("iterations") if iterations is None else iterations
+    lawson = plan.pop("lawson") if lawson is None else lawson
+    minimax = plan.pop("minimax") if minimax is None else minimax
+    refine = plan.pop("refine") if refine is None else refine
+    plan = {k: plan[k] for k in ("gap_refits", "floored_starts", "floored_iterations")}
 
     # small dense problems: BLAS threads only add overhead, and on a loaded machine they made a 15-state fit
     # take 7-25 s instead of 2 s (measured); one thread for the duration of the fit
@@ -394,11 +422,11 @@ def fit_relocated(omega, z, G, T, order, *, dc_gain=None, feedthrough=None, weig
         return _fit_relocated(omega, z, G, T, order, dc_gain=dc_gain, feedthrough=feedthrough, weights=weights,
                               start_poles=start_poles, margin=margin, iterations=iterations, lawson=lawson,
                               refine=refine, minimax=minimax, budget=budget, minimax_rounds=minimax_rounds,
-                              resolution=resolution, minimax_within=minimax_within)
+                              resolution=resolution, minimax_within=minimax_within, plan=plan)
 
 
 def _fit_relocated(omega, z, G, T, order, *, dc_gain, feedthrough, weights, start_poles, margin, iterations,
-                   lawson, refine, minimax, budget, minimax_rounds, resolution, minimax_within, normalised=False):
+                   lawson, refine, minimax, budget, minimax_rounds, resolution, minimax_within, plan, normalised=False):
     t0 = time.perf_counter()
     G = np.asarray(G, dtype=complex)
     omega = np.asarray(omega, dtype=float)
@@ -446,7 +474,7 @@ def _fit_relocated(omega, z, G, T, order, *, dc_gain, feedthrough, weights, star
                            feedthrough=rows(feedthrough), weights=weights, start_poles=starts, margin=margin,
                            iterations=iterations, lawson=lawson, refine=refine, minimax=minimax, budget=budget,
                            minimax_rounds=minimax_rounds, resolution=resolution, minimax_within=minimax_within,
-                           normalised=True)
+                           plan=plan, normalised=True)
         return dataclasses.replace(r, C=peak[:, None] * r.C, D=peak[:, None] * r.D, poles=r.poles / w_unit,
                                    seconds=time.perf_counter() - t0)
     if p < m:  # fit the transpose: fewer input columns to split the states over
@@ -455,7 +483,7 @@ def _fit_relocated(omega, z, G, T, order, *, dc_gain, feedthrough, weights, star
                           weights=tr(weights), start_poles=start_poles, margin=margin, iterations=iterations,
                           lawson=lawson,
                           refine=refine, minimax=minimax, budget=budget, minimax_rounds=minimax_rounds,
-                          resolution=resolution, minimax_within=minimax_within, normalised=normalised)
+                          resolution=resolution, minimax_within=minimax_within, plan=plan, normalised=normalised)
         return RelocationResult(A=r.A.T.copy(), B=r.C.T.copy(), C=r.B.T.copy(), D=r.D.T.copy(), poles=r.poles,
                                 max_error_per_output=channel_errors(r.A.T, r.C.T, r.B.T, r.D.T, z, G),
                                 start=r.start, residues=r.residues, refined=r.refined, candidates=r.candidates,
@@ -483,8 +511,9 @@ def _fit_relocated(omega, z, G, T, order, *, dc_gain, feedthrough, weights, star
                 None if feedthrough is None else np.asarray(feedthrough)[:, j:j + 1],
                 None if weights is None else np.asarray(weights)[:, j:j + 1], starts)
         kw = dict(iterations=iterations, lawson=lawson, minimax_within=minimax_within,
-                  refine=(3 if nj <= 40 else 2) if refine is None else refine,
-                  minimax=minimax, minimax_rounds=minimax_rounds, budget=np.inf if budget is None else budget / m)
+                  refine=(3 if nj <= 40 else 2) if refine is None else refine,  # (the thorough default)
+                  minimax=minimax, minimax_rounds=minimax_rounds, budget=np.inf if budget is None else budget / m,
+                  gap_refits=plan["gap_refits"])
         # free poles first; where the best fit breaks the gap bounds (a resonance the samples do not see), the
         # poles again with the resolution floor and bounded residues, and the best admissible of both
         cands = pick_candidates(_fit_simo(*args, region=region, **kw))
@@ -492,6 +521,10 @@ def _fit_relocated(omega, z, G, T, order, *, dc_gain, feedthrough, weights, star
             # (fewer refinements, and minimax residues only from the bounded fits: the second pass costs about
             # half the first)
             kw.update(refine=min(kw["refine"], 2), minimax=0)
+            if plan["floored_starts"] != "all":   # from the first pass's best poles, a few relocations under the floor
+                best = sorted(cands, key=lambda c: candidate_score(c["err"]))[:plan["floored_starts"]]
+                args = args[:-1] + ([(c["label"], c["poles"]) for c in best],)
+                kw.update(iterations=plan["floored_iterations"])
             floored = _fit_simo(*args, region=region + (resolution_floor(omega, resolution),), bound_gaps=True, **kw)
             cands = pick_candidates(cands + floored, trust=_TRUST_FACTOR)
         blocks.append(cands)
