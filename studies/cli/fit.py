@@ -64,6 +64,8 @@ from __future__ import annotations
 
 import argparse
 import math
+import multiprocessing
+import os
 import sys
 import time
 from dataclasses import dataclass
@@ -120,8 +122,40 @@ def _split(frf) -> tuple[np.ndarray, np.ndarray]:
     return fit_idx, held
 
 
+def _holdout_error(part, val, den, n, dc_gain, stable, algorithm):
+    """Hold-out error of order ``n`` (the module docstring's measure), or ``"order"`` when the fitted half cannot
+    support that order, or None when the fit failed otherwise."""
+    import warnings
+
+    import sysid
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            res = sysid.identify(part, int(n), dc_gain=dc_gain, stable=stable, algorithm=algorithm)
+        Hm = res.evaluate(val.omega_d)
+    except sysid.OrderError:
+        return "order"
+    except (ValueError, RuntimeError, np.linalg.LinAlgError):
+        return None
+    Hv = np.asarray(val.H)
+    return float((np.sqrt(np.mean(np.abs(Hm - Hv) ** 2, axis=(1, 2))) / den).max())
+
+
+def _holdout_errors(part, val, den, orders, dc_gain, stable, algorithm, workers):
+    """:func:`_holdout_error` of every order: in ``workers`` forked processes when there are several (the fits are
+    independent and deterministic, so the answer does not depend on the split), highest order first (the
+    costliest), else in this process."""
+    args = [(part, val, den, int(n), dc_gain, stable, algorithm) for n in orders]
+    if workers > 1 and "fork" in multiprocessing.get_all_start_methods():
+        with multiprocessing.get_context("fork").Pool(min(workers, len(args))) as pool:
+            out = pool.starmap(_holdout_error, args[::-1], chunksize=1)[::-1]
+        return out
+    return [_holdout_error(*a) for a in args]
+
+
 def holdout_order(frf, *, max_order: int = 30, dc_gain=None, stable: bool = True,
-                  algorithm: str = "auto") -> HoldoutSelection:
+                  algorithm: str = "auto", workers: int | None = None) -> HoldoutSelection:
     """Choose the order by hold-out (rule in the module docstring).
 
     Parameters
@@ -133,13 +167,14 @@ def holdout_order(frf, *, max_order: int = 30, dc_gain=None, stable: bool = True
     dc_gain, stable, algorithm
         As for :func:`sysid.identify` (``dc_gain`` is None or a (p, m) array; ``"match"`` is resolved by the
         caller so that the held-out half keeps the full data's DC value).
+    workers : int, optional
+        Processes that fit the orders side by side (forked, where the platform can fork; else one). Default:
+        the machine's CPU count, at most 8. The chosen order does not depend on it.
 
     Returns
     -------
     HoldoutSelection
     """
-    import sysid
-
     fit_idx, held = _split(frf)
     if held.size == 0:
         raise FitInputError(_source(frf), "--order", "too few frequencies to hold any out; give --order N")
@@ -147,22 +182,16 @@ def holdout_order(frf, *, max_order: int = 30, dc_gain=None, stable: bool = True
     Hv = np.asarray(val.H)
     den = np.maximum(np.sqrt(np.mean(np.abs(Hv) ** 2, axis=(1, 2))), np.finfo(float).tiny)
     orders = np.arange(1, max_order + 1)
+    workers = min(os.cpu_count() or 1, 8) if workers is None else int(workers)
+    results = _holdout_errors(part, val, den, orders, dc_gain, stable, algorithm, workers)
     errs = np.full(orders.size, np.nan)
-    for i, n in enumerate(orders):
-        try:
-            import warnings
-
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", RuntimeWarning)
-                res = sysid.identify(part, int(n), dc_gain=dc_gain, stable=stable, algorithm=algorithm)
-            Hm = res.evaluate(val.omega_d)
-        except sysid.OrderError:
+    for i, e in enumerate(results):
+        if e == "order":
             if np.isfinite(errs[:i]).any():
                 break  # above what the fitted half supports
             continue  # below what the data need (e.g. fewer states than inputs)
-        except (ValueError, RuntimeError, np.linalg.LinAlgError):
-            continue
-        errs[i] = float((np.sqrt(np.mean(np.abs(Hm - Hv) ** 2, axis=(1, 2))) / den).max())
+        if e is not None:
+            errs[i] = e
     if not np.isfinite(errs).any():
         raise FitInputError(_source(frf), "--order", "no order could be fitted to the even-indexed frequencies; give "
                                                  "--order N")
