@@ -121,6 +121,20 @@ def test_order_auto_picks_the_true_order_continuous_grid(files):
     assert out.selection.errors[3] < 1e-8 and out.selection.errors[2] > 1e-3
 
 
+@pytest.mark.parametrize("workers", [1, 2])
+def test_holdout_errors_do_not_depend_on_the_worker_processes(files, workers):
+    # the orders are fitted in forked processes side by side or one after another: the same deterministic fits,
+    # so the same errors to the last bit and the same order (the true order 4 of the synthetic system)
+    frf = load_data(files["mat"])
+    w = frf.omega[np.isfinite(frf.omega) & (frf.omega > 0)]
+    frf = frf.with_T(2 / np.sqrt(w.min() * w.max()))   # lfdrom fit's default T
+    dc = np.asarray(frf.dc_gain).real
+    ref = fit.holdout_order(frf, max_order=6, dc_gain=dc, workers=1)
+    sel = fit.holdout_order(frf, max_order=6, dc_gain=dc, workers=workers)
+    np.testing.assert_array_equal(sel.errors, ref.errors)
+    assert sel.chosen == ref.chosen == 4
+
+
 def test_order_auto_picks_the_true_order_mckelvey_grid(tmp_path):
     sys.path.insert(0, str(ROOT / "tests" / "sysid"))
     from sysid_synth import freqresp, random_system
