@@ -14,7 +14,8 @@ Methods, all with ``n`` states (``N_r``):
 - ``dc+stable (subspace)``: ``identify(frf, n, dc_gain="match", stable=True, algorithm="subspace")`` - the
   previous stable path (LMI stabilisation, alternating convex refits).
 - ``default``: ``identify(frf, n, dc_gain="match", stable=True)`` - the pole relocation path
-  (:mod:`sysid.relocation`), no other options.
+  (:mod:`sysid.relocation`), no other options (``effort="fast"``).
+- ``thorough``: the same with ``effort="thorough"`` (more candidates: :data:`sysid.relocation.EFFORTS`).
 - ``VF``: scikit-rf vector fitting with the poles common to Cl and Cm: each output scaled to unit peak, both
   placed in a 2-port network ``[[Cl, Cm], [Cm, Cl]]`` (skrf networks are square; every response is fitted
   twice with the same weight, which leaves the least-squares problem of ``[Cl, Cm]`` unchanged),
@@ -178,6 +179,7 @@ METHODS = [
     ("dc (subspace)", lambda f, n: run_identify(f, n, dc_gain="match", algorithm="subspace")),
     ("dc+stable (subspace)", lambda f, n: run_identify(f, n, dc_gain="match", stable=True, algorithm="subspace")),
     ("default (relocation)", lambda f, n: run_identify(f, n, dc_gain="match", stable=True)),
+    ("thorough (relocation)", lambda f, n: run_identify(f, n, dc_gain="match", stable=True, effort="thorough")),
     ("VF (skrf, stable)", run_vf),
     ("AAA (scipy, per output)", run_aaa),
 ]
@@ -240,11 +242,12 @@ def main(argv=None):
                                 got["dc+stable (subspace)"][0] if "dc+stable (subspace)" in got else None,
                                 got["default (relocation)"][1]["time"], got["default (relocation)"][1]["gain"],
                                 got["VF (skrf, stable)"][1]["gain"]))
-    short = ["paper", "dc (subspace)", "dc+stable (subspace)", "default (relocation)", "VF (skrf, stable)",
-             "AAA (scipy, per output)"]
+    short = ["paper", "dc (subspace)", "dc+stable (subspace)", "default (relocation)", "thorough (relocation)",
+             "VF (skrf, stable)", "AAA (scipy, per output)"]
     lines += ["", "Max error per output, Cl / Cm in % of each output's peak (AAA: * = unstable):", "",
-              "| case | N_r | paper | dc (subspace) | dc+stable (old) | **default** | VF | AAA | default: radius, DC err, s | VF s |",
-              "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+              "| case | N_r | paper | dc (subspace) | dc+stable (old) | **default** | thorough | VF | AAA | default: radius, "
+              "DC err, s | thorough s | VF s |",
+              "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     for case, n, got in compact:
         cells = []
         for name in short:
@@ -256,10 +259,12 @@ def main(argv=None):
             cell = f"{100 * e[0]:.3g} / {100 * e[1]:.3g}{star}"
             cells.append(f"**{cell}**" if name.startswith("default") else cell)
         d = got.get("default (relocation)")
+        th = got.get("thorough (relocation)")
         v = got.get("VF (skrf, stable)")
         dcell = f"{d[1]['rho']:.4f}, {d[1]['dc']:.0e}, {d[1]['time']:.2f}" if d else ""
+        tcell = f"{th[1]['time']:.2f}" if th else ""
         vcell = f"{v[1]['time']:.2f}" if v else ""
-        lines.append(f"| {case} | {n} | " + " | ".join(cells) + f" | {dcell} | {vcell} |")
+        lines.append(f"| {case} | {n} | " + " | ".join(cells) + f" | {dcell} | {tcell} | {vcell} |")
     lines += ["", "Error ratios to VF, and the largest gain between the samples (8 points per data interval, in units "
               "of the output's data peak; Cl, Cm):", "",
               "| case | N_r | default Cl / VF | default Cm / VF | old stable Cm / VF | default at or below VF | "
@@ -284,6 +289,14 @@ def main(argv=None):
             ratio.setdefault(n, []).append(t / tv)
         lines += ["", "default / VF time per order, median over the cases (min - max): " + "; ".join(
             f"{n}: {np.median(r):.1f} ({min(r):.1f} - {max(r):.1f})" for n, r in sorted(ratio.items())) + "."]
+        both = [(got["thorough (relocation)"], got["VF (skrf, stable)"]) for _, _, got in compact
+                if "thorough (relocation)" in got and "VF (skrf, stable)" in got]
+        if both:
+            th_wins = sum(int(np.sum(t[0] <= v[0])) for t, v in both)
+            lines += ["", f"thorough at or below VF on {th_wins} of {2 * len(both)} points; thorough / VF time: median "
+                      f"{np.median([t[1]['time'] / v[1]['time'] for t, v in both]):.1f}, max "
+                      f"{max(t[1]['time'] / v[1]['time'] for t, v in both):.1f}; default / VF time max "
+                      f"{max(np.array(times) / np.array(vf_times)):.1f}."]
     text = "\n".join(lines)
     print(text)
     if args.out:
