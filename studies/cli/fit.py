@@ -122,7 +122,7 @@ def _split(frf) -> tuple[np.ndarray, np.ndarray]:
     return fit_idx, held
 
 
-def _holdout_error(part, val, den, n, dc_gain, stable, algorithm):
+def _holdout_error(part, val, den, n, dc_gain, stable, algorithm, effort="fast"):
     """Hold-out error of order ``n`` (the module docstring's measure), or ``"order"`` when the fitted half cannot
     support that order, or None when the fit failed otherwise."""
     import warnings
@@ -132,7 +132,7 @@ def _holdout_error(part, val, den, n, dc_gain, stable, algorithm):
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
-            res = sysid.identify(part, int(n), dc_gain=dc_gain, stable=stable, algorithm=algorithm)
+            res = sysid.identify(part, int(n), dc_gain=dc_gain, stable=stable, algorithm=algorithm, effort=effort)
         Hm = res.evaluate(val.omega_d)
     except sysid.OrderError:
         return "order"
@@ -142,11 +142,11 @@ def _holdout_error(part, val, den, n, dc_gain, stable, algorithm):
     return float((np.sqrt(np.mean(np.abs(Hm - Hv) ** 2, axis=(1, 2))) / den).max())
 
 
-def _holdout_errors(part, val, den, orders, dc_gain, stable, algorithm, workers):
+def _holdout_errors(part, val, den, orders, dc_gain, stable, algorithm, workers, effort="fast"):
     """:func:`_holdout_error` of every order: in ``workers`` forked processes when there are several (the fits are
     independent and deterministic, so the answer does not depend on the split), highest order first (the
     costliest), else in this process."""
-    args = [(part, val, den, int(n), dc_gain, stable, algorithm) for n in orders]
+    args = [(part, val, den, int(n), dc_gain, stable, algorithm, effort) for n in orders]
     if workers > 1 and "fork" in multiprocessing.get_all_start_methods():
         with multiprocessing.get_context("fork").Pool(min(workers, len(args))) as pool:
             out = pool.starmap(_holdout_error, args[::-1], chunksize=1)[::-1]
@@ -155,7 +155,7 @@ def _holdout_errors(part, val, den, orders, dc_gain, stable, algorithm, workers)
 
 
 def holdout_order(frf, *, max_order: int = 30, dc_gain=None, stable: bool = True,
-                  algorithm: str = "auto", workers: int | None = None) -> HoldoutSelection:
+                  algorithm: str = "auto", workers: int | None = None, effort: str = "fast") -> HoldoutSelection:
     """Choose the order by hold-out (rule in the module docstring).
 
     Parameters
@@ -164,7 +164,7 @@ def holdout_order(frf, *, max_order: int = 30, dc_gain=None, stable: bool = True
         Data with ``T``.
     max_order : int
         Largest order tried (fewer when the fitting half cannot support it).
-    dc_gain, stable, algorithm
+    dc_gain, stable, algorithm, effort
         As for :func:`sysid.identify` (``dc_gain`` is None or a (p, m) array; ``"match"`` is resolved by the
         caller so that the held-out half keeps the full data's DC value).
     workers : int, optional
@@ -183,7 +183,7 @@ def holdout_order(frf, *, max_order: int = 30, dc_gain=None, stable: bool = True
     den = np.maximum(np.sqrt(np.mean(np.abs(Hv) ** 2, axis=(1, 2))), np.finfo(float).tiny)
     orders = np.arange(1, max_order + 1)
     workers = min(os.cpu_count() or 1, 8) if workers is None else int(workers)
-    results = _holdout_errors(part, val, den, orders, dc_gain, stable, algorithm, workers)
+    results = _holdout_errors(part, val, den, orders, dc_gain, stable, algorithm, workers, effort)
     errs = np.full(orders.size, np.nan)
     for i, e in enumerate(results):
         if e == "order":
@@ -278,7 +278,7 @@ class FitOutcome:
 
 
 def fit_data(frf, *, order: int | str = "auto", dc_gain: str = "auto", stable: bool = True, T: float | None = None,
-             max_order: int = 30, algorithm: str = "auto") -> FitOutcome:
+             max_order: int = 30, algorithm: str = "auto", effort: str = "fast") -> FitOutcome:
     """Diagnose, choose the order and identify a ROM.
 
     Parameters
@@ -296,6 +296,8 @@ def fit_data(frf, *, order: int | str = "auto", dc_gain: str = "auto", stable: b
         For ``order="auto"``.
     algorithm : {"auto", "relocation", "subspace"}
         :func:`sysid.identify`'s (``"subspace"`` with ``--dc-gain none --no-stable`` is the paper's method).
+    effort : {"fast", "thorough"}
+        :func:`sysid.identify`'s (the relocation's candidates), for the hold-out fits and the final one.
 
     Returns
     -------
@@ -356,7 +358,8 @@ def fit_data(frf, *, order: int | str = "auto", dc_gain: str = "auto", stable: b
     check_nonzero_outputs(frf.H, frf.outputs)  # before the hold-out fits, which would skip every order for it
     selection = None
     if order == "auto":
-        selection = holdout_order(frf, max_order=max_order, dc_gain=dc, stable=stable, algorithm=algorithm)
+        selection = holdout_order(frf, max_order=max_order, dc_gain=dc, stable=stable, algorithm=algorithm,
+                                  effort=effort)
         n = selection.chosen
     else:
         n = int(order)
@@ -365,7 +368,7 @@ def fit_data(frf, *, order: int | str = "auto", dc_gain: str = "auto", stable: b
     try:
         with warnings.catch_warnings(record=True) as caught:   # reported with the fit, not as Python warnings
             warnings.simplefilter("always")
-            res = sysid.identify(frf, n, dc_gain=dc, stable=stable, algorithm=algorithm)
+            res = sysid.identify(frf, n, dc_gain=dc, stable=stable, algorithm=algorithm, effort=effort)
     except sysid.OrderError as e:
         raise FitInputError(src, "--order", str(e)) from None
     notes = tuple(dict.fromkeys(str(w.message) for w in list(caught_diag) + list(caught)
@@ -374,7 +377,7 @@ def fit_data(frf, *, order: int | str = "auto", dc_gain: str = "auto", stable: b
         if not issubclass(w.category, RuntimeWarning):
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     options = {"order": order, "dc_gain": dc_gain, "stable": bool(stable), "max_order": max_order,
-               "algorithm": res.algorithm}
+               "algorithm": res.algorithm, "effort": effort}
     if given_dc is not None:
         options["dc_values"] = given_dc
     return FitOutcome(data=frf, diagnostics=diag, result=res, selection=selection, T_rule=T_rule, options=options,
@@ -529,7 +532,9 @@ def summary_markdown(out: FitOutcome, data_path, command: str | None = None) -> 
     lines += ["", "## Fit (`sysid.identify`)", ""]
     enf = ", ".join(k for k, v in res.enforced.items() if v) or "none"
     lines += [f"- options: dc_gain={out.options['dc_gain']}, stable={out.options['stable']}; algorithm "
-              f"{out.options.get('algorithm', res.algorithm)}; enforced: {enf}",
+              f"{out.options.get('algorithm', res.algorithm)}"
+              + (f" (effort {out.options['effort']})" if res.algorithm == "relocation" and "effort" in out.options
+                 else "") + f"; enforced: {enf}",
               f"- spectral radius {res.spectral_radius:.6f} ({'stable' if res.spectral_radius < 1 else 'UNSTABLE'})",
               f"- continuous poles (s in rad per {_time_unit(frf).split(' (')[0]}, by the inverse bilinear map s = "
               f"(2/T)(z - 1)/(z + 1)): "
@@ -680,6 +685,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="sysid.identify's algorithm: relocation (pole relocation, the default for one input or "
                         "output with --stable or a DC gain), subspace (McKelvey + convex refits; with --dc-gain none "
                         "--no-stable the paper's method); default auto")
+    p.add_argument("--effort", choices=("fast", "thorough"), default="fast",
+                   help="the relocation's candidates (sysid.identify's effort): fast (default) or thorough (about "
+                        "twice the time, for errors equal on average on the aerofoil data)")
     p.add_argument("--T", default=None, metavar="T",
                    help="sampling period of the bilinear map (in the time unit of the frequencies: c/U for omega or "
                         "k, seconds for rad/s or Hz; e.g. 70/(2*pi)); default the file's, else "
@@ -767,7 +775,7 @@ def cmd_fit(args) -> int:
         return EXIT_NOT_WRITTEN
     try:
         out = fit_data(frf, order=order, dc_gain=dc_gain, stable=args.stable, T=T,
-                       max_order=args.max_order, algorithm=args.algorithm)
+                       max_order=args.max_order, algorithm=args.algorithm, effort=args.effort)
     except FitInputError as e:
         err(str(e))
         return EXIT_BAD_INPUT

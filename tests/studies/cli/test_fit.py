@@ -135,6 +135,20 @@ def test_holdout_errors_do_not_depend_on_the_worker_processes(files, workers):
     assert sel.chosen == ref.chosen == 4
 
 
+def test_effort_reaches_the_fit_and_the_summary(files, tmp_path):
+    # --effort thorough is passed to sysid.identify (the relocation's candidates) and named in summary.md; on the
+    # noise-free synthetic system both efforts recover the true poles
+    for effort in ("fast", "thorough"):
+        out = fit_data(load_data(files["csv"]), order=4, effort=effort)
+        assert out.options["effort"] == effort and out.result.algorithm == "relocation"
+        assert match(continuous_poles(out.result), POLES) < 1e-7
+    assert cli.main(["fit", str(files["csv"]), "--order", "4", "--effort", "thorough", "--no-figures", "--quiet",
+                     "--out", str(tmp_path / "o")]) == 0
+    assert "(effort thorough)" in (tmp_path / "o" / "summary.md").read_text()
+    with pytest.raises(SystemExit):
+        cli.main(["fit", str(files["csv"]), "--effort", "quick"])
+
+
 def test_order_auto_picks_the_true_order_mckelvey_grid(tmp_path):
     sys.path.insert(0, str(ROOT / "tests" / "sysid"))
     from sysid_synth import freqresp, random_system
