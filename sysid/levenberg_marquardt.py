@@ -121,7 +121,8 @@ def bounded_levenberg_marquardt(residual, jacobian, x0, lower=None, upper=None, 
         accepted = False
         while nfev < max_nfev:
             p = _trust_step(sv, uf, Vt, radius)
-            xt = np.clip(x + p / d, lo + _TO_BOUND * (x - lo), hi - _TO_BOUND * (hi - x))
+            xt = np.clip(x + p / d, lo + _TO_BOUND * np.where(np.isfinite(lo), x - lo, 0.0),
+                         hi - _TO_BOUND * np.where(np.isfinite(hi), hi - x, 0.0))   # (an infinite bound stays put)
             step = xt - x
             p_len = float(np.linalg.norm(d * step))
             if p_len <= xtol * (xtol + float(np.linalg.norm(d * x))):
