@@ -13,8 +13,10 @@ import is about half of a first identification's import time):
 - the radius update of Nocedal & Wright's Algorithm 4.1 (a quarter of the step after a poor gain ratio, double
   after a good one that reached the boundary);
 - bounds by projection: a trial point is clipped to the box, short of each bound by :data:`_TO_BOUND` of the
-  distance left, and its gain ratio uses the clipped step's own predicted reduction ``-(2 g . dx + |J dx|^2)``,
-  so a step that the box shortens is judged by what it can do.
+  distance left (and by at least one ulp), the free variables' step is solved again with the clipped ones held
+  (so that the iterates converge to the bounded minimum, not to the clipped unconstrained step), and its gain
+  ratio uses the clipped step's own predicted reduction ``-(2 g . dx + |J dx|^2)``, so a step that the box
+  shortens is judged by what it can do.
 
 A residual that returns non-finite values, or the caller's sentinel of a rejected point (any residual of a cost
 above the current one), is a rejected step.
@@ -118,11 +120,23 @@ def bounded_levenberg_marquardt(residual, jacobian, x0, lower=None, upper=None, 
         uf = U.T @ qtr
         if radius is None:
             radius = float(np.linalg.norm(d * x)) or 1.0
+        # a trial point stops short of each bound by _TO_BOUND of the distance left, and at least one ulp (else
+        # x + 0.9 (hi - x) rounds onto hi once hi - x is below an ulp of hi); an infinite bound stays put
+        lo_t = np.maximum(lo + _TO_BOUND * np.where(np.isfinite(lo), x - lo, 0.0), np.nextafter(lo, np.inf))
+        hi_t = np.minimum(hi - _TO_BOUND * np.where(np.isfinite(hi), hi - x, 0.0), np.nextafter(hi, -np.inf))
+        lo_t, hi_t = np.minimum(lo_t, x), np.maximum(hi_t, x)   # (a start on a bound stays where it is)
         accepted = False
         while nfev < max_nfev:
             p = _trust_step(sv, uf, Vt, radius)
-            xt = np.clip(x + p / d, lo + _TO_BOUND * np.where(np.isfinite(lo), x - lo, 0.0),
-                         hi - _TO_BOUND * np.where(np.isfinite(hi), hi - x, 0.0))   # (an infinite bound stays put)
+            xt = np.clip(x + p / d, lo_t, hi_t)
+            held = xt != x + p / d
+            if held.any() and not held.all():
+                # the free variables' best step with the clipped ones held where the box stopped them (without it
+                # the free ones keep the unconstrained step's values and the iterates end off the bounded minimum)
+                free = ~held
+                U2, sv2, Vt2 = np.linalg.svd(R[:, free] / d[free], full_matrices=False)
+                q = _trust_step(sv2, U2.T @ (qtr + R[:, held] @ (xt - x)[held]), Vt2, radius)
+                xt[free] = np.clip(x[free] + q / d[free], lo_t[free], hi_t[free])
             step = xt - x
             p_len = float(np.linalg.norm(d * step))
             if p_len <= xtol * (xtol + float(np.linalg.norm(d * x))):
