@@ -7,7 +7,7 @@ import is about half of a first identification's import time):
 - the Levenberg-Marquardt step in its trust-region form (Moré 1978, "The Levenberg-Marquardt algorithm:
   implementation and theory", Lecture Notes in Mathematics 630, 105-116): ``min |J dx + r|`` with
   ``|D dx| <= radius``, ``D`` the largest column norms of ``J`` seen so far (the step does not depend on the
-  parameters' units), solved from the SVD of the triangular factor of ``J`` (``n_par`` rows, one QR of ``J``
+  parameters' units), solved from the SVD of the triangular factor of ``J`` (``n_par`` rows, one QR of ``[J r]``
   per accepted point) by Hebden's iteration for the damping (Nocedal & Wright 2006, "Numerical Optimization",
   Algorithm 4.3);
 - the radius update of Nocedal & Wright's Algorithm 4.1 (a quarter of the step after a poor gain ratio, double
@@ -108,8 +108,12 @@ def bounded_levenberg_marquardt(residual, jacobian, x0, lower=None, upper=None, 
         njev += 1
         scale = np.maximum(scale, np.linalg.norm(J, axis=0))
         d = np.where(scale > 0, scale, 1.0)
-        R = np.linalg.qr(J, mode="r")
-        qtr = np.linalg.lstsq(R.T, J.T @ r, rcond=None)[0] if n_par else np.zeros(0)   # Q^T r, as R^T (Q^T r) = J^T r
+        # R and Q^T r from one QR of [J r] (Q^T r is the top of its last column): Householder QR scales with the
+        # columns, so the step does not depend on the parameters' units to round-off (Q^T r solved from
+        # R^T (Q^T r) = J^T r loses digits in proportion to cond(R), which a units change multiplies)
+        Rr = np.linalg.qr(np.column_stack([J, r]), mode="r")
+        k = min(J.shape[0], n_par)
+        R, qtr = Rr[:k, :n_par], Rr[:k, n_par]
         g = J.T @ r
         if np.max(np.abs(g) / d, initial=0.0) <= gtol * max(cost, np.finfo(float).tiny):
             status = "gtol"
