@@ -7,14 +7,16 @@ import is about half of a first identification's import time):
 - the Levenberg-Marquardt step in its trust-region form (Moré 1978, "The Levenberg-Marquardt algorithm:
   implementation and theory", Lecture Notes in Mathematics 630, 105-116): ``min |J dx + r|`` with
   ``|D dx| <= radius``, ``D`` the largest column norms of ``J`` seen so far (the step does not depend on the
-  parameters' units), solved from the SVD of the triangular factor of ``J`` (``n_par`` rows, one QR of ``J``
+  parameters' units), solved from the SVD of the triangular factor of ``J`` (``n_par`` rows, one QR of ``[J r]``
   per accepted point) by Hebden's iteration for the damping (Nocedal & Wright 2006, "Numerical Optimization",
   Algorithm 4.3);
 - the radius update of Nocedal & Wright's Algorithm 4.1 (a quarter of the step after a poor gain ratio, double
   after a good one that reached the boundary);
 - bounds by projection: a trial point is clipped to the box, short of each bound by :data:`_TO_BOUND` of the
-  distance left, and its gain ratio uses the clipped step's own predicted reduction ``-(2 g . dx + |J dx|^2)``,
-  so a step that the box shortens is judged by what it can do.
+  distance left (and by at least one ulp), the free variables' step is solved again with the clipped ones held
+  (so that the iterates converge to the bounded minimum, not to the clipped unconstrained step), and its gain
+  ratio uses the clipped step's own predicted reduction ``-(2 g . dx + |J dx|^2)``, so a step that the box
+  shortens is judged by what it can do.
 
 A residual that returns non-finite values, or the caller's sentinel of a rejected point (any residual of a cost
 above the current one), is a rejected step.
@@ -93,6 +95,13 @@ def bounded_levenberg_marquardt(residual, jacobian, x0, lower=None, upper=None, 
     lo = np.full(n_par, -np.inf) if lower is None else np.broadcast_to(np.asarray(lower, dtype=float), (n_par,))
     hi = np.full(n_par, np.inf) if upper is None else np.broadcast_to(np.asarray(upper, dtype=float), (n_par,))
     x = np.clip(x, lo, hi)
+    # a start on a bound is moved just inside it (1e-9 of the bound's scale, at most half the box): the trial
+    # points stop short of a bound by a fraction of the distance left, so a parameter on its bound could not move
+    both = np.isfinite(lo) & np.isfinite(hi)
+    nudge = np.minimum(1e-9 * np.maximum(1.0, np.maximum(np.abs(np.where(np.isfinite(lo), lo, 0.0)),
+                                                         np.abs(np.where(np.isfinite(hi), hi, 0.0)))),
+                       np.where(both, 0.5 * (hi - lo), np.inf))
+    x = np.where(x <= lo, lo + nudge, np.where(x >= hi, hi - nudge, x))
     r = np.asarray(residual(x), dtype=float)
     cost = float(r @ r)
     nfev, njev = 1, 0
@@ -106,8 +115,12 @@ def bounded_levenberg_marquardt(residual, jacobian, x0, lower=None, upper=None, 
         njev += 1
         scale = np.maximum(scale, np.linalg.norm(J, axis=0))
         d = np.where(scale > 0, scale, 1.0)
-        R = np.linalg.qr(J, mode="r")
-        qtr = np.linalg.lstsq(R.T, J.T @ r, rcond=None)[0] if n_par else np.zeros(0)   # Q^T r, as R^T (Q^T r) = J^T r
+        # R and Q^T r from one QR of [J r] (Q^T r is the top of its last column): Householder QR scales with the
+        # columns, so the step does not depend on the parameters' units to round-off (Q^T r solved from
+        # R^T (Q^T r) = J^T r loses digits in proportion to cond(R), which a units change multiplies)
+        Rr = np.linalg.qr(np.column_stack([J, r]), mode="r")
+        k = min(J.shape[0], n_par)
+        R, qtr = Rr[:k, :n_par], Rr[:k, n_par]
         g = J.T @ r
         if np.max(np.abs(g) / d, initial=0.0) <= gtol * max(cost, np.finfo(float).tiny):
             status = "gtol"
@@ -118,11 +131,25 @@ def bounded_levenberg_marquardt(residual, jacobian, x0, lower=None, upper=None, 
         uf = U.T @ qtr
         if radius is None:
             radius = float(np.linalg.norm(d * x)) or 1.0
+        # a trial point stops short of each bound by _TO_BOUND of the distance left, and at least one ulp (else
+        # x + 0.9 (hi - x) rounds onto hi once hi - x is below an ulp of hi); an infinite bound stays put
+        lo_t = np.maximum(lo + _TO_BOUND * np.where(np.isfinite(lo), x - lo, 0.0), np.nextafter(lo, np.inf))
+        hi_t = np.minimum(hi - _TO_BOUND * np.where(np.isfinite(hi), hi - x, 0.0), np.nextafter(hi, -np.inf))
+        lo_t, hi_t = np.minimum(lo_t, x), np.maximum(hi_t, x)   # (a start on a bound stays where it is)
         accepted = False
         while nfev < max_nfev:
             p = _trust_step(sv, uf, Vt, radius)
-            xt = np.clip(x + p / d, np.where(np.isfinite(lo), lo + _TO_BOUND * (x - lo), lo),
-                         np.where(np.isfinite(hi), hi - _TO_BOUND * (hi - x), hi))
+            xt = np.clip(x + p / d, lo_t, hi_t)
+            pinned = (xt != x + p / d) & (np.abs(xt - x) <= 1e-12 * np.maximum(1.0, np.abs(x)))
+            if pinned.any() and not pinned.all():
+                # parameters held on their bound (the step pushes them out, and they have no room left): the other
+                # parameters' best step with those held, else the coupled step of a held one keeps the others off
+                # the bounded minimum (a start on x1 = hi of Rosenbrock's box never moved). Parameters merely
+                # approaching a bound keep the clipped joint step (see _TO_BOUND)
+                free = ~pinned
+                U2, sv2, Vt2 = np.linalg.svd(R[:, free] / d[free], full_matrices=False)
+                q = _trust_step(sv2, U2.T @ (qtr + R[:, pinned] @ (xt - x)[pinned]), Vt2, radius)
+                xt[free] = np.clip(x[free] + q / d[free], lo_t[free], hi_t[free])
             step = xt - x
             p_len = float(np.linalg.norm(d * step))
             if p_len <= xtol * (xtol + float(np.linalg.norm(d * x))):
