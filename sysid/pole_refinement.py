@@ -132,6 +132,8 @@ class _Projection:
         self.s, self.Hs, self.W, self.common_w, self.fixed_d = s, Hs, W, common_w, fixed_d
         self.dc, self.ft, self.mu, self.ridge, self.template, self.floor = dc, ft, mu, ridge, template, floor
         self.s0 = np.array([0.0 + 0j])
+        self.s_all = np.concatenate([s, self.s0])   # the samples, then s = 0 (the DC penalty's row)
+        self._hr = None
         from scipy.linalg import solve_triangular
 
         self._solve_triangular = solve_triangular
@@ -148,36 +150,53 @@ class _Projection:
         if key == self._prev[0]:   # back at the last point after a rejected trial (the Jacobian is wanted there)
             self._prev, (self._key, self._r, self._state) = (self._key, self._r, self._state), self._prev
             return self._r
-        s, W, P, K = self.s, self.W, self.Hs.shape[0], self.Hs.shape[1]
+        W, P, K = self.W, self.Hs.shape[0], self.Hs.shape[1]
         pl = params_to_poles(x, self.template, self.floor)
-        Phi = partial_fraction_basis(s, pl)
-        b0 = partial_fraction_basis(self.s0, pl)[0].real
+        basis = partial_fraction_basis(self.s_all, pl)   # the samples and s = 0 in one evaluation
+        Phi, b0 = basis[:K], basis[K].real
         if not self.fixed_d:
             Phi = np.hstack([Phi, np.ones((K, 1))])
             b0 = np.concatenate([b0, [1.0]])
-        rs, parts = [], []
-        Q = None
-        for c in range(P):
-            hc = [W[c] * self.Hs[c].real, W[c] * self.Hs[c].imag]
-            if self.dc is not None:
-                hc.append(np.array([self.mu * (self.dc[c] - (self.ft[c] if self.fixed_d else 0.0))]))
-            hr = np.concatenate(hc)
-            hr = np.concatenate([hr, np.zeros(Phi.shape[1])])
-            if Q is None or not self.common_w:  # the regression matrix is shared when the weights are
-                Ac = W[c][:, None] * Phi
-                rows = [Ac.real, Ac.imag] + ([self.mu * b0[None, :]] if self.dc is not None else []) + [self.ridge]
-                Ar = np.vstack(rows)
-                Q, R = np.linalg.qr(Ar)
-                dR = np.abs(np.diag(R))
-                if not dR.min() > 1e-14 * dR.max():  # coincident poles: reject this step
-                    return self._remember(key, _bad_step(P, K, self.dc, x, Phi.shape[1])[0], None)
-            th = self._solve_triangular(R, Q.T @ hr)
-            rs.append(Ar @ th - hr)
-            parts.append((Ar, Q, th))
-        r = np.concatenate(rs)
+        HR = self._data_rows(Phi.shape[1])   # (rows, P)
+        mats = []
+        for c in range(P if not self.common_w else 1):   # the regression matrix is shared when the weights are
+            Ac = W[c][:, None] * Phi
+            rows = [Ac.real, Ac.imag] + ([self.mu * b0[None, :]] if self.dc is not None else []) + [self.ridge]
+            Ar = np.vstack(rows)
+            Q, R = np.linalg.qr(Ar)
+            dR = np.abs(np.diag(R))
+            if not dR.min() > 1e-14 * dR.max():  # coincident poles: reject this step
+                return self._remember(key, _bad_step(P, K, self.dc, x, Phi.shape[1])[0], None)
+            mats.append((Ar, Q, R))
+        if self.common_w:   # every channel's coefficients from one triangular solve
+            Ar, Q, R = mats[0]
+            TH = self._solve_triangular(R, Q.T @ HR)   # (N, P)
+            res = Ar @ TH - HR
+            parts = [(Ar, Q, TH[:, c]) for c in range(P)]
+        else:
+            parts, cols = [], []
+            for c, (Ar, Q, R) in enumerate(mats):
+                th = self._solve_triangular(R, Q.T @ HR[:, c])
+                cols.append(Ar @ th - HR[:, c])
+                parts.append((Ar, Q, th))
+            res = np.stack(cols, axis=1)
+        r = res.T.reshape(-1)   # channel by channel, as the Jacobian's rows
         if not np.all(np.isfinite(r)):
             return self._remember(key, np.full(r.shape, 1e10), None)
         return self._remember(key, r, (pl, parts))
+
+    def _data_rows(self, n_cols: int) -> np.ndarray:
+        """The weighted data of every channel as the regression's right-hand sides, shape (rows, P) (cached)."""
+        if self._hr is None or self._hr.shape[0] != 2 * self.Hs.shape[1] + (self.dc is not None) + n_cols:
+            cols = []
+            for c in range(self.Hs.shape[0]):
+                hc = [self.W[c] * self.Hs[c].real, self.W[c] * self.Hs[c].imag]
+                if self.dc is not None:
+                    hc.append(np.array([self.mu * (self.dc[c] - (self.ft[c] if self.fixed_d else 0.0))]))
+                hc.append(np.zeros(n_cols))
+                cols.append(np.concatenate(hc))
+            self._hr = np.stack(cols, axis=1)
+        return self._hr
 
     def jacobian(self, x: np.ndarray, *_) -> np.ndarray:
         """Kaufman's Jacobian ``P_perp (dPhi / dx) theta`` of :meth:`residual` at ``x``, shape (rows, n_par)."""
@@ -185,18 +204,24 @@ class _Projection:
         if self._state is None:   # a rejected point: the residual says so, the Jacobian is zero
             return np.zeros((r.size, x.size))
         pl, parts = self._state
-        s, W = self.s, self.W
-        fac, fac0 = derivative_factors(s, pl, self.floor), derivative_factors(self.s0, pl, self.floor)
-        Js = []
+        W, K = self.W, self.Hs.shape[1]
+        fac = derivative_factors(self.s_all, pl, self.floor)   # the samples and s = 0 together
+        Vs = []
         for c, (Ar, Q, th) in enumerate(parts):
-            V = W[c][:, None] * derivative_columns(s, pl, th, self.floor, fac)  # (K, n_par): (dPhi/dx_q) theta
+            D = derivative_columns(self.s_all, pl, th, self.floor, fac)  # (K + 1, n_par): (dPhi/dx_q) theta
+            V = W[c][:, None] * D[:K]
             rows = [V.real, V.imag]
             if self.dc is not None:
-                rows.append(self.mu * derivative_columns(self.s0, pl, th, self.floor, fac0).real)
+                rows.append(self.mu * D[K:].real)
             rows.append(np.zeros((Ar.shape[1], V.shape[1])))  # the ridge rows do not depend on the poles
-            V = np.vstack(rows)
-            Js.append(V - Q @ (Q.T @ V))  # Kaufman: the projection onto the complement of range(Ar)
-        J = np.vstack(Js)
+            Vs.append(np.vstack(rows))
+        if self.common_w:   # one projection for every channel (Kaufman: onto the complement of range(Ar))
+            Q = parts[0][1]
+            V = np.hstack(Vs)
+            V = V - Q @ (Q.T @ V)
+            J = np.vstack(np.hsplit(V, len(parts)))
+        else:
+            J = np.vstack([V - Q @ (Q.T @ V) for V, (_, Q, _) in zip(Vs, parts)])
         if not np.all(np.isfinite(J)):   # (not seen: the residual at x was finite) a zero Jacobian ends the run here
             return np.zeros(J.shape)
         return J
@@ -209,7 +234,7 @@ class _Projection:
 
 
 def refine_poles(s, H, poles, *, weights=None, dc=None, ft=None, max_nfev: int = 60, region=None,
-                 ridge_weight: float = 1e-4):
+                 ridge_weight: float = 1e-4, min_real: float | None = None):
     """Gauss-Newton refinement of stable poles by variable projection.
 
     Minimises over the poles ``sum_c ||W_c (f_c(s_k) - H_c(s_k))||^2 + mu^2 sum_c (f_c(0) - dc_c)^2``, where
@@ -239,6 +264,12 @@ def refine_poles(s, H, poles, *, weights=None, dc=None, ft=None, max_nfev: int =
     ridge_weight : float
         Tikhonov term ``ridge_weight * ||phi_l|| * theta_cl`` per coefficient (column norms at the start),
         which keeps poles from merging with huge cancelling residues.
+    min_real : float, optional
+        Smallest ``|a|`` of a real pole (with ``region``): a real pole much slower than the first nonzero sample
+        frequency changes the response between ``omega = 0`` and that sample, where nothing was measured (the
+        refinement put one on the stability margin, ``|a| = 9e-5`` against a first sample at ``1.1e-3``, which
+        matched the DC gain and left the response between those two samples free). Default: the region's floor
+        at ``omega = 0`` when it has one, else none.
 
     Returns
     -------
@@ -272,12 +303,12 @@ def refine_poles(s, H, poles, *, weights=None, dc=None, ft=None, max_nfev: int =
         hi = np.full(x0.size, np.log(min(-(c0 - r0), smax)))
         is_im = _imag_param_mask(poles)
         lo[is_im], hi[is_im] = -smax, smax
-        if floor is not None:   # a real pole is no narrower than a pair at omega = 0 may be
+        f0_real = max(float(np.interp(0.0, *floor)) if floor is not None else 0.0, min_real or 0.0)
+        if f0_real > 0:   # a real pole is no narrower than a pair at omega = 0 may be
             is_real = np.ones(x0.size, dtype=bool)
             is_real[is_im] = False
             is_real[np.flatnonzero(is_im) - 1] = False
-            f0_real = float(np.interp(0.0, *floor))
-            lo[is_real] = np.maximum(lo[is_real], np.log(max(f0_real, 1e-300)))
+            lo[is_real] = np.maximum(lo[is_real], np.log(f0_real))
         x0 = np.clip(x0, lo + 1e-9 * np.abs(lo), hi - 1e-9 * np.abs(hi))
         bounds = (lo, hi)
     f0 = problem.residual(x0)

@@ -112,6 +112,9 @@ EFFORTS = {
     "thorough": dict(iterations=12, lawson=5, refine=None, minimax=2, gap_refits=3, floored_starts="all",
                      floored_iterations=None),
 }
+#: Candidates (best first) that may get the bounded residue fit in the floored pass, until ``gap_refits`` of them
+#: meet the bounds (:data:`EFFORTS`).
+_GAP_TRIES = 3
 #: A fit that breaks the gap bounds is still taken when its worst error is this many times smaller than that
 #: of every fit within them (:func:`pick_candidates`): the data then determine the resonance.
 _TRUST_FACTOR = 100.0
@@ -193,7 +196,7 @@ def at_noise_level(err, noise) -> bool:
 
 
 def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson, refine, minimax, budget, region,
-              minimax_rounds=0, bound_gaps=False, minimax_within=None, gap_refits=3):
+              minimax_rounds=0, bound_gaps=False, minimax_within=None, gap_refits=3, min_real=None):
     """One-input fit: poles relocated on all outputs, residues by convex fits. Returns the candidates (dicts
     with ``err``, ``eq`` and ``gap``, see :func:`pick_candidates`); with ``bound_gaps`` the leading ones that
     break the :func:`gap_bounds` get bounded minimax residues (:func:`sysid.candidates.bound_candidate_gaps`)."""
@@ -228,7 +231,8 @@ def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson,
 
     def refine_from(c):
         pr = refine_poles(s, Hn, c["poles"], weights=Wf, dc=None if dc is None else dc[:, 0] / peak,
-                          ft=None if ft is None else ft[:, 0] / peak, max_nfev=_REFINE_NFEV, region=region)
+                          ft=None if ft is None else ft[:, 0] / peak, max_nfev=_REFINE_NFEV, region=region,
+                          min_real=min_real)
         if pr is not c["poles"]:
             finish(c["label"] + "+gn", pr, c["its"], refined=True)
 
@@ -310,9 +314,13 @@ def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson,
     if bound_gaps:
         wbm = np.broadcast_to(1.0 / peak[:, None, None], (p, 1, K))
         cands.sort(key=lambda c: candidate_score(c["err"]))
-        for c in cands[:gap_refits]:
+        met = 0
+        for c in cands[:_GAP_TRIES]:   # the leading candidates until gap_refits of them meet the bounds
+            if met >= gap_refits:
+                break
             if c["gap"] > 1.0 and time.perf_counter() - t0 <= budget:
                 bound_candidate_gaps(c, z, G, dc, ft, wbm, zb, ub, peak, within=minimax_within)
+            met += int(c["gap"] <= 1.0 + 1e-6)
     return cands
 
 
@@ -513,7 +521,8 @@ def _fit_relocated(omega, z, G, T, order, *, dc_gain, feedthrough, weights, star
         kw = dict(iterations=iterations, lawson=lawson, minimax_within=minimax_within,
                   refine=(3 if nj <= 40 else 2) if refine is None else refine,  # (the thorough default)
                   minimax=minimax, minimax_rounds=minimax_rounds, budget=np.inf if budget is None else budget / m,
-                  gap_refits=plan["gap_refits"])
+                  gap_refits=plan["gap_refits"],
+                  min_real=float(np.interp(0.0, *resolution_floor(omega, resolution))) if resolution > 0 else None)
         # free poles first; where the best fit breaks the gap bounds (a resonance the samples do not see), the
         # poles again with the resolution floor and bounded residues, and the best admissible of both
         cands = pick_candidates(_fit_simo(*args, region=region, **kw))
