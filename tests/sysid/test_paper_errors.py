@@ -14,7 +14,7 @@ layout.
 - The paper's method (subspace + least squares, no constraint) is smooth in the data: pinned to 10 x its spread
   (at least 1e-6 relative).
 - The default method (exact DC gain and stability, pole relocation, ``effort="fast"``) is smooth at T2, T3 and
-  T6 N_r = 35, pinned the same way; at T1, T4, T5 and T6 N_r = 25 round-off moves its errors by 0.6 % - 820 % (the
+  T6 N_r = 35, pinned the same way; at T1, T4, T5 and T6 N_r = 25 round-off moves its errors by 0.6 % - 260 % (the
   Gauss-Newton and bounded refits take other paths): there only an upper bound, the pinned error times
   (1 + 3 SPREAD), and stability are checked, which still fails a change that makes the default worse by more than
   round-off can.
@@ -40,25 +40,25 @@ PINNED = [
     ("T1", 256, 25, "paper", 3.5437520e-03, 1.5341380e-02, 4.6e-12),
     ("T1", 256, 25, "dc_stable", 1.1405907e-03, 1.5969433e-03, 5.8e-03),
     ("T2", 32, 9, "paper", 1.0056748e-02, 4.3515816e-01, 6.8e-13),
-    ("T2", 32, 9, "dc_stable", 3.7028553e-02, 4.7920256e-01, 1.3e-08),
+    ("T2", 32, 9, "dc_stable", 4.2778894e-02, 5.5859661e-01, 4.6e-09),
     ("T2", 32, 25, "paper", 1.5421756e-02, 5.3183701e-01, 3.1e-11),
     ("T2", 32, 25, "dc_stable", 2.2071403e-02, 4.4176576e-01, 6.7e-08),
     ("T2", 256, 9, "paper", 2.8769934e-02, 7.0490283e-01, 3.1e-13),
-    ("T2", 256, 9, "dc_stable", 1.0062696e-02, 4.3776326e-02, 5.1e-11),
+    ("T2", 256, 9, "dc_stable", 1.0062696e-02, 4.3776326e-02, 5.2e-11),
     ("T2", 256, 25, "paper", 4.0700693e-03, 1.5165738e-01, 6.5e-12),
-    ("T2", 256, 25, "dc_stable", 3.2650798e-03, 2.6855860e-03, 1.9e-11),
+    ("T2", 256, 25, "dc_stable", 3.2650798e-03, 2.6855860e-03, 2.9e-10),
     ("T3", 256, 25, "paper", 1.4328880e-03, 7.0814970e-03, 3.3e-12),
-    ("T3", 256, 25, "dc_stable", 1.3423188e-04, 1.5761329e-04, 8.4e-09),
+    ("T3", 256, 25, "dc_stable", 1.3423188e-04, 1.5761329e-04, 9.7e-09),
     ("T4", 256, 25, "paper", 1.9951880e-02, 5.8377161e-01, 1.7e-08),
-    ("T4", 256, 25, "dc_stable", 1.7036493e-02, 2.1744201e-02, 6.3e-01),
+    ("T4", 256, 25, "dc_stable", 1.0227971e-02, 1.0213197e-02, 3.4e-02),
     ("T5", 256, 25, "paper", 5.4702194e-03, 2.3279375e-01, 2.0e-10),
-    ("T5", 256, 25, "dc_stable", 7.9858367e-03, 7.6196289e-03, 5.8e-01),
+    ("T5", 256, 25, "dc_stable", 8.5733603e-03, 1.2667229e-02, 6.4e-01),
     ("T5", 256, 55, "paper", 5.4119961e-04, 9.1042372e-03, 1.1e-05),
-    ("T5", 256, 55, "dc_stable", 2.0877494e-03, 1.1771482e-03, 8.2e+00),
+    ("T5", 256, 55, "dc_stable", 1.2826159e-03, 1.1755198e-03, 2.6e+00),
     ("T6", 256, 25, "paper", 4.1058135e-03, 8.6068170e-02, 2.6e-11),
     ("T6", 256, 25, "dc_stable", 2.6034062e-03, 1.3393727e-02, 2.5e-01),
     ("T6", 256, 35, "paper", 1.3571085e-03, 3.0620915e-02, 2.9e-11),
-    ("T6", 256, 35, "dc_stable", 1.1232402e-03, 1.7398320e-02, 1.1e-10),
+    ("T6", 256, 35, "dc_stable", 1.1343846e-03, 1.8004107e-02, 2.4e-10),
 ]
 SMOOTH = 1e-3   # a spread below this: pinned to a tolerance; above: an upper bound
 
