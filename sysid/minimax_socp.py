@@ -19,6 +19,8 @@ iterations, when the normal equations lose positive definiteness or when the ite
 (e.g. an infeasible bounded programme), and the caller falls back to a general-purpose conic solver.
 """
 
+import math
+
 import numpy as np
 
 __all__ = ["minimax_socp", "MAX_ITER", "STEP_FRACTION"]
@@ -30,6 +32,7 @@ MAX_ITER = 60
 STEP_FRACTION = 0.99
 
 _J = np.array([1.0, -1.0, -1.0])  # the hyperbolic reflection diag(1, -1, -1)
+_Jc = _J[:, None]
 
 
 def minimax_socp(Q, g, E, f, Qb=None, ub=None, tol=1e-9):
@@ -79,55 +82,53 @@ def minimax_socp(Q, g, E, f, Qb=None, ub=None, tol=1e-9):
     n1 = n + 1
     J = 0 if Qb is None else Qb.shape[0]
     M = K + J
-    # G (M, 3, n1), h (M, 3): s = h - G x
+    # cone components first: G (3, M, n1), h (3, M), s = h - G x; row 0 the cones' heads
     QZ = Q @ Z
     r0 = Q @ y0 - g
-    G = np.zeros((M, 3, n1))
-    h = np.zeros((M, 3))
-    G[:K, 0, n] = -1.0
-    G[:K, 1, :n] = -QZ.real
-    G[:K, 2, :n] = -QZ.imag
-    h[:K, 1] = r0.real
-    h[:K, 2] = r0.imag
+    G = np.zeros((3, M, n1))
+    h = np.zeros((3, M))
+    G[0, :K, n] = -1.0
+    G[1, :K, :n] = -QZ.real
+    G[2, :K, :n] = -QZ.imag
+    h[1, :K] = r0.real
+    h[2, :K] = r0.imag
     if J:
         QbZ = Qb @ Z
         b0 = Qb @ y0
-        G[K:, 1, :n] = -QbZ.real
-        G[K:, 2, :n] = -QbZ.imag
-        h[K:, 0] = ub
-        h[K:, 1] = b0.real
-        h[K:, 2] = b0.imag
+        G[1, K:, :n] = -QbZ.real
+        G[2, K:, :n] = -QbZ.imag
+        h[0, K:] = ub
+        h[1, K:] = b0.real
+        h[2, K:] = b0.imag
     cvec = np.zeros(n1)
     cvec[n] = 1.0
     Gf = G.reshape(3 * M, n1)
-    hf = h.reshape(-1)
-    hnorm = max(1.0, float(np.abs(hf).max()))
+    hnorm = max(1.0, float(np.abs(h).max()))
     absG = np.abs(G)
-    JG = _J[None, :, None] * G
+    JG = _J[:, None, None] * G
 
     # starting point: x least squares of G x ~ h, z least norm with G^T z = -c, both shifted into the cones
     try:
         L0 = np.linalg.cholesky(Gf.T @ Gf)
     except np.linalg.LinAlgError:
         return None, {"iterations": 0, "level": np.nan, "gap": np.nan, "reason": "singular G"}
-    x = _chol_solve(L0, Gf.T @ hf)
-    s = hf - Gf @ x
-    z = -(Gf @ _chol_solve(L0, cvec))
-    s = _shift_into_cone(s.reshape(M, 3))
-    z = _shift_into_cone(z.reshape(M, 3))
+    x = _chol_solve(L0, Gf.T @ h.reshape(-1))
+    s = _shift_into_cone(h - (Gf @ x).reshape(3, M))
+    z = _shift_into_cone(-(Gf @ _chol_solve(L0, cvec)).reshape(3, M))
 
     info = {"iterations": 0, "level": np.nan, "gap": np.nan, "reason": "iteration cap"}
     for it in range(MAX_ITER):
-        rx = np.einsum("mik,mi->k", G, z) + cvec  # dual residual G^T z + c
-        rz = s + (Gf @ x).reshape(M, 3) - h  # primal residual
-        gap = float(np.einsum("mi,mi->", s, z))
+        rx = np.einsum("imk,im->k", G, z)  # dual residual G^T z + c
+        rx[n] += 1.0
+        rz = s + (Gf @ x).reshape(3, M) - h  # primal residual
+        gap = float(np.vdot(s, z))
         pcost = x[n]
         pres = float(np.abs(rz).max()) / hnorm
         # relative to the size of the terms summed in G^T z (bound rows of large gain, e.g. near a resonance,
         # carry large multipliers whose sum cancels to round-off of that size, not of 1)
-        dres = float(np.abs(rx).max()) / max(1.0, float(np.einsum("mik,mi->k", absG, np.abs(z)).max()))
+        dres = float(np.abs(rx).max()) / max(1.0, float(np.einsum("imk,im->k", absG, np.abs(z)).max()))
         info.update(iterations=it, gap=gap, primal_residual=pres, dual_residual=dres)
-        if not (np.isfinite(gap) and np.isfinite(pres) and np.isfinite(dres)):
+        if not math.isfinite(gap + pres + dres):
             info["reason"] = "not finite"
             return None, info
         if pres <= tol and dres <= tol and (gap <= tol * abs(pcost) or gap <= 1e-2 * tol):
@@ -138,51 +139,49 @@ def minimax_socp(Q, g, E, f, Qb=None, ub=None, tol=1e-9):
         # Nesterov-Todd scaling W = beta (2 v v^T - J) per cone, W z = W^-1 s = lam
         ds = _det(s)
         dz = _det(z)
-        if np.any(ds <= 0) or np.any(dz <= 0):
+        if not (ds.min() > 0.0 and dz.min() > 0.0):
             info["reason"] = "left the cone"
             return None, info
-        sb = s / np.sqrt(ds)[:, None]
-        zb = z / np.sqrt(dz)[:, None]
-        gam = np.sqrt(0.5 * (1.0 + np.einsum("mi,mi->m", sb, zb)))
-        wb = (sb + _J * zb) / (2.0 * gam)[:, None]
-        beta = (ds / dz) ** 0.25
-        v = wb.copy()
-        v[:, 0] += 1.0
-        v /= np.sqrt(2.0 * (wb[:, 0] + 1.0))[:, None]
-        u = _J * v  # W^-1 = (2 u u^T - J) / beta
-        lam = _apply(v, beta, z, inverse=False)
-        # W^-1 G and the normal equations
-        uG = np.einsum("mi,mik->mk", u, G)
+        sb = s / np.sqrt(ds)
+        zb = z / np.sqrt(dz)
+        wb = (sb + _Jc * zb) / np.sqrt(2.0 * (1.0 + np.einsum("im,im->m", sb, zb)))  # / (2 gamma)
+        beta = np.sqrt(np.sqrt(ds / dz))
+        v = wb
+        v[0] += 1.0
+        v /= np.sqrt(2.0 * v[0])
+        u = _Jc * v  # W^-1 = (2 u u^T - J) / beta
         ib = 1.0 / beta
-        Gt = (2.0 * (u * ib[:, None])[:, :, None]) * uG[:, None, :] - JG * ib[:, None, None]
+        lam = _apply(v, beta, z)
+        # W^-1 G and the normal equations
+        Gt = (2.0 * u * ib)[:, :, None] * np.einsum("im,imk->mk", u, G)[None] - JG * ib[None, :, None]
         Gtf = Gt.reshape(3 * M, n1)
-        Ri = _inverse_factor(Gtf)  # H^-1 = Gt^T Gt = Ri Ri^T
+        Ri = _inverse_factor(Gtf)  # H^-1 = (Gt^T Gt)^-1 = Ri Ri^T
         if Ri is None:
             info["reason"] = "normal equations singular"
             return None, info
-        Winv_rz = _apply(u, beta, rz, inverse=True)
+        Winv_rz = _apply(u, ib, rz)
 
         def newton(bs):
             # G^T dz = -rx, G dx + ds = -rz, lam o (W dz + W^-1 ds) = bs  ->  (dx, W^-1 ds, W dz)
             d = _jordan_div(lam, bs)
-            rhs = -rx + np.einsum("mik,mi->k", Gt, -Winv_rz - d)
-            dx = Ri @ (Ri.T @ rhs)
-            wdz = (Gtf @ dx).reshape(M, 3) + d + Winv_rz
+            e = -Winv_rz - d
+            dx = Ri @ (Ri.T @ (Gtf.T @ e.reshape(-1) - rx))
+            wdz = (Gtf @ dx).reshape(3, M) - e
             return dx, d - wdz, wdz
 
         lamsq = _jordan(lam, lam)
-        lam2 = np.concatenate([lam, lam])
+        lam2 = np.concatenate([lam, lam], axis=1)
         qc = np.concatenate([_det(lam)] * 2)
         dxa, dsa, dza = newton(-lamsq)
-        alpha_a = min(1.0, _max_step(lam2, np.concatenate([dsa, dza]), qc))
+        alpha_a = min(1.0, _max_step(lam2, np.concatenate([dsa, dza], axis=1), qc))
         sigma = (1.0 - alpha_a) ** 3
         bs = -lamsq - _jordan(dsa, dza)
-        bs[:, 0] += sigma * mu
+        bs[0] += sigma * mu
         dx, dst, dzt = newton(bs)
-        alpha = min(1.0, STEP_FRACTION * _max_step(lam2, np.concatenate([dst, dzt]), qc))
+        alpha = min(1.0, STEP_FRACTION * _max_step(lam2, np.concatenate([dst, dzt], axis=1), qc))
         x = x + alpha * dx
-        s = s + alpha * _apply(v, beta, dst, inverse=False)
-        z = z + alpha * _apply(u, beta, dzt, inverse=True)
+        s = s + alpha * _apply(v, beta, dst)
+        z = z + alpha * _apply(u, ib, dzt)
     info["iterations"] = MAX_ITER
     return None, info
 
@@ -212,39 +211,39 @@ def _chol_solve(L, b):
 
 
 def _det(u):
-    """``u0^2 - |u1|^2`` per cone, (M,), as a product of two sums (less cancellation near the boundary)."""
-    r = np.hypot(u[:, 1], u[:, 2])
-    return (u[:, 0] - r) * (u[:, 0] + r)
+    """``u0^2 - |u1|^2`` per cone, (M,), for ``u`` (3, M), as a product of two sums (less cancellation near
+    the boundary)."""
+    r = np.hypot(u[1], u[2])
+    return (u[0] - r) * (u[0] + r)
 
 
 def _shift_into_cone(u):
     """``u + a e`` with ``a = 1 + max(0, max_k (|u_k1| - u_k0))`` when some ``u_k`` is not strictly inside."""
-    a = float(np.max(np.hypot(u[:, 1], u[:, 2]) - u[:, 0]))
+    a = float(np.max(np.hypot(u[1], u[2]) - u[0]))
     if a >= 0.0:
         u = u.copy()
-        u[:, 0] += 1.0 + a
+        u[0] += 1.0 + a
     return u
 
 
-def _apply(p, beta, a, inverse):
-    """``W a`` (``p = v``) or ``W^-1 a`` (``p = J v``) per cone: ``(2 p (p^T a) - J a) * beta^(+-1)``."""
-    out = (2.0 * np.einsum("mi,mi->m", p, a))[:, None] * p - _J * a
-    return out / beta[:, None] if inverse else out * beta[:, None]
+def _apply(p, scale, a):
+    """``W a`` (``p = v``, ``scale = beta``) or ``W^-1 a`` (``p = J v``, ``scale = 1 / beta``) per cone:
+    ``(2 p (p^T a) - J a) * scale``."""
+    return ((2.0 * np.einsum("im,im->m", p, a)) * p - _Jc * a) * scale
 
 
 def _jordan(a, b):
     """Jordan product per cone: ``(a^T b, a0 b1 + b0 a1)``."""
-    out = a[:, 0:1] * b + b[:, 0:1] * a
-    out[:, 0] = np.einsum("mi,mi->m", a, b)
+    out = a[0] * b + b[0] * a
+    out[0] = np.einsum("im,im->m", a, b)
     return out
 
 
 def _jordan_div(lam, b):
     """``d`` with ``lam o d = b`` per cone (``lam`` strictly inside)."""
-    l0 = lam[:, 0]
-    d0 = (l0 * b[:, 0] - lam[:, 1] * b[:, 1] - lam[:, 2] * b[:, 2]) / _det(lam)
-    out = (b - d0[:, None] * lam) / l0[:, None]
-    out[:, 0] = d0
+    d0 = np.einsum("im,im->m", _Jc * lam, b) / _det(lam)
+    out = (b - d0 * lam) / lam[0]
+    out[0] = d0
     return out
 
 
@@ -254,7 +253,7 @@ def _max_step(u, d, qc):
     The first positive root of ``det(u + a d) = qa a^2 + qb a + qc`` (``qc > 0``): a path that leaves the cone
     crosses ``det = 0`` first. Roots by the cancellation-free pair ``q / qa``, ``qc / q``; ``qc = det(u)``."""
     qa = _det(d)
-    qb = 2.0 * np.einsum("mi,mi->m", u * _J, d)
+    qb = 2.0 * np.einsum("im,im->m", _Jc * u, d)
     with np.errstate(divide="ignore", invalid="ignore"):
         q = -0.5 * (qb + np.copysign(np.sqrt(qb * qb - 4.0 * qa * qc), qb))  # nan: no real root
         r = np.concatenate([q / qa, qc / q])

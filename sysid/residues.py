@@ -18,10 +18,11 @@ GAP_REFINE, GAP_SLACK, GAP_FLOOR = 8, 1.25, 0.05
 #: First stage of :func:`socp_minimax` by the dedicated interior-point method of :mod:`sysid.minimax_socp`
 #: (Clarabel only when it does not converge, and for the ``within`` second stage); False: Clarabel always.
 #: Only from :data:`DEDICATED_MIN_UNKNOWNS` unknowns on: below, its NumPy call overhead per iteration makes
-#: it no faster than Clarabel (captured T1-T6 programmes, Clarabel / dedicated time: N = 11 0.9x, N = 26
-#: 1.3x, N = 56 2.4x; ``python bench/minimax_socp_bench.py``, 2026-12-04, loaded 2-core machine).
+#: it less than 1.5 times faster than Clarabel (captured T1-T6 programmes, median Clarabel / dedicated time per
+#: programme: N = 11 1.09, 16 1.26, 21 1.49, 26 1.62, 41 2.11, 56 2.55; ``python bench/minimax_socp_bench.py
+#: --orders 10,15,20,25,40,55``, 2026-12-04, loaded 2-core machine).
 DEDICATED_SOLVER = True
-DEDICATED_MIN_UNKNOWNS = 40
+DEDICATED_MIN_UNKNOWNS = 24
 
 #: Where a pole's resonance is looked for (:func:`resonance_points`): offsets from the pole's angle, in units of
 #: its distance ``|1 - r|`` from the unit circle (the half width of the resonance peak).

@@ -194,7 +194,7 @@ def test_infeasible_bounded_falls_back_to_clarabel(N):
     assert got[1] == ref[1] and "nfeasible" in got[1]
 
 
-@pytest.mark.parametrize("N", [40, 56])
+@pytest.mark.parametrize("N", [24, 40, 56])
 def test_socp_minimax_uses_dedicated_and_agrees(N):
     """Wired in from DEDICATED_MIN_UNKNOWNS on: socp_minimax's answer is the dedicated method's."""
     rng = np.random.default_rng(N)
