@@ -12,11 +12,13 @@ Im Qb_j y)`` per bound). It is solved by a primal-dual path-following method wit
 Mehrotra's predictor-corrector (the algorithm of L. Vandenberghe, "The CVXOPT linear and quadratic cone program
 solvers", 2010, sections 3-5, specialised to a linear objective, no equality rows and 3-cones): each Newton
 system is reduced to the ``(N - c + 1)``-square normal equations ``G^T W^-2 G dx = r``, formed with the
-scalings vectorised over the cones and solved by Cholesky.
+scalings vectorised over the cones and solved by Cholesky (by the triangular factor of a QR factorisation of
+``W^-1 G`` when they are too ill-conditioned to be formed, near the optimum of bounded programmes).
 
 The solver never guesses: it returns ``None`` when it has not met its tolerances within :data:`MAX_ITER`
-iterations, when the normal equations lose positive definiteness or when the iterates stop being finite
-(e.g. an infeasible bounded programme), and the caller falls back to a general-purpose conic solver.
+iterations, when the normal equations become singular, or when an iterate leaves the cones or stops being
+finite (an infeasible bounded programme does within 5-7 iterations), and the caller falls back to a
+general-purpose conic solver.
 """
 
 import math
@@ -25,7 +27,7 @@ import numpy as np
 
 __all__ = ["minimax_socp", "MAX_ITER", "STEP_FRACTION"]
 
-#: Iteration cap (the programmes of :func:`sysid.residues.minimax_cd` take 10-25).
+#: Iteration cap (the programmes of :func:`sysid.residues.minimax_cd` on the paper data take 15-27).
 MAX_ITER = 60
 
 #: Fraction of the distance to the cone boundary taken by each step.
