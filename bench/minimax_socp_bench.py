@@ -10,6 +10,10 @@ then solved ``--repeats`` times by each solver, alternating (the machine may be 
 and the table gives per order the median time of each and the median of the per-programme ratios
 Clarabel / dedicated, the worst relative difference of the levels ``max_k |Q_k y - g_k|`` and the number of
 programmes the dedicated solver returned None on (Clarabel's fallback in ``socp_minimax``). BLAS one thread.
+
+Measured 2026-12-04 on the loaded 2-core machine (``--orders 10,15,20,25,40,55``, 5 repeats), median
+Clarabel / dedicated time per programme: N = 11 1.09, 16 1.26, 21 1.49, 26 1.62, 41 2.11, 56 2.55 (hence
+:data:`sysid.residues.DEDICATED_MIN_UNKNOWNS` = 24); no fallbacks; levels equal to 1.3e-8 relative or better.
 """
 
 from __future__ import annotations
