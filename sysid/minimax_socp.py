@@ -61,7 +61,8 @@ def minimax_socp(Q, g, E, f, Qb=None, ub=None, tol=1e-9):
         None when the method did not converge (see the module docstring); ``E y = f`` to round-off otherwise.
     info : dict
         ``iterations``, ``level`` (``max_k |Q_k y - g_k|``), ``gap`` (``s^T z``), ``primal_residual``,
-        ``dual_residual`` (relative, as in the stopping rule), ``reason``.
+        ``dual_residual`` (relative, as in the stopping rule; only computed once the other two are met),
+        ``reason``.
     """
     Q = np.asarray(Q, dtype=complex)
     g = np.asarray(g, dtype=complex)
@@ -119,6 +120,7 @@ def minimax_socp(Q, g, E, f, Qb=None, ub=None, tol=1e-9):
     z = _shift_into_cone(-(Gf @ _chol_solve(L0, cvec)).reshape(3, M))
 
     info = {"iterations": 0, "level": np.nan, "gap": np.nan, "reason": "iteration cap"}
+    gap = pres = np.nan
     for it in range(MAX_ITER):
         rx = np.einsum("imk,im->k", G, z)  # dual residual G^T z + c
         rx[n] += 1.0
@@ -126,23 +128,24 @@ def minimax_socp(Q, g, E, f, Qb=None, ub=None, tol=1e-9):
         gap = float(np.vdot(s, z))
         pcost = x[n]
         pres = float(np.abs(rz).max()) / hnorm
-        # relative to the size of the terms summed in G^T z (bound rows of large gain, e.g. near a resonance,
-        # carry large multipliers whose sum cancels to round-off of that size, not of 1)
-        dres = float(np.abs(rx).max()) / max(1.0, float(np.einsum("imk,im->k", absG, np.abs(z)).max()))
-        info.update(iterations=it, gap=gap, primal_residual=pres, dual_residual=dres)
-        if not math.isfinite(gap + pres + dres):
-            info["reason"] = "not finite"
+        if not math.isfinite(gap + pres):
+            info.update(iterations=it, gap=gap, primal_residual=pres, reason="not finite")
             return None, info
-        if pres <= tol and dres <= tol and (gap <= tol * abs(pcost) or gap <= 1e-2 * tol):
-            y = y0 + Z @ x[:n]
-            info.update(level=float(np.abs(Q @ y - g).max()), reason="converged")
-            return y, info
+        if pres <= tol and (gap <= tol * abs(pcost) or gap <= 1e-2 * tol):
+            # relative to the size of the terms summed in G^T z (bound rows of large gain, e.g. near a
+            # resonance, carry large multipliers whose sum cancels to round-off of that size, not of 1)
+            dres = float(np.abs(rx).max()) / max(1.0, float(np.einsum("imk,im->k", absG, np.abs(z)).max()))
+            if dres <= tol:
+                y = y0 + Z @ x[:n]
+                info.update(iterations=it, gap=gap, primal_residual=pres, dual_residual=dres,
+                            level=float(np.abs(Q @ y - g).max()), reason="converged")
+                return y, info
         mu = gap / M
         # Nesterov-Todd scaling W = beta (2 v v^T - J) per cone, W z = W^-1 s = lam
         ds = _det(s)
         dz = _det(z)
         if not (ds.min() > 0.0 and dz.min() > 0.0):
-            info["reason"] = "left the cone"
+            info.update(iterations=it, gap=gap, primal_residual=pres, reason="left the cone")
             return None, info
         sb = s / np.sqrt(ds)
         zb = z / np.sqrt(dz)
@@ -159,7 +162,7 @@ def minimax_socp(Q, g, E, f, Qb=None, ub=None, tol=1e-9):
         Gtf = Gt.reshape(3 * M, n1)
         Ri = _inverse_factor(Gtf)  # H^-1 = (Gt^T Gt)^-1 = Ri Ri^T
         if Ri is None:
-            info["reason"] = "normal equations singular"
+            info.update(iterations=it, gap=gap, primal_residual=pres, reason="normal equations singular")
             return None, info
         Winv_rz = _apply(u, ib, rz)
 
@@ -184,7 +187,7 @@ def minimax_socp(Q, g, E, f, Qb=None, ub=None, tol=1e-9):
         x = x + alpha * dx
         s = s + alpha * _apply(v, beta, dst)
         z = z + alpha * _apply(u, ib, dzt)
-    info["iterations"] = MAX_ITER
+    info.update(iterations=MAX_ITER, gap=gap, primal_residual=pres)
     return None, info
 
 

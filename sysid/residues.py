@@ -19,7 +19,7 @@ GAP_REFINE, GAP_SLACK, GAP_FLOOR = 8, 1.25, 0.05
 #: (Clarabel only when it does not converge, and for the ``within`` second stage); False: Clarabel always.
 #: Only from :data:`DEDICATED_MIN_UNKNOWNS` unknowns on: below, its NumPy call overhead per iteration makes
 #: it less than 1.5 times faster than Clarabel (captured T1-T6 programmes, median Clarabel / dedicated time per
-#: programme: N = 11 1.09, 16 1.26, 21 1.49, 26 1.62, 41 2.11, 56 2.55; ``python bench/minimax_socp_bench.py
+#: programme: N = 11 1.18, 16 1.33, 21 1.48, 26 1.62, 41 2.31, 56 2.71; ``python bench/minimax_socp_bench.py
 #: --orders 10,15,20,25,40,55``, 2026-12-04, loaded 2-core machine).
 DEDICATED_SOLVER = True
 DEDICATED_MIN_UNKNOWNS = 24
