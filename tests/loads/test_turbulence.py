@@ -60,6 +60,9 @@ def _sears_le(k):
     return ((special.j0(k) - 1j * special.j1(k)) * C + 1j * special.j1(k)) * np.exp(-1j * k)
 
 
+# expected: the order-12 fit of the paper's T4 data is not pinned down between the samples above k ~ 2 (sysid.between),
+# far above the band that carries A_bar here (k < 0.05)
+@pytest.mark.filterwarnings("ignore:the order-12 model is not pinned down between the samples:RuntimeWarning")
 def test_cfd_rom_against_exact_sears():
     """A_bar of the lift of the paper's T4 ROM (NACA 0018, M 0.25, Euler LFD) against the exact Sears function.
 
@@ -82,6 +85,9 @@ def test_cfd_rom_against_exact_sears():
     assert ratio / slope_ratio == pytest.approx(1.0, abs=0.02)
 
 
+# expected: the order-12 fit of the paper's T4 data is not pinned down between the samples above k ~ 2 (sysid.between),
+# far above the band that carries A_bar here (k < 0.05)
+@pytest.mark.filterwarnings("ignore:the order-12 model is not pinned down between the samples:RuntimeWarning")
 def test_data_path_agrees_with_model_path_within_its_estimates():
     frf = sysid.FrequencyResponse.load("docs/data/frf-T4.npz")
     rom = sysid.identify(frf, 12, dc_gain="match", stable=True)
