@@ -108,7 +108,7 @@ _MAX_POLE_FACTOR = 20.0
 #: (``floored_starts``: ``"all"`` the same starts as the first pass, relocated from scratch; an integer ``k``: the
 #: first pass's ``k`` best candidates, relocated ``floored_iterations`` times under the floor).
 EFFORTS = {
-    "fast": dict(iterations=12, lawson=0, refine=1, minimax=1, gap_refits=1, floored_starts=1, floored_iterations=0),
+    "fast": dict(iterations=12, lawson=0, refine=1, minimax=1, gap_refits=2, floored_starts=3, floored_iterations=0),
     "thorough": dict(iterations=12, lawson=5, refine=None, minimax=2, gap_refits=3, floored_starts="all",
                      floored_iterations=None),
 }

@@ -13,8 +13,8 @@ layout.
 
 - The paper's method (subspace + least squares, no constraint) is smooth in the data: pinned to 10 x its spread
   (at least 1e-6 relative).
-- The default method (exact DC gain and stability, pole relocation, ``effort="fast"``) is smooth at T2, T3 and
-  T6 N_r = 35, pinned the same way; at T1, T4, T5 and T6 N_r = 25 round-off moves its errors by 0.6 % - 260 % (the
+- The default method (exact DC gain and stability, pole relocation, ``effort="fast"``) is smooth at T2, T3, T4
+  and T6 N_r = 35, pinned the same way; at T1, T5 and T6 N_r = 25 round-off moves its errors by 0.6 % - 260 % (the
   Gauss-Newton and bounded refits take other paths): there only an upper bound, the pinned error times
   (1 + 3 SPREAD), and stability are checked, which still fails a change that makes the default worse by more than
   round-off can.
@@ -46,19 +46,19 @@ PINNED = [
     ("T2", 256, 9, "paper", 2.8769934e-02, 7.0490283e-01, 3.1e-13),
     ("T2", 256, 9, "dc_stable", 1.0062696e-02, 4.3776326e-02, 5.2e-11),
     ("T2", 256, 25, "paper", 4.0700693e-03, 1.5165738e-01, 6.5e-12),
-    ("T2", 256, 25, "dc_stable", 3.2650798e-03, 2.6855860e-03, 2.9e-10),
+    ("T2", 256, 25, "dc_stable", 3.2650798e-03, 2.6855860e-03, 5.0e-13),
     ("T3", 256, 25, "paper", 1.4328880e-03, 7.0814970e-03, 3.3e-12),
-    ("T3", 256, 25, "dc_stable", 1.3423188e-04, 1.5761329e-04, 9.7e-09),
+    ("T3", 256, 25, "dc_stable", 1.3423188e-04, 1.5761329e-04, 9.6e-09),
     ("T4", 256, 25, "paper", 1.9951880e-02, 5.8377161e-01, 1.7e-08),
-    ("T4", 256, 25, "dc_stable", 1.0227971e-02, 1.0213197e-02, 3.4e-02),
+    ("T4", 256, 25, "dc_stable", 1.7565935e-02, 9.4043997e-03, 4.2e-05),
     ("T5", 256, 25, "paper", 5.4702194e-03, 2.3279375e-01, 2.0e-10),
-    ("T5", 256, 25, "dc_stable", 8.5733603e-03, 1.2667229e-02, 6.4e-01),
+    ("T5", 256, 25, "dc_stable", 7.9840550e-03, 7.6546685e-03, 4.5e-01),
     ("T5", 256, 55, "paper", 5.4119961e-04, 9.1042372e-03, 1.1e-05),
-    ("T5", 256, 55, "dc_stable", 1.2826159e-03, 1.1755198e-03, 2.6e+00),
+    ("T5", 256, 55, "dc_stable", 1.2826157e-03, 1.1755198e-03, 2.6e+00),
     ("T6", 256, 25, "paper", 4.1058135e-03, 8.6068170e-02, 2.6e-11),
     ("T6", 256, 25, "dc_stable", 2.6034062e-03, 1.3393727e-02, 2.5e-01),
     ("T6", 256, 35, "paper", 1.3571085e-03, 3.0620915e-02, 2.9e-11),
-    ("T6", 256, 35, "dc_stable", 1.1343846e-03, 1.8004107e-02, 2.4e-10),
+    ("T6", 256, 35, "dc_stable", 1.2737569e-03, 1.1801883e-02, 7.9e-10),
 ]
 SMOOTH = 1e-3   # a spread below this: pinned to a tolerance; above: an upper bound
 
