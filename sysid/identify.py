@@ -137,7 +137,7 @@ def identify(
         (:func:`sysid.relocation.fit_relocated`; favours low frequencies, i.e. long gusts). Default off.
     effort : {"fast", "thorough"}
         Relocation path only: how many candidate models the fit builds (:data:`sysid.relocation.EFFORTS`).
-        ``"fast"`` (default) about 2 - 3 times stable vector fitting's time at equal order, ``"thorough"`` about 6
+        ``"fast"`` (default) about 2.5 times stable vector fitting's time at equal order, ``"thorough"`` about 6.5
         times for errors about 10 % lower on the paper data (docs/sysid.md, "Speed").
     fix_feedthrough : bool
         Impose ``G(z=-1) = H(omega_d = pi)`` when the data contain that sample (default True).

@@ -104,7 +104,7 @@ __all__ = [
 _MAX_POLE_FACTOR = 20.0
 #: What each ``effort`` of :func:`fit_relocated` runs (``None``: the parameter's own default): Lawson
 #: iterations, the starts refined by Gauss-Newton, the candidates given minimax residues, the candidates given
-#: bounded residues when they break the gap bounds (``gap_refits``), and where the second, floored pass starts
+#: bounded residues in the floored pass (until ``gap_refits`` of them meet the bounds), and where that pass starts
 #: (``floored_starts``: ``"all"`` the same starts as the first pass, relocated from scratch; an integer ``k``: the
 #: first pass's ``k`` best candidates, relocated ``floored_iterations`` times under the floor).
 EFFORTS = {
@@ -390,12 +390,13 @@ def fit_relocated(omega, z, G, T, order, *, dc_gain=None, feedthrough=None, weig
     effort : {"fast", "thorough"}
         How many candidates the fit builds (:data:`EFFORTS`). ``"fast"`` (default): the relocation from every
         start, Gauss-Newton from the best, minimax residues for it; where the free poles break the gap bounds,
-        the floored pass starts from the first pass's best poles. ``"thorough"``: Lawson iterations and
-        Gauss-Newton from up to three starts, minimax residues for two candidates, bounded residues for three,
-        and a floored pass relocated from every start again. Measured side by side with stable vector fitting
-        (VF) on T1-T6 at N_r = 10 - 60 (docs/sysid.md, "Speed"): ``"fast"`` takes about 2 - 3 times VF's time
-        at the median and ``"thorough"`` about 6 times, with errors 0.51 and 0.46 of VF's (geometric means).
-        Both are deterministic.
+        the floored pass starts from the first pass's three best candidates moved under the floor and gives
+        bounded minimax residues to its leading candidates until two meet the bounds. ``"thorough"``: Lawson
+        iterations and Gauss-Newton from up to three starts, minimax residues for two candidates, bounded
+        residues for three, and a floored pass relocated from every start again. Measured side by side with
+        stable vector fitting (VF) on T1-T6 at N_r = 10 - 60 (docs/sysid.md, "Where the time goes"): ``"fast"``
+        takes about 2.5 times VF's time at the median and ``"thorough"`` about 6.5 times, with errors about
+        equal (fast: 0.38 of VF's, geometric mean of the worse output). Both are deterministic.
 
     Returns
     -------

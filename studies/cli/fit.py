@@ -687,7 +687,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                         "--no-stable the paper's method); default auto")
     p.add_argument("--effort", choices=("fast", "thorough"), default="fast",
                    help="the relocation's candidates (sysid.identify's effort): fast (default) or thorough (about "
-                        "twice the time, for errors equal on average on the aerofoil data)")
+                        "2.5 times as long, for errors about equal on the aerofoil data)")
     p.add_argument("--T", default=None, metavar="T",
                    help="sampling period of the bilinear map (in the time unit of the frequencies: c/U for omega or "
                         "k, seconds for rad/s or Hz; e.g. 70/(2*pi)); default the file's, else "
