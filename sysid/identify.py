@@ -137,8 +137,8 @@ def identify(
         (:func:`sysid.relocation.fit_relocated`; favours low frequencies, i.e. long gusts). Default off.
     effort : {"fast", "thorough"}
         Relocation path only: how many candidate models the fit builds (:data:`sysid.relocation.EFFORTS`).
-        ``"fast"`` (default) about 2.5 times stable vector fitting's time at equal order, ``"thorough"`` about 6.5
-        times for errors about 10 % lower on the paper data (docs/sysid.md, "Speed").
+        ``"fast"`` (default) about 2.5 times stable vector fitting's time at equal order (median), ``"thorough"``
+        about 6.5 times, for errors about equal on the paper data (docs/sysid.md, "Where the time goes").
     fix_feedthrough : bool
         Impose ``G(z=-1) = H(omega_d = pi)`` when the data contain that sample (default True).
     solver : {"clarabel", "numpy"}

@@ -25,6 +25,8 @@ import math
 
 import numpy as np
 
+from .refit_solvers import equality_null_space
+
 __all__ = ["minimax_socp", "MAX_ITER", "STEP_FRACTION"]
 
 #: Iteration cap (the programmes of :func:`sysid.residues.minimax_cd` on the paper data take 15-27).
@@ -70,14 +72,13 @@ def minimax_socp(Q, g, E, f, Qb=None, ub=None, tol=1e-9):
     f = np.asarray(f, dtype=float).reshape(-1)
     K, N = Q.shape
     c = E.shape[0]
-    # null space of E: E^T = [U1 U2] [R; 0]  ->  y0 = U1 R^-T f (least norm), Z = U2
-    if c:
-        U, R = np.linalg.qr(E.T, mode="complete")
-        d = np.abs(np.diag(R[:c]))
+    if c:   # the equalities' solutions y0 + Z w (sysid.refit_solvers.equality_null_space)
+        try:
+            y0, Z, d = equality_null_space(E, f)
+        except np.linalg.LinAlgError:   # exactly singular R
+            d = np.zeros(1)
         if d.min() <= 1e-12 * max(d.max(), 1e-300):
             return None, {"iterations": 0, "level": np.nan, "gap": np.nan, "reason": "rank-deficient E"}
-        y0 = U[:, :c] @ np.linalg.solve(R[:c].T, f)
-        Z = U[:, c:]
     else:
         y0 = np.zeros(N)
         Z = np.eye(N)

@@ -111,11 +111,9 @@ def derivative_factors(s, poles, floor=None):
     return q1, q2, idx, pair, a, f, slope, pos_u, int(np.sum(width))
 
 
-def _bad_step(P, K, dc, x, n_coef):
-    """Residual and Jacobian that make :func:`sysid.levenberg_marquardt.bounded_levenberg_marquardt` reject a
-    step."""
-    rows = P * (2 * K + (1 if dc is not None else 0) + n_coef)
-    return np.full(rows, 1e10), np.zeros((rows, x.size))
+def _bad_step(P, K, dc, n_coef):
+    """A residual that makes :func:`sysid.levenberg_marquardt.bounded_levenberg_marquardt` reject a step."""
+    return np.full(P * (2 * K + (1 if dc is not None else 0) + n_coef), 1e10)
 
 
 class _Projection:
@@ -129,10 +127,9 @@ class _Projection:
     """
 
     def __init__(self, s, Hs, W, common_w, fixed_d, dc, ft, mu, ridge, template, floor):
-        self.s, self.Hs, self.W, self.common_w, self.fixed_d = s, Hs, W, common_w, fixed_d
+        self.Hs, self.W, self.common_w, self.fixed_d = Hs, W, common_w, fixed_d
         self.dc, self.ft, self.mu, self.ridge, self.template, self.floor = dc, ft, mu, ridge, template, floor
-        self.s0 = np.array([0.0 + 0j])
-        self.s_all = np.concatenate([s, self.s0])   # the samples, then s = 0 (the DC penalty's row)
+        self.s_all = np.concatenate([s, [0.0 + 0j]])   # the samples, then s = 0 (the DC penalty's row)
         self._hr = None
         from scipy.linalg import solve_triangular
 
@@ -166,7 +163,7 @@ class _Projection:
             Q, R = np.linalg.qr(Ar)
             dR = np.abs(np.diag(R))
             if not dR.min() > 1e-14 * dR.max():  # coincident poles: reject this step
-                return self._remember(key, _bad_step(P, K, self.dc, x, Phi.shape[1])[0], None)
+                return self._remember(key, _bad_step(P, K, self.dc, Phi.shape[1]), None)
             mats.append((Ar, Q, R))
         if self.common_w:   # every channel's coefficients from one triangular solve
             Ar, Q, R = mats[0]

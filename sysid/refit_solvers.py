@@ -12,7 +12,7 @@ import numpy as np
 
 from .errors import SolverError
 
-__all__ = ["reduce_regression", "solve_compiled", "null_space_solve", "clear_refit_cache"]
+__all__ = ["reduce_regression", "solve_compiled", "null_space_solve", "equality_null_space", "clear_refit_cache"]
 
 #: Relative singular-value floor of the (column-scaled) regression matrix (invisible ridge).
 _RCOND = 1e-13
@@ -115,15 +115,30 @@ def solve_compiled(key, hs, Qs, fs, m, N, c):
     return ys, status, reused
 
 
+def equality_null_space(E, f):
+    """The solutions of ``E y = f`` as ``y0 + Z w``: ``E^T = [U1 U2] [R; 0]`` (complete QR), ``y0 = U1 R^-T f``
+    (the least-norm solution), ``Z = U2`` (orthonormal, ``E Z = 0``).
+
+    Parameters
+    ----------
+    E : ndarray, shape (c, N), real, ``c >= 1``; f : ndarray, shape (c,)
+
+    Returns
+    -------
+    y0 : ndarray, shape (N,); Z : ndarray, shape (N, N - c); r_diag : ndarray, shape (c,)
+        ``|diag R|``: a rank test for ``E`` (a value near 0 relative to the largest: ``E`` rank deficient).
+    """
+    c = E.shape[0]
+    U, R = np.linalg.qr(E.T, mode="complete")
+    R = R[:c, :c]
+    return U[:, :c] @ np.linalg.solve(R.T, f), U[:, c:], np.abs(np.diag(R))
+
+
 def null_space_solve(Phi, g, E, f):
     """Closed-form constrained LS: theta = theta_p + Z w, E theta_p = f, E Z = 0 (the oracle)."""
     if E.shape[0] == 0:
         return np.linalg.lstsq(Phi, g, rcond=None)[0]
-    Qf, Rf = np.linalg.qr(E.T, mode="complete")  # E^T = Qf [R; 0]
-    c = E.shape[0]
-    R = Rf[:c, :c]
-    theta_p = Qf[:, :c] @ np.linalg.solve(R.T, f)
-    Z = Qf[:, c:]
+    theta_p, Z, _ = equality_null_space(E, f)
     if Z.shape[1] == 0:
         return theta_p
     w = np.linalg.lstsq(Phi @ Z, g - Phi @ theta_p, rcond=None)[0]

@@ -421,12 +421,12 @@ def fit_relocated(omega, z, G, T, order, *, dc_gain=None, feedthrough=None, weig
 
     if not isinstance(effort, str) or effort not in EFFORTS:
         raise OptionError(f"effort must be one of {tuple(EFFORTS)}; got {effort!r}")
-    plan = dict(EFFORTS[effort])
-    iterations = plan.pop("iterations") if iterations is None else iterations
-    lawson = plan.pop("lawson") if lawson is None else lawson
-    minimax = plan.pop("minimax") if minimax is None else minimax
-    refine = plan.pop("refine") if refine is None else refine
-    plan = {k: plan[k] for k in ("gap_refits", "floored_starts", "floored_iterations")}
+    preset = EFFORTS[effort]   # the effort's value of every parameter left at None
+    iterations = preset["iterations"] if iterations is None else iterations
+    lawson = preset["lawson"] if lawson is None else lawson
+    minimax = preset["minimax"] if minimax is None else minimax
+    refine = preset["refine"] if refine is None else refine
+    plan = {k: preset[k] for k in ("gap_refits", "floored_starts", "floored_iterations")}
 
     # small dense problems: BLAS threads only add overhead, and on a loaded machine they made a 15-state fit
     # take 7-25 s instead of 2 s (measured); one thread for the duration of the fit
@@ -509,6 +509,8 @@ def _fit_relocated(omega, z, G, T, order, *, dc_gain, feedthrough, weights, star
     # disc next to z = -1 with huge, cancelling residues (|C| ~ 1e10 seen on T4 at N_r = 25, which cost 8
     # digits of the DC equality); keep |s| within a few times the highest data frequency
     region = stability_region(T, 1.0 - margin) + (_MAX_POLE_FACTOR * max(float(np.abs(wfin).max(initial=0.0)), 2.0 / T),)
+    floor = resolution_floor(omega, resolution)   # of the floored pass; its value at omega = 0 bounds real poles
+    min_real = float(np.interp(0.0, *floor)) if resolution > 0 else None
     sizes = [order // m + (1 if j < order % m else 0) for j in range(m)]
     if min(sizes) < 1:
         raise OrderError(f"order {order} is below the number of inputs {m}: each input column needs a state")
@@ -525,8 +527,7 @@ def _fit_relocated(omega, z, G, T, order, *, dc_gain, feedthrough, weights, star
         kw = dict(iterations=iterations, lawson=lawson, minimax_within=minimax_within,
                   refine=(3 if nj <= 40 else 2) if refine is None else refine,  # (the thorough default)
                   minimax=minimax, minimax_rounds=minimax_rounds, budget=np.inf if budget is None else budget / m,
-                  gap_refits=plan["gap_refits"],
-                  min_real=float(np.interp(0.0, *resolution_floor(omega, resolution))) if resolution > 0 else None)
+                  gap_refits=plan["gap_refits"], min_real=min_real)
         # free poles first; where the best fit breaks the gap bounds (a resonance the samples do not see), the
         # poles again with the resolution floor and bounded residues, and the best admissible of both
         cands = pick_candidates(_fit_simo(*args, region=region, **kw))
@@ -538,7 +539,7 @@ def _fit_relocated(omega, z, G, T, order, *, dc_gain, feedthrough, weights, star
                 best = sorted(cands, key=lambda c: candidate_score(c["err"]))[:plan["floored_starts"]]
                 args = args[:-1] + ([(c["label"], c["poles"]) for c in best],)
                 kw.update(iterations=plan["floored_iterations"])
-            floored = _fit_simo(*args, region=region + (resolution_floor(omega, resolution),), bound_gaps=True, **kw)
+            floored = _fit_simo(*args, region=region + (floor,), bound_gaps=True, **kw)
             cands = pick_candidates(cands + floored, trust=_TRUST_FACTOR)
         blocks.append(cands)
     import scipy.linalg
