@@ -149,8 +149,7 @@ def _holdout_errors(part, val, den, orders, dc_gain, stable, algorithm, workers,
     args = [(part, val, den, int(n), dc_gain, stable, algorithm, effort) for n in orders]
     if workers > 1 and "fork" in multiprocessing.get_all_start_methods():
         with multiprocessing.get_context("fork").Pool(min(workers, len(args))) as pool:
-            out = pool.starmap(_holdout_error, args[::-1], chunksize=1)[::-1]
-        return out
+            return pool.starmap(_holdout_error, args[::-1], chunksize=1)[::-1]
     return [_holdout_error(*a) for a in args]
 
 
