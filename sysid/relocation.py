@@ -53,7 +53,11 @@ steps live in :mod:`sysid.vector_fitting`, :mod:`sysid.pole_refinement`, :mod:`s
    wide (the floor is part of the relocation's projection and of the Gauss-Newton parametrisation) and the
    leading candidates get minimax residues under the bounds (more cones of the same programme, added as
    cutting planes). A free fit is still taken when it is 100 times more accurate than every bounded one:
-   the samples then determine the resonance (noise-free data of a lightly damped system).
+   the samples then determine the resonance (noise-free data of a lightly damped system); on noisy data, when
+   its errors are at the noise level, 3 times below every bounded one's, and its gain at most twice the bounds
+   (:data:`sysid.candidates.NOISE_TRUST`). The bounds allow for the samples' noise (:func:`gap_bounds`'
+   ``noise``, from :func:`sysid.noise.noise_level`), and candidates at the noise level are ranked by their rms
+   error, not their largest (:func:`pick_candidates`).
 
 The entry point :func:`fit_relocated` runs them from several starting pole sets and picks, among the
 admissible candidates (equalities hold when the model is evaluated; gain within the gap bounds), the one
@@ -70,7 +74,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .arrays import freeze_array_fields
-from .candidates import (bound_candidate_gaps, candidate_eig, candidate_score, channel_errors, gap_excess,
+from .candidates import (bound_candidate_gaps, candidate_eig, candidate_score, channel_errors, gap_excess, rms_errors,
                          pick_candidates, settle_equalities)
 from .data_checks import check_constraint, check_nonzero_outputs, check_weights
 from .errors import FrequencyDataError, OptionError, OrderError
@@ -292,7 +296,8 @@ def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson,
     # minimax residues for the leading candidates (never worse than their least-squares residues), unless the
     # least-squares residuals are at the data's noise level: a minimax fit would then follow the noise between
     # the samples, where least squares averages it (sysid.noise)
-    if minimax and not at_noise_level(cands[0]["err"], noise_level(Hn, omega)):
+    noise = noise_level(Hn, omega)   # relative to each output's peak
+    if minimax and not at_noise_level(cands[0]["err"], noise):
         wmm = np.broadcast_to(1.0 / peak[:, None, None], (p, 1, K))
         if weights is not None:
             wmm = wmm * np.sqrt(np.asarray(weights)[:, :1])
@@ -307,7 +312,10 @@ def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson,
         cands.sort(key=lambda c: candidate_score(c["err"]))
     # the gain between the samples: a candidate above the gap bounds gets the bounded minimax residues (same
     # poles); when those cannot meet the bounds either, it is kept only as a last resort
-    zb, ub = gap_bounds(z, G)
+    # (with a margin of the samples' noise: the true response breaks bounds built from noisy samples by a few noise
+    # deviations; on sparse noise-free data the estimate is the response's curvature between the samples, which
+    # makes their envelope as uncertain)
+    zb, ub = gap_bounds(z, G, noise=noise)
     for c in cands:
         c["gap"] = gap_excess(c, zb, ub)
         settle_equalities(c, z, G, dc, ft, peak, zb, ub)
@@ -324,6 +332,12 @@ def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson,
             if (c["gap"] > 1.0 or c["residues"] == "least-squares") and time.perf_counter() - t0 <= budget:
                 bound_candidate_gaps(c, z, G, dc, ft, wbm, zb, ub, peak, within=minimax_within)
             met += int(c["gap"] <= 1.0 + 1e-6)
+    # at the noise level the candidates are told apart by their rms errors (pick_candidates): the least-squares
+    # criterion is the likelihood of Gaussian noise, where the largest error is that of one noise sample
+    for c in cands:
+        c["at_noise"] = at_noise_level(c["err"], noise)
+        if c["at_noise"]:
+            c["rms"] = rms_errors(c["A"], c["B"], c["C"], c["D"], z, G, candidate_eig(c))
     return cands
 
 

@@ -6,8 +6,8 @@ import scipy.linalg
 from sysid_synth import LIGHT, freqresp
 
 from sysid import mckelvey_grid
-from sysid.candidates import (EQ_TOL, ROUNDOFF_TOL, channel_errors, check_equalities, gap_excess,
-                              settle_equalities)
+from sysid.candidates import (EQ_TOL, NOISE_TRUST, NOISE_TRUST_GAP, ROUNDOFF_TOL, channel_errors, check_equalities,
+                              gap_excess, pick_candidates, rms_errors, settle_equalities)
 from sysid.poles import balanced_coordinates, discrete_basis
 from sysid.residues import gap_bounds, minimax_cd
 
@@ -83,3 +83,44 @@ def test_settle_leaves_a_well_conditioned_realisation_alone():
     c = dict(A=A, B=B, C=C, D=D, err=channel_errors(A, B, C, D, z, G), gap=0.5)
     settle_equalities(c, z, G, dc, ft, peak, zb, ub)
     assert c["A"] is A and c["B"] is B and c["eq_roundoff"] <= ROUNDOFF_TOL and c["eq"] <= EQ_TOL
+
+
+def _cand(label, err, gap, at_noise=False, rms=None):
+    """A candidate as pick_candidates sees it (its equalities hold)."""
+    c = dict(label=label, err=np.array(err, dtype=float), gap=gap, eq=0.0, eq_roundoff=0.0, at_noise=at_noise)
+    if rms is not None:
+        c["rms"] = np.array(rms, dtype=float)
+    return c
+
+
+@pytest.mark.parametrize("free_err, free_gap, at_noise, taken", [
+    (0.01, 1.05, True, True),                      # at the noise level, a little over the bounds, 8x better: taken
+    (0.01, NOISE_TRUST_GAP + 0.1, True, False),    # far over the bounds: a resonance the samples need not hold
+    (0.08 / (NOISE_TRUST - 0.5), 1.05, True, False),   # not NOISE_TRUST times better than the bounded fit
+    (0.01, 1.05, False, False),                    # noise-free data: only the 100x rule of `trust` applies
+    (0.0005, 1.05, False, True),                   # ... which this one meets
+])
+def test_pick_takes_a_fit_over_the_gap_bounds_only_where_the_samples_demand_it(free_err, free_gap, at_noise, taken):
+    bounded = _cand("bounded", [0.08], 0.95, at_noise)
+    free = _cand("free", [free_err], free_gap, at_noise)
+    best = pick_candidates([bounded, free], trust=100.0)[0]
+    assert best["label"] == ("free" if taken else "bounded")
+    assert free["admissible"] is taken
+
+
+def test_pick_ranks_fits_at_the_noise_level_by_their_rms_error():
+    # at the noise level the largest error is that of one noise sample: the rms decides (the likelihood of
+    # Gaussian noise); as soon as one candidate is not at the noise level, the max errors decide as before
+    a = _cand("a", [0.030], 0.5, True, rms=[0.012])
+    b = _cand("b", [0.031], 0.5, True, rms=[0.010])
+    assert pick_candidates([a, b])[0]["label"] == "b"
+    a2, b2 = dict(a, at_noise=False), dict(b)
+    assert pick_candidates([a2, b2])[0]["label"] == "a"
+
+
+def test_rms_errors_are_relative_to_each_outputs_peak():
+    z, G, dc, ft, peak, A, B, C, D = light_model()
+    np.testing.assert_allclose(rms_errors(A, B, C, D, z, G), 0.0, atol=1e-10)
+    bias = np.array([[0.01], [0.002]])   # a constant error on each output
+    got = rms_errors(A, B, C, D + bias, z, G)
+    np.testing.assert_allclose(got, bias[:, 0] / peak, rtol=1e-8)

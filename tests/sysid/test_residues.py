@@ -6,7 +6,7 @@ import pytest
 
 from sysid import FrequencyResponse, mckelvey_grid
 from sysid.identify import unobserved_gain
-from sysid.residues import bounds_at, gap_bounds, resonance_points
+from sysid.residues import GAP_FLOOR, GAP_NOISE, GAP_SLACK, bounds_at, gap_bounds, resonance_points
 
 
 def test_bounds_at_takes_the_bound_of_the_interval_that_holds_the_point():
@@ -18,6 +18,22 @@ def test_bounds_at_takes_the_bound_of_the_interval_that_holds_the_point():
     # 0.05 lies just above the sample at 0.01: its nearest bound point is in the interval below (1.75), which would
     # refuse a model that stays within its own interval's bound
     np.testing.assert_allclose(got, [1.75, 13.0, 13.0, 13.0])
+
+
+@pytest.mark.parametrize("sigma", [0.0, 0.003, 0.01])
+def test_gap_bounds_take_the_samples_noise_into_the_envelope(sigma):
+    # two outputs with peaks 10 and 2 on the same grid: each one's bound grows by slack * GAP_NOISE * sigma * its
+    # own peak, everywhere (sigma relative to each output's peak, as sysid.noise_level gives it)
+    wd = np.array([0.0, 0.5, 1.0, 2.0])
+    G = np.array([[[10.0, 4.0, 1.0, 0.5]], [[1.0, 2.0, 0.5, 0.1]]]) + 0j
+    zb, ub0 = gap_bounds(np.exp(1j * wd), G)
+    zb_n, ub = gap_bounds(np.exp(1j * wd), G, noise=[sigma, sigma])
+    np.testing.assert_array_equal(zb_n, zb)
+    peak = np.array([10.0, 2.0])[:, None, None]
+    np.testing.assert_allclose(ub - ub0, GAP_SLACK * GAP_NOISE * sigma * peak * np.ones_like(ub), rtol=1e-14,
+                               atol=1e-15)
+    # without noise: slack times the larger neighbour plus the floor (first interval of output 0: 1.25 * 10 + 0.5)
+    np.testing.assert_allclose(ub0[0, 0, 0], GAP_SLACK * 10.0 + GAP_FLOOR * 10.0)
 
 
 def test_resonance_points_sit_on_each_pole_and_its_flanks():
