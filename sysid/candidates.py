@@ -11,10 +11,10 @@ from .poles import balanced_coordinates
 from .residues import bounds_at, minimax_cd, resonance_points
 from .state_space import eigen_parts, evaluate_ss
 
-__all__ = ["EQ_TOL", "channel_errors", "rms_errors", "candidate_score", "bound_candidate_gaps", "pick_candidates", "gap_excess",
-           "equality_residual", "equality_gaps", "polish_equalities", "POLISH_FROM", "candidate_eig", "ROUNDOFF_TOL",
-           "equality_roundoff", "check_equalities", "constrained_responses", "settle_equalities", "NOISE_TRUST",
-           "NOISE_TRUST_GAP"]
+__all__ = ["EQ_TOL", "channel_errors", "rms_errors", "candidate_score", "bound_candidate_gaps", "pick_candidates",
+           "gap_excess", "equality_residual", "equality_gaps", "polish_equalities", "POLISH_FROM", "candidate_eig",
+           "ROUNDOFF_TOL", "equality_roundoff", "check_equalities", "constrained_responses", "settle_equalities",
+           "NOISE_TRUST", "NOISE_TRUST_GAP"]
 
 #: Accepted violation of the DC / feedthrough equalities by the model (:func:`equality_residual`), relative to
 #: each output's peak.

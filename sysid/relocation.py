@@ -74,8 +74,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .arrays import freeze_array_fields
-from .candidates import (bound_candidate_gaps, candidate_eig, candidate_score, channel_errors, gap_excess, rms_errors,
-                         pick_candidates, settle_equalities)
+from .candidates import (bound_candidate_gaps, candidate_eig, candidate_score, channel_errors, gap_excess,
+                         pick_candidates, rms_errors, settle_equalities)
 from .data_checks import check_constraint, check_nonzero_outputs, check_weights
 from .errors import FrequencyDataError, OptionError, OrderError
 from .grids import check_continuous_frequencies, check_distinct, check_period
