@@ -100,3 +100,21 @@ def test_the_sweep_reports_the_error_between_the_samples_and_suggests_a_pinned_o
     assert sw.between_error.shape == sw.orders.shape and np.all(np.isfinite(sw.between_error))
     assert far.sum() >= 5 and not far[sw.suggested - 1]
     assert "between" in sw.table().splitlines()[0]
+
+
+def test_the_sweep_warns_when_no_order_is_pinned_down_by_sparse_samples():
+    # a 12-state system (seed 11) with a resonance narrower than the spacing of McKelvey's M = 64 grid: every order
+    # from 6 up is estimated about 1.1 of the peak off between the samples, so the pass-over rule falls back on
+    # order 2, whose hold-out error (0.89) is six times that of order 12 (0.15): the sweep says so
+    wd, w = mckelvey_grid(64, 1.0)
+    frf = FrequencyResponse(noisy_resonant_system(w, w[:1], seed=11)[0], wd, 1.0)
+    with pytest.warns(RuntimeWarning, match=r"suggests order \d+ .* too sparse for this response"):
+        sw = order_sweep(frf, 20)
+    assert sw.holdout_error[sw.suggested - 1] > 2 * np.nanmin(sw.holdout_error)
+
+
+@pytest.mark.parametrize("seed", range(2))
+def test_the_sweep_does_not_warn_on_well_sampled_data(seed):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        order_sweep(frf_of(5, seed, sigma=0.002), 20)
