@@ -77,7 +77,7 @@ def main(argv=None):
 
     print(f"# Default identification at VF's accuracy ({datetime.date.today()}, {platform.node()}, "
           f"{os.cpu_count()} CPUs)\n")
-    print("| case | VF order | VF error Cl / Cm (%) | VF gain between | VF s | default order | default error (%) | "
+    print("| case | VF order | VF error per output (%) | VF gain between | VF s | default order | default error (%) | "
           "default s | time / VF | states / VF |")
     print("| --- | ---: | --- | ---: | ---: | ---: | --- | ---: | ---: | ---: |")
     ratios, state_ratios = {}, {}

@@ -151,7 +151,7 @@ def _sweep_errors(svd: HankelSVD, orders: np.ndarray, z_fit: np.ndarray, G_fit: 
 UNPINNED_WARN_RATIO = 2.0
 
 
-def _keep_or_warn(orders, ho_err, between, suggested, tol, atol) -> int:
+def _keep_or_warn(orders, ho_err, between, pinned, suggested, tol, atol) -> int:
     """The hold-out rule's order after passing over orders not pinned down between the samples, checked against
     the order the rule picks without that (``b``).
 
@@ -173,9 +173,9 @@ def _keep_or_warn(orders, ho_err, between, suggested, tol, atol) -> int:
     best = np.min(ho_err[fin])
     i_b = int(np.argmax(fin & (ho_err <= (1.0 + tol) * best + atol)))   # the hold-out rule without the pass-over
     i_s = int(np.flatnonzero(orders == suggested)[0])
-    if i_s == i_b:
+    if i_s == i_b or pinned[i_b]:   # (b pinned: nothing was passed over that the rule would have chosen)
         return suggested
-    if not between[i_b] > ho_err[i_s]:
+    if np.isfinite(between[i_b]) and between[i_b] <= ho_err[i_s]:   # (NaN: b's full-data fit failed)
         return int(orders[i_b])
     if ho_err[i_s] > UNPINNED_WARN_RATIO * ho_err[i_b]:
         import warnings
@@ -277,7 +277,7 @@ def order_sweep(
                 if finite.any():
                     best = np.min(ho_err[finite])
                     ok = finite & (ho_err <= (1.0 + holdout_tol) * best + holdout_atol)
-                    order_ho = _keep_or_warn(orders, ho_err, between, int(orders[np.argmax(ok)]), holdout_tol,
+                    order_ho = _keep_or_warn(orders, ho_err, between, pinned, int(orders[np.argmax(ok)]), holdout_tol,
                                              holdout_atol)
     suggested = order_ho if order_ho is not None else order_gap
     return OrderSweep(

@@ -181,7 +181,8 @@ def gap_bounds(z: np.ndarray, G: np.ndarray, refine: int = GAP_REFINE, slack: fl
     ends = np.append(wd, np.pi)
     env = np.concatenate([np.maximum(mag[:, :, :-1], mag[:, :, 1:]), mag[:, :, -1:]], axis=2)  # (p, m, K)
     if noise is not None:
-        env = env + GAP_NOISE * np.asarray(noise, dtype=float).reshape(-1, 1, 1) * peak
+        out_peak = mag.max(axis=(1, 2), keepdims=True)   # each output's peak over its inputs, as noise_level's
+        env = env + GAP_NOISE * np.asarray(noise, dtype=float).reshape(-1, 1, 1) * out_peak
     t = np.arange(1, refine) / refine
     pts = ends[:-1, None] + (ends[1:] - ends[:-1])[:, None] * t[None, :]  # (K, refine - 1)
     wide = (ends[1:] - ends[:-1]) > 1e-12

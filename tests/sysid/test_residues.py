@@ -30,10 +30,22 @@ def test_gap_bounds_take_the_samples_noise_into_the_envelope(sigma):
     zb_n, ub = gap_bounds(np.exp(1j * wd), G, noise=[sigma, sigma])
     np.testing.assert_array_equal(zb_n, zb)
     peak = np.array([10.0, 2.0])[:, None, None]
-    np.testing.assert_allclose(ub - ub0, GAP_SLACK * GAP_NOISE * sigma * peak * np.ones_like(ub), rtol=1e-14,
-                               atol=1e-15)
+    # (a difference of bounds of about 13: a few ulp of them, whatever the machine)
+    np.testing.assert_allclose(ub - ub0, GAP_SLACK * GAP_NOISE * sigma * peak * np.ones_like(ub), rtol=1e-12,
+                               atol=1e-13)
     # without noise: slack times the larger neighbour plus the floor (first interval of output 0: 1.25 * 10 + 0.5)
     np.testing.assert_allclose(ub0[0, 0, 0], GAP_SLACK * 10.0 + GAP_FLOOR * 10.0)
+
+
+def test_gap_bounds_scale_the_noise_by_each_outputs_peak_over_its_inputs():
+    # one output, two inputs, the second 100 times smaller: the same absolute noise (sigma relative to the output's
+    # peak over both inputs, as sysid.noise_level gives it) widens both inputs' bounds alike
+    wd = np.array([0.0, 0.5, 1.0, 2.0])
+    g = np.array([10.0, 4.0, 1.0, 0.5]) + 0j
+    G = np.stack([g, g / 100.0])[None]   # (1, 2, 4)
+    _, ub0 = gap_bounds(np.exp(1j * wd), G)
+    _, ub = gap_bounds(np.exp(1j * wd), G, noise=[1e-3])
+    np.testing.assert_allclose(ub - ub0, GAP_SLACK * GAP_NOISE * 1e-3 * 10.0, rtol=1e-9)
 
 
 def test_resonance_points_sit_on_each_pole_and_its_flanks():
