@@ -19,6 +19,7 @@ import os
 import sys
 import warnings
 from pathlib import Path
+from unittest import mock
 
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
@@ -44,13 +45,9 @@ def refinements_of(frf, n):
         calls.append((args, kwargs))
         return original(*args, **kwargs)
 
-    relocation.refine_poles = recording
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            sysid.identify(frf, n, dc_gain="match", stable=True)
-    finally:
-        relocation.refine_poles = original
+    with mock.patch.object(relocation, "refine_poles", recording), warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sysid.identify(frf, n, dc_gain="match", stable=True)
     return calls
 
 
@@ -74,11 +71,8 @@ def cost_history(args, kwargs, nfev, unbounded):
             near[0] = int(np.sum(gap < 1e-3 * np.maximum(1.0, np.abs(out.x))))
         return out
 
-    pole_refinement.bounded_levenberg_marquardt = traced
-    try:
+    with mock.patch.object(pole_refinement, "bounded_levenberg_marquardt", traced):
         pole_refinement.refine_poles(*args, **dict(kwargs, max_nfev=nfev))
-    finally:
-        pole_refinement.bounded_levenberg_marquardt = solver
     return np.array(costs), near[0]
 
 

@@ -50,17 +50,21 @@ def candidate_eig(c):
 def channel_errors(A, B, C, D, z, G, eig=None):
     """Max error per output over inputs and samples, relative to the output's data peak: shape (p,).
     ``eig``: :func:`sysid.state_space.eigen_parts` of ``A`` precomputed (optional)."""
-    Gm = evaluate_ss(A, B, C, D, z, eig)
-    peak = np.maximum(np.abs(G).max(axis=(1, 2)), np.finfo(float).tiny)
-    return np.abs(Gm - G).max(axis=(1, 2)) / peak
+    err, peak = _errors_and_peaks(A, B, C, D, z, G, eig)
+    return err.max(axis=(1, 2)) / peak
 
 
 def rms_errors(A, B, C, D, z, G, eig=None):
     """Root-mean-square error per output over inputs and samples, relative to the output's data peak: shape (p,)
     (as :func:`channel_errors`, with the mean square instead of the max)."""
-    Gm = evaluate_ss(A, B, C, D, z, eig)
-    peak = np.maximum(np.abs(G).max(axis=(1, 2)), np.finfo(float).tiny)
-    return np.sqrt(np.mean(np.abs(Gm - G) ** 2, axis=(1, 2))) / peak
+    err, peak = _errors_and_peaks(A, B, C, D, z, G, eig)
+    return np.sqrt(np.mean(err ** 2, axis=(1, 2))) / peak
+
+
+def _errors_and_peaks(A, B, C, D, z, G, eig):
+    """``|G_model(z_k) - G_k|`` (p, m, K) and each output's data peak (p,) (at least the smallest float)."""
+    err = np.abs(evaluate_ss(A, B, C, D, z, eig) - G)
+    return err, np.maximum(np.abs(G).max(axis=(1, 2)), np.finfo(float).tiny)
 
 
 def candidate_score(err):

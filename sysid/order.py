@@ -24,6 +24,7 @@ Two suggestions are returned (see :class:`OrderSweep`):
 from __future__ import annotations
 
 import time
+import warnings
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -178,8 +179,6 @@ def _keep_or_warn(orders, ho_err, between, pinned, suggested, tol, atol) -> int:
     if np.isfinite(between[i_b]) and between[i_b] <= ho_err[i_s]:   # (NaN: b's full-data fit failed)
         return int(orders[i_b])
     if ho_err[i_s] > UNPINNED_WARN_RATIO * ho_err[i_b]:
-        import warnings
-
         warnings.warn(
             f"order_sweep suggests order {suggested} (hold-out error {ho_err[i_s]:.3g}) because every order that "
             f"follows the held-out samples better, e.g. {int(orders[i_b])} ({ho_err[i_b]:.3g}), is estimated "

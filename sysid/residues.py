@@ -149,8 +149,9 @@ def gap_bounds(z: np.ndarray, G: np.ndarray, refine: int = GAP_REFINE, slack: fl
     Between two neighbouring samples a model has no data to follow; on the bilinear grid the top intervals
     are wide (``omega`` 14.6 to 29.2 on the paper's grid), and a fit that matches every sample can resonate
     inside them. The bound at a point between samples ``k`` and ``k + 1`` (in ``omega_d``) is
-    ``slack * (max(|G_k|, |G_k+1|) + GAP_NOISE * sigma * peak) + floor * peak`` per channel (``sigma``: the
-    output's noise level relative to its peak, 0 without ``noise``); the interval above the highest sample, up to
+    ``slack * (max(|G_k|, |G_k+1|) + GAP_NOISE * sigma * peak_out) + floor * peak`` per channel (``peak``: the
+    channel's, ``peak_out``: its output's over all inputs, ``sigma``: the output's noise level relative to
+    ``peak_out``, 0 without ``noise``); the interval above the highest sample, up to
     ``omega_d = pi``, takes the highest sample alone.
 
     Parameters
