@@ -85,7 +85,7 @@ def alleviation_factor(altitude_m: float, z_mo_m: float, mlw_over_mtow: float, m
     Raises
     ------
     FlightPointError
-        A value not finite, ``Z_mo <= 0`` or above 250 000 ft, a ratio outside (0, 1].
+        A value not finite, ``Z_mo <= 0`` or above 250 000 ft, a ratio outside (0, 1], ``MZFW > MLW``.
     """
     h = _real("altitude_m", altitude_m)
     z = _real("z_mo_m", z_mo_m)
@@ -95,6 +95,10 @@ def alleviation_factor(altitude_m: float, z_mo_m: float, mlw_over_mtow: float, m
     for name, r in (("mlw_over_mtow", r1), ("mzfw_over_mtow", r2)):
         if not 0.0 < r <= 1.0:
             raise FlightPointError(f"{name} must lie in (0, 1], got {r!r}")
+    if r2 > r1:
+        raise FlightPointError(f"mzfw_over_mtow ({r2!r}) must not exceed mlw_over_mtow ({r1!r}): MZFW <= MLW <= MTOW "
+                               "(the arguments may be swapped: alleviation_factor(altitude_m, z_mo_m, MLW/MTOW, "
+                               "MZFW/MTOW))")
     fgz = 1.0 - z / (250000.0 * FT)
     fgm = math.sqrt(r2 * math.tan(math.pi * r1 / 4.0))
     f0 = 0.5 * (fgz + fgm)
@@ -215,7 +219,17 @@ class FlightPoint:
         return _interp(self.altitude_m, _U_REF) * self._speed_factor
 
     def turbulence_intensity(self) -> float:
-        """``U_sigma = U_sigma_ref F_g`` (m/s TAS) at this altitude, 25.341(b)(3) (times 1/2 at V_D)."""
+        """``U_sigma = U_sigma_ref F_g`` (m/s TAS) at this altitude, 25.341(b)(3) (times 1/2 at V_D).
+
+        Raises
+        ------
+        GustError
+            Above 60 000 ft, where the rule gives none (``U_sigma_ref`` is constant from 24 000 ft "up to
+            60 000 ft").
+        """
+        if self.altitude_m > RULE_MAX_ALTITUDE * (1 + 1e-12):
+            raise GustError(f"the continuous-turbulence intensity U_sigma_ref is defined up to 60 000 ft (18 288 m); "
+                            f"the flight point is at {self.altitude_m:g} m")
         return _interp(min(self.altitude_m, 24000.0 * FT), _U_SIGMA) * self._speed_factor * self.F_g
 
     def design_gust_velocity(self, H_m: Any) -> np.ndarray:

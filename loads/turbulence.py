@@ -14,7 +14,9 @@ A gust-angle model ``G`` (convective ``omega = Omega c``) gives ``H = G(i Omega 
   the panels doubled until two successive sums agree to ``rtol``; the quadrature error reported is that last
   difference. Truncation, estimated and reported: below, ``|H(0)|^2 Phi(0) Omega_lo``; above, the spectrum's
   power-law tail times ``|H(Omega_hi)|^2``. ``N0`` diverges for an output with a feedthrough ``d`` (its
-  integrand grows like ``Omega^(1/3)``): :class:`SpectrumError`, unless a cut-off ``f_max_hz`` is given.
+  integrand grows like ``Omega^(1/3)``): :class:`SpectrumError`, unless a cut-off ``f_max_hz`` is given, which
+  bounds the ``N0`` integral only: ``A_bar`` and the correlations are the rule's integrals to infinity
+  (25.341(b)(2)), finite for a proper model.
 - From frequency-response data (:class:`sysid.FrequencyResponse` with a ``"gust"`` input): the trapezoidal rule
   on the data's own grid; the quadrature error estimated by Richardson's difference against every second point,
   the truncation below the first and above the last frequency from the end values as above (above: ``|H|``
@@ -88,7 +90,7 @@ class TurbulenceResult:
     source : str
         ``"model"`` or ``"data"``.
     f_max_hz : float or None
-        The cut-off used, if any.
+        The cut-off of the ``N0`` integral, if any (``A_bar`` and the correlations run to infinity).
     point : FlightPoint
     """
 
@@ -162,8 +164,9 @@ def continuous_turbulence(model_or_frf: Any, point: FlightPoint, *, outputs: Seq
     L_m : float
         Turbulence scale (m), default the rule's 2500 ft.
     f_max_hz : float, optional
-        Upper cut-off (Hz) of every integral (default none: to infinity); needed for ``N0`` of an output with a
-        feedthrough.
+        Upper cut-off (Hz) of the ``N0`` integral (default none: to infinity); needed for ``N0`` of an output with
+        a feedthrough. ``A_bar`` and the correlations are always integrated to infinity, as the rule defines
+        them (with data: over all the data, the tail above estimated as ``truncation_error``).
     rtol : float
         Relative agreement of successive panel doublings (model path; default 1e-8).
     moment_axes, moment_reference
@@ -220,9 +223,8 @@ def _from_system(system: GustSystem, point, outputs, L, f_max, rtol):
     d = system.d[rows]
     scale = max(1.0, float(np.abs(system.lam).max(initial=0.0)))
     lo = 1e-10 / (1.339 * L)
-    hi = max(1e6 / (1.339 * L), 1e4 * scale / c)
-    if f_max is not None:
-        hi = 2.0 * math.pi * f_max / U
+    hi = max(1e6 / (1.339 * L), 1e4 * scale / c)                        # A_bar and the correlations: to infinity
+    hi_n0 = hi if f_max is None else 2.0 * math.pi * f_max / U          # N0: to the cut-off, if any
     at_zero = np.abs(system.lam) <= 1e-12 * scale
     if np.any(at_zero):
         reach = np.abs(system.C[np.ix_(rows, np.flatnonzero(at_zero))] * system.b[at_zero]).max(axis=1)
@@ -243,15 +245,22 @@ def _from_system(system: GustSystem, point, outputs, L, f_max, rtol):
                 "Omega^2 |H|^2 Phi grow like Omega^(1/3); give f_max_hz (the band where the model holds) or a "
                 "strictly proper model")
 
-    def integrals(n_panels):
-        edges = np.linspace(math.log(lo), math.log(hi), n_panels + 1)
+    def panels(n_panels, top):
+        """Gauss points ``Omega`` and weights ``w Omega Phi`` on ``n_panels`` panels in ``ln Omega`` up to ``top``, and
+        ``H`` there (p, K)."""
+        edges = np.linspace(math.log(lo), math.log(top), n_panels + 1)
         mid, half = 0.5 * (edges[1:] + edges[:-1]), 0.5 * (edges[1:] - edges[:-1])
         x = (mid[:, None] + half[:, None] * _GL_X[None, :]).ravel()
         w = (half[:, None] * _GL_W[None, :]).ravel()
         Om = np.exp(x)
         G = system.frequency_response(Om * c)[rows] / U                  # (p, K)
-        wt = w * Om * von_karman(Om, L)                                  # dOmega = Omega dx
+        return Om, w * Om * von_karman(Om, L), G                         # dOmega = Omega dx
+
+    def integrals(n_panels):
+        Om, wt, G = panels(n_panels, hi)
         cross = (G[:, None, :] * G[None, :, :].conj()).real @ wt         # (p, p)
+        if hi_n0 != hi:
+            Om, wt, G = panels(n_panels, hi_n0)
         mom = (np.abs(G) ** 2 * (Om * U) ** 2) @ wt
         return cross, mom
 
@@ -275,12 +284,9 @@ def _from_system(system: GustSystem, point, outputs, L, f_max, rtol):
     K = _tail_coefficient(L)
     low_a = H0**2 * (L / math.pi) * lo
     low_m = H0**2 * (L / math.pi) * U**2 * lo**3 / 3.0
-    if f_max is None:
-        Hhi = np.abs(system.frequency_response([hi * c])[rows, 0]) / U
-        high_a = Hhi**2 * K * 1.5 * hi ** (-2.0 / 3.0)
-        high_m = Hhi**2 * U**2 * hi**2 * K * 1.5 * hi ** (-2.0 / 3.0)
-    else:
-        high_a = high_m = np.zeros(len(rows))
+    Hhi = np.abs(system.frequency_response([hi * c])[rows, 0]) / U
+    high_a = Hhi**2 * K * 1.5 * hi ** (-2.0 / 3.0)
+    high_m = Hhi**2 * U**2 * hi**2 * K * 1.5 * hi ** (-2.0 / 3.0) if f_max is None else np.zeros(len(rows))
     zero = _unreached(var, names)
     var, mom = np.where(zero, 0.0, var), np.where(zero, 0.0, mom)
     sv, sm = np.where(zero, 1.0, var), np.where(zero | (mom <= 0), 1.0, mom)
@@ -358,34 +364,33 @@ def _from_data(frf, point, outputs, L, f_max, moment_axes, moment_reference):
     order = np.argsort(w[finite])
     w, G = w[finite][order], H[rows][:, finite][:, order] / U
     Om = w / c
-    if f_max is not None:
-        keep = Om <= 2.0 * math.pi * f_max / U
-        Om, G = Om[keep], G[:, keep]
-    if Om.size < 3:
-        raise LoadsModelError(f"need at least 3 finite frequencies for the quadrature, got {Om.size}")
+    # A_bar and the correlations over all the data (the tail above estimated); N0 up to the cut-off, if any
+    keep = np.ones(Om.size, dtype=bool) if f_max is None else Om <= 2.0 * math.pi * f_max / U
+    if Om.size < 3 or np.count_nonzero(keep) < 3:
+        raise LoadsModelError(f"need at least 3 finite frequencies for the quadrature (below f_max_hz for N0), got "
+                              f"{int(np.count_nonzero(keep))}")
     if f_max is None and Hinf.size and np.any(np.abs(Hinf) > 1e-10 * np.abs(G * U).max(axis=1, keepdims=True)):
         raise SpectrumError("N0 diverges: the data's omega = inf sample (the feedthrough) is not zero, so "
                             "Omega^2 |H|^2 Phi grows like Omega^(1/3); give f_max_hz")
     Phi = von_karman(Om, L)
     cross_int = (G[:, None, :] * G[None, :, :].conj()).real * Phi
     cross = np.trapezoid(cross_int, Om, axis=-1)
-    mom_int = np.abs(G) ** 2 * (Om * U) ** 2 * Phi
-    mom = np.trapezoid(mom_int, Om, axis=-1)
+    Om_m = Om[keep]
+    mom_int = np.abs(G[:, keep]) ** 2 * (Om_m * U) ** 2 * Phi[keep]
+    mom = np.trapezoid(mom_int, Om_m, axis=-1)
     var = np.diag(cross).copy()
     # Richardson-type estimate: the same rule on every second point
     var2 = np.trapezoid(np.abs(G[:, ::2]) ** 2 * Phi[::2], Om[::2], axis=-1)
-    mom2 = np.trapezoid(mom_int[:, ::2], Om[::2], axis=-1)
+    mom2 = np.trapezoid(mom_int[:, ::2], Om_m[::2], axis=-1)
     with np.errstate(divide="ignore", invalid="ignore"):
         quad_a = 0.5 * np.abs(var - var2) / 3.0 / var
         quad_m = 0.5 * (np.abs(mom - mom2) / 3.0 / mom + np.abs(var - var2) / 3.0 / var)
     K = _tail_coefficient(L)
     low_a = np.abs(G[:, 0]) ** 2 * (L / math.pi) * Om[0]
     low_m = np.abs(G[:, 0]) ** 2 * (L / math.pi) * U**2 * Om[0] ** 3 / 3.0
-    if f_max is None:
-        high_a = np.abs(G[:, -1]) ** 2 * K * 1.5 * Om[-1] ** (-2.0 / 3.0)
-        high_m = np.abs(G[:, -1]) ** 2 * U**2 * Om[-1] ** 2 * K * 1.5 * Om[-1] ** (-2.0 / 3.0)
-    else:
-        high_a = high_m = np.zeros(len(rows))
+    high_a = np.abs(G[:, -1]) ** 2 * K * 1.5 * Om[-1] ** (-2.0 / 3.0)
+    high_m = (np.abs(G[:, -1]) ** 2 * U**2 * Om[-1] ** 2 * K * 1.5 * Om[-1] ** (-2.0 / 3.0) if f_max is None
+              else np.zeros(len(rows)))
     zero = _unreached(var, names)
     var, mom = np.where(zero, 0.0, var), np.where(zero, 0.0, mom)
     sv, sm = np.where(zero, 1.0, var), np.where(zero | (mom <= 0), 1.0, mom)

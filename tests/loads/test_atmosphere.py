@@ -66,5 +66,12 @@ def test_bad_flight_points(kw, match):
 def test_above_the_rule_and_bad_alleviation_inputs():
     with pytest.raises(loads.GustError, match="60 000 ft"):
         loads.FlightPoint(0.8, 20000.0, 1.0).reference_gust_velocity()
+    # 25.341(b)(3): U_sigma_ref constant from 24 000 ft "up to 60 000 ft", none above
+    assert loads.FlightPoint(0.8, 18288.0, 1.0).turbulence_intensity() == pytest.approx(79 * FT, rel=1e-12)
+    with pytest.raises(loads.GustError, match="U_sigma_ref is defined up to 60 000 ft"):
+        loads.FlightPoint(0.8, 20000.0, 1.0).turbulence_intensity()
+    # MZFW <= MLW <= MTOW: R2 > R1 is impossible (the two ratios swapped)
+    with pytest.raises(loads.FlightPointError, match="must not exceed mlw_over_mtow"):
+        loads.alleviation_factor(0.0, 12000.0, 0.6, 0.95)
     with pytest.raises(loads.FlightPointError, match="mlw_over_mtow"):
         loads.alleviation_factor(0.0, 10000.0, 1.3, 0.6)

@@ -327,7 +327,7 @@ def loads_report(context) -> str:
               "histories exact for the continuous gust), and continuous von Karman turbulence of 25.341(b) "
               "(`loads.continuous_turbulence`: L = 2500 ft, `A_bar` per m/s TAS of rms gust velocity, Rice's `N0`, "
               "the design load `A_bar U_sigma`"
-              + (f", integrals cut off at {opts.f_max_hz:g} Hz" if opts.f_max_hz is not None else "")
+              + (f", N0 integral cut off at {opts.f_max_hz:g} Hz" if opts.f_max_hz is not None else "")
               + "). Loads are increments about the 1 g load; coefficients per the model's units (Cl, Cm about the "
               + ("quarter chord for the rigid aerofoil and about the elastic axis for a flexible section"
                  if opts.sections else "quarter chord")

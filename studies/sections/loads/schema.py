@@ -16,7 +16,7 @@ own gust ROMs per case::
     outside_rule = false              # needed for an H_range_m outside 30 - 350 ft
     n_grid = 24                       # first, geometric grid of H of the search (loads.tuned_gust)
     h_rtol = 1e-4                     # relative width of the final bracket of the critical H
-    f_max_hz = 50.0                   # optional cut-off of the turbulence integrals (a ROM with a feedthrough)
+    f_max_hz = 50.0                   # optional cut-off of the N0 integral (a ROM with a feedthrough)
     rigid = true                      # false: flexible sections only
     flexible_outputs = ["Cl", "load_factor", "plunge_spring", "pitch_spring"]   # default DEFAULT_FLEXIBLE_OUTPUTS
 
