@@ -77,6 +77,7 @@ from typing import Sequence
 import numpy as np
 
 from .arrays import freeze_array_fields
+from .data_checks import check_nonzero_outputs
 from .errors import FrequencyGridError, OptionError
 from .frd import FrequencyResponse, continuous_to_discrete
 from .grids import check_period
@@ -640,8 +641,10 @@ def diagnose(
     OptionError
         A tolerance that is not a nonnegative number.
     FrequencyGridError
-        A frequency appears twice; or, for data on continuous frequencies only, ``T`` not positive and finite,
-        or no ``T`` given and no positive finite frequency to choose the default from.
+        A frequency appears twice; ``T`` given and not positive and finite; or, for data on continuous
+        frequencies only, no ``T`` given and no positive finite frequency to choose the default from.
+    FrequencyDataError
+        An output that is zero at every frequency (nothing to check).
 
     Notes
     -----
@@ -654,7 +657,10 @@ def diagnose(
         if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)) \
                 or not (np.isfinite(value) and value >= 0):
             raise OptionError(f"{name} must be a nonnegative number, got {value!r}")
+    if T is not None:
+        check_period(T)
     H = np.asarray(frf.H)
+    check_nonzero_outputs(H, frf.outputs)   # (all-zero data passed every check)
     p, m, K = H.shape
     peak = np.maximum(np.abs(H).max(axis=-1), _TINY)
 

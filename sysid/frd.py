@@ -70,6 +70,9 @@ def _as_freq(x: Any, name: str, K: int) -> np.ndarray:
     """Coerce a frequency vector to a float (K,) array; NaN is refused, inf is left to the caller."""
     if np.ndim(x) > 1:
         raise FrequencyGridError(f"{name} must be 1-D, got shape {np.shape(x)}")
+    if np.iscomplexobj(x):
+        raise FrequencyGridError(f"{name} must be real frequencies; got complex values (the imaginary part would be "
+                                 "dropped): pass the frequencies, not s = i omega")
     try:
         arr = np.array(x, dtype=float).reshape(-1)
     except (TypeError, ValueError):
@@ -223,6 +226,9 @@ class FrequencyResponse:
         if wd is None and Tf is not None:
             wd = continuous_to_discrete(w, Tf)
 
+        if metadata is not None and not isinstance(metadata, Mapping):
+            raise FrequencyDataError(f"metadata must be a mapping (a dict of names to values), got "
+                                     f"{type(metadata).__name__}")
         md = {} if metadata is None else copy.deepcopy(dict(metadata))
         sa = object.__setattr__
         sa(self, "H", read_only(Harr))

@@ -43,7 +43,11 @@ def save_frf(frf, path: str | Path) -> Path:
         arrays["omega_d"] = frf.omega_d
     if frf.omega is not None:
         arrays["omega"] = frf.omega
-    np.savez(path, **arrays)
+    try:
+        np.savez(path, **arrays)
+    except OSError as exc:
+        raise FrequencyFileError(f"cannot write {path}: {exc.strerror or exc}; give a path in a folder that exists "
+                                 "and that you may write") from None
     return path
 
 
@@ -53,6 +57,10 @@ def load_frf(cls, path: str | Path):
     import zipfile
 
     path = Path(path)
+    if not path.exists():
+        raise FrequencyFileError(f"{path} does not exist; give the path of a file written by FrequencyResponse.save")
+    if path.is_dir():
+        raise FrequencyFileError(f"{path} is a directory; give the path of a file written by FrequencyResponse.save")
     if path.is_file() and not zipfile.is_zipfile(path):
         raise FrequencyFileError(f"{path} is not an .npz file written by FrequencyResponse.save (not a zip "
                                  "archive); read other formats with numpy or scipy.io and build the data with "

@@ -112,12 +112,22 @@ def discrete_to_continuous(omega_d: np.ndarray, T: float) -> np.ndarray:
         negative frequencies) or not finite.
     """
     T = check_period(T)
-    wd = np.asarray(omega_d, dtype=float)
+    wd = _real_array(omega_d, "omega_d")
     check_discrete_frequencies(wd)
     at_pi = np.isclose(wd, np.pi, rtol=0.0, atol=GRID_RTOL * np.pi)
     with np.errstate(over="ignore"):
         omega = (2.0 / T) * np.tan(np.where(at_pi, 0.0, wd) / 2.0)
     return np.where(at_pi, np.inf, omega)
+
+
+def _real_array(x: Any, name: str) -> np.ndarray:
+    """``x`` as a float array; :class:`FrequencyGridError` for text, objects or complex values."""
+    if np.iscomplexobj(x):
+        raise FrequencyGridError(f"{name} must be real frequencies; got complex values")
+    try:
+        return np.asarray(x, dtype=float)
+    except (TypeError, ValueError):
+        raise FrequencyGridError(f"{name} must be an array of real frequencies, got {x!r}"[:200]) from None
 
 
 def continuous_to_discrete(omega: np.ndarray, T: float) -> np.ndarray:
@@ -141,7 +151,7 @@ def continuous_to_discrete(omega: np.ndarray, T: float) -> np.ndarray:
         ``T`` not positive and finite, or an ``omega`` negative or NaN.
     """
     T = check_period(T)
-    w = np.asarray(omega, dtype=float)
+    w = _real_array(omega, "omega")
     check_continuous_frequencies(w)
     return np.where(np.isinf(w), np.pi, 2.0 * np.arctan(np.where(np.isinf(w), 0.0, w) * T / 2.0))
 

@@ -108,8 +108,8 @@ def history_errors(t, model: Mapping[str, Any], reference: Mapping[str, Any],
     model, reference : mapping of output name -> array_like, shape (n,)
         Histories, e.g. ``{"Cl": cl, "Cm": cm}``.
     outputs : sequence of str, optional
-        The outputs compared, in this order, where both have them; default the model's outputs that the
-        reference also has.
+        The outputs compared, in this order (each in both); default the model's outputs that the reference
+        also has.
 
     Returns
     -------
@@ -121,13 +121,22 @@ def history_errors(t, model: Mapping[str, Any], reference: Mapping[str, Any],
     Raises
     ------
     TimeDataError
-        A reference history that is not finite, or a history of another length than ``t``.
+        A reference history that is not finite, a history of another length than ``t``, an output of
+        ``outputs`` missing from either mapping, or (``outputs`` not given) no output in common.
     """
-    names = list(model) if outputs is None else list(outputs)
+    if outputs is None:
+        names = [n for n in model if n in reference]
+        if not names:
+            raise TimeDataError(f"the model's outputs {list(model)} and the reference's {list(reference)} have none "
+                                "in common: nothing to compare")
+    else:
+        names = list(outputs)
+        missing = [n for n in names if n not in model or n not in reference]
+        if missing:
+            raise TimeDataError(f"outputs {missing} are not in both histories (model: {list(model)}, reference: "
+                                f"{list(reference)})")
     out: dict = {}
     for name in names:
-        if name not in model or name not in reference:
-            continue
         ym = np.asarray(model[name], dtype=float).reshape(-1)
         t_arr, yr = _histories(t, reference[name], names=(f"reference[{name!r}]",))
         if ym.size != t_arr.size:

@@ -22,8 +22,6 @@ from .errors import FrequencyDataError, FrequencyIndexError, ModelError
 __all__ = ["FitErrors", "frf_errors", "max_relative_error", "rms_relative_error", "dc_error", "spectral_radius",
            "rom_metrics"]
 
-_TINY = np.finfo(float).tiny
-
 
 def _refuse_nan(a: np.ndarray, name: str, *, inf: bool = False) -> None:
     """:class:`FrequencyDataError` naming the first NaN (and, with ``inf``, inf) of ``a``."""
@@ -38,14 +36,21 @@ def _refuse_nan(a: np.ndarray, name: str, *, inf: bool = False) -> None:
 def _pair(H_model, H_data):
     """``(Hm, Hd, s)``: both as complex (p, m, K) arrays divided by ``s``, shape (p, 1, 1), each output's peak of
     the data (of the model where the data are zero), so that no square below overflows or underflows."""
-    Hm = np.asarray(H_model, dtype=complex)
-    Hd = np.asarray(H_data, dtype=complex)
+    try:
+        Hm = np.asarray(H_model, dtype=complex)
+        Hd = np.asarray(H_data, dtype=complex)
+    except (TypeError, ValueError):
+        raise FrequencyDataError("H_model and H_data must be arrays of numbers, shape (p, m, K) or (K,); got "
+                                 f"{type(H_model).__name__} and {type(H_data).__name__}") from None
     if Hm.ndim == 1:
         Hm = Hm.reshape(1, 1, -1)
     if Hd.ndim == 1:
         Hd = Hd.reshape(1, 1, -1)
     if Hm.shape != Hd.shape:
         raise FrequencyDataError(f"H_model has shape {Hm.shape} but H_data has shape {Hd.shape}; they must match")
+    if Hd.ndim != 3 or Hd.shape[2] == 0 or Hd.shape[0] == 0:
+        raise FrequencyDataError(f"H_model and H_data must have shape (p, m, K) with p >= 1 and K >= 1 frequencies "
+                                 f"(or (K,)); got {Hd.shape}")
     _refuse_nan(Hm, "H_model")
     _refuse_nan(Hd, "H_data", inf=True)
     return Hm, Hd
@@ -102,15 +107,15 @@ def max_relative_error(H_model, H_data, *, per_output: bool = False):
     Raises
     ------
     FrequencyDataError
-        ``H_model`` and ``H_data`` differ in shape, either contains NaN, or ``H_data`` contains inf (an inf in
-        ``H_model``, a pole on the sampled axis, is an infinite error). The errors are computed on both arrays
+        ``H_model`` and ``H_data`` differ in shape, are empty or not numbers, either contains NaN, or ``H_data``
+        contains inf (an inf in ``H_model``, a pole on the sampled axis, is an infinite error; so is a nonzero
+        model where an output's data are zero at every frequency, and 0 where both are). The errors are computed on both arrays
         divided by each output's peak, so data of any magnitude representable in floating point give the same
         relative errors (1e200 and 1e-200 gave NaN and 0).
     """
     Hm, Hd = _scaled(*_pair(H_model, H_data), axis=(1, 2))
     err = np.abs(Hm - Hd).max(axis=(1, 2))
-    scale = np.maximum(np.abs(Hd).max(axis=(1, 2)), _TINY)
-    per = err / scale
+    per = _relative(err, np.abs(Hd).max(axis=(1, 2)))
     return per if per_output else float(per.max())
 
 
@@ -133,8 +138,9 @@ def rms_relative_error(H_model, H_data, *, per_output: bool = False):
     Raises
     ------
     FrequencyDataError
-        ``H_model`` and ``H_data`` differ in shape, either contains NaN, or ``H_data`` contains inf (an inf in
-        ``H_model``, a pole on the sampled axis, is an infinite error). The errors are computed on both arrays
+        ``H_model`` and ``H_data`` differ in shape, are empty or not numbers, either contains NaN, or ``H_data``
+        contains inf (an inf in ``H_model``, a pole on the sampled axis, is an infinite error; so is a nonzero
+        model where an output's data are zero at every frequency, and 0 where both are). The errors are computed on both arrays
         divided by each output's peak, so data of any magnitude representable in floating point give the same
         relative errors (1e200 and 1e-200 gave NaN and 0).
     """
@@ -142,11 +148,17 @@ def rms_relative_error(H_model, H_data, *, per_output: bool = False):
     if per_output:
         Hm, Hd = _scaled(Hm, Hd, axis=(1, 2))
         num = np.sqrt(np.mean(np.abs(Hm - Hd) ** 2, axis=(1, 2)))
-        den = np.maximum(np.sqrt(np.mean(np.abs(Hd) ** 2, axis=(1, 2))), _TINY)
-        return num / den
+        return _relative(num, np.sqrt(np.mean(np.abs(Hd) ** 2, axis=(1, 2))))
     Hm, Hd = _scaled(Hm, Hd, axis=None)
     num = np.sqrt(np.sum(np.abs(Hm - Hd) ** 2))   # not np.linalg.norm: it gives nan for an inf entry
-    return float(num / max(float(np.sqrt(np.sum(np.abs(Hd) ** 2))), _TINY))
+    return float(_relative(np.array([num]), np.array([np.sqrt(np.sum(np.abs(Hd) ** 2))]))[0])
+
+
+def _relative(err: np.ndarray, scale: np.ndarray) -> np.ndarray:
+    """``err / scale``, with ``inf`` where the data are zero and the model is not and 0 where both are (as
+    :func:`sysid.history_metrics.envelope_errors`; dividing by the smallest double gave 4.5e307)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(scale > 0, err / np.where(scale > 0, scale, 1.0), np.where(err > 0, np.inf, 0.0))
 
 
 def frf_errors(H_model, H_data) -> FitErrors:
@@ -166,8 +178,9 @@ def frf_errors(H_model, H_data) -> FitErrors:
     Raises
     ------
     FrequencyDataError
-        ``H_model`` and ``H_data`` differ in shape, either contains NaN, or ``H_data`` contains inf (an inf in
-        ``H_model``, a pole on the sampled axis, is an infinite error). The errors are computed on both arrays
+        ``H_model`` and ``H_data`` differ in shape, are empty or not numbers, either contains NaN, or ``H_data``
+        contains inf (an inf in ``H_model``, a pole on the sampled axis, is an infinite error; so is a nonzero
+        model where an output's data are zero at every frequency, and 0 where both are). The errors are computed on both arrays
         divided by each output's peak, so data of any magnitude representable in floating point give the same
         relative errors (1e200 and 1e-200 gave NaN and 0).
     """

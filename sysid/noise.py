@@ -28,6 +28,8 @@ import math
 
 import numpy as np
 
+from .errors import FrequencyDataError
+
 __all__ = ["noise_level", "NOISE_MIN_SAMPLES"]
 
 NOISE_MIN_SAMPLES = 9
@@ -51,11 +53,27 @@ def noise_level(H, omega) -> np.ndarray:
     ndarray, shape (p,)
         ``sigma_hat / peak`` per output (the largest over the inputs); 0 for an output that is zero or when fewer
         than :data:`NOISE_MIN_SAMPLES` samples are finite.
+
+    Raises
+    ------
+    FrequencyDataError
+        Shapes that do not match, values that are not numbers, NaN or inf in ``H``, NaN in ``omega``.
     """
-    H = np.asarray(H)
+    try:
+        H = np.asarray(H, dtype=complex)
+        omega = np.asarray(omega, dtype=float)
+    except (TypeError, ValueError):
+        raise FrequencyDataError("noise_level needs H, an array of numbers of shape (p, K) or (p, m, K), and omega, "
+                                 "an array of real frequencies") from None
     if H.ndim == 2:
         H = H[:, None, :]
-    fin = np.isfinite(np.asarray(omega, dtype=float))
+    if H.ndim != 3 or omega.shape != (H.shape[-1],):
+        raise FrequencyDataError(f"noise_level needs H of shape (p, K) or (p, m, K) and omega of shape (K,); got H "
+                                 f"{H.shape}, omega {omega.shape}")
+    if not (np.all(np.isfinite(H)) and not np.any(np.isnan(omega))):
+        raise FrequencyDataError("noise_level: H contains NaN or inf, or omega NaN; a noise estimate of them would be "
+                                 "meaningless: remove those samples")
+    fin = np.isfinite(omega)
     Hf = H[:, :, fin]
     p = H.shape[0]
     if Hf.shape[-1] < NOISE_MIN_SAMPLES:

@@ -440,7 +440,8 @@ def fit_relocated(omega, z, G, T, order, *, dc_gain=None, feedthrough=None, weig
         ``dc_gain`` / ``feedthrough`` complex, NaN or of the wrong shape, or inconsistent constraints (from
         :func:`sysid.refit.fit_cd`).
     OptionError
-        ``effort`` not one of :data:`EFFORTS`.
+        ``effort`` not one of :data:`EFFORTS`; a negative or fractional count (``iterations``, ``lawson``,
+        ``refine``, ``minimax``, ``minimax_rounds``), a ``budget`` that is not positive, ``start_poles`` not a dict.
     """
     from threadpoolctl import threadpool_limits
 
@@ -452,6 +453,18 @@ def fit_relocated(omega, z, G, T, order, *, dc_gain=None, feedthrough=None, weig
     minimax = preset["minimax"] if minimax is None else minimax
     refine = preset["refine"] if refine is None else refine
     plan = {k: preset[k] for k in ("gap_refits", "floored_starts", "floored_iterations")}
+    for name, v in (("iterations", iterations), ("lawson", lawson), ("refine", refine), ("minimax", minimax),
+                    ("minimax_rounds", minimax_rounds)):
+        if name == "refine" and v is None:   # (the thorough effort's: 3 starts up to 40 states, 2 above)
+            continue
+        if isinstance(v, (bool, np.bool_)) or not isinstance(v, (int, np.integer)) or v < 0:
+            raise OptionError(f"{name} must be a whole number >= 0, got {v!r}")
+    if budget is not None and (isinstance(budget, (bool, np.bool_)) or not isinstance(budget, (int, float, np.number))
+                               or not budget > 0):
+        raise OptionError(f"budget must be a positive number of seconds or None, got {budget!r}")
+    if start_poles is not None and not isinstance(start_poles, dict):
+        raise OptionError("start_poles must be a dict of name -> starting poles (continuous, canonical order), got "
+                          f"{type(start_poles).__name__}")
 
     # small dense problems: BLAS threads only add overhead, and on a loaded machine they made a 15-state fit
     # take 7-25 s instead of 2 s (measured); one thread for the duration of the fit

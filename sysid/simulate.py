@@ -204,6 +204,8 @@ def _check_input(u, m: int, t=None) -> np.ndarray:
         raise TimeDataError(f"u must have shape (N,) or (m, N), got {np.shape(u)}")
     if U.shape[0] != m:
         raise TimeDataError(f"u has {U.shape[0]} input channels but the model has m = {m} (B's columns)")
+    if U.shape[1] == 0:
+        raise TimeDataError("u has no samples; give at least one time step")
     bad = np.argwhere(~np.isfinite(U))
     if bad.size:
         k = int(bad[0][1])

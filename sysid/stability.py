@@ -51,6 +51,7 @@ from __future__ import annotations
 import time
 import warnings
 from dataclasses import dataclass
+from typing import Mapping
 
 import numpy as np
 import scipy.linalg as sla
@@ -265,6 +266,10 @@ def stabilise(A, *, method: str = "lmi", margin: float = 1e-3, gamma1=None, gamm
             raise OptionError(f"{name} must be True or False; got {flag!r}.")
     if (gamma1 is None) != (gamma2 is None):
         raise OptionError("give both gamma1 and gamma2, or neither.")
+    if mode not in ("mirror", "circle"):
+        raise OptionError(f"mode must be 'mirror' or 'circle'; got {mode!r}.")
+    if solver_opts is not None and not isinstance(solver_opts, Mapping):
+        raise OptionError(f"solver_opts must be a dict of Clarabel settings or None; got {solver_opts!r}.")
     rho = 1.0 - margin
     r0 = spectral_radius(A)
     nrm = max(np.linalg.norm(A), 1e-300)
@@ -275,8 +280,6 @@ def stabilise(A, *, method: str = "lmi", margin: float = 1e-3, gamma1=None, gamm
                                relative_change=0.0, status="already_stable", objective=gam_obj(A),
                                solve_time=time.perf_counter() - t0)
     if method == "reflect":
-        if mode not in ("mirror", "circle"):
-            raise OptionError(f"mode must be 'mirror' or 'circle'; got {mode!r}.")
         A_new = _reflect(A, rho, mode)
         status = "reflected"
     elif method == "lmi":

@@ -33,7 +33,7 @@ import numpy as np
 
 from .arrays import freeze_array_fields
 from .errors import FrequencyDataError, FrequencyGridError, OptionError, OrderError
-from .grids import check_discrete_frequencies
+from .grids import check_discrete_frequencies, check_distinct
 from .state_space import evaluate_ss, lstsq_bd, lstsq_bd_phi, modal_form, resolvent_C  # noqa: F401
 
 __all__ = [
@@ -137,7 +137,11 @@ class SubspaceResult:
 # input handling
 # --------------------------------------------------------------------------------------------------
 def _as_G(G: Any) -> np.ndarray:
-    arr = np.asarray(G, dtype=complex)
+    try:
+        arr = np.asarray(G, dtype=complex)
+    except (TypeError, ValueError):
+        raise FrequencyDataError(f"G must be an array of numbers of shape (p, m, K) or a FrequencyResponse, got "
+                                 f"{type(G).__name__}") from None
     if arr.ndim == 1:
         arr = arr.reshape(1, 1, -1)
     if arr.ndim != 3:
@@ -171,6 +175,7 @@ def _unpack(data: Any, omega_d: Any = None) -> tuple[np.ndarray, np.ndarray]:
     wd = check_discrete_frequencies(omega_d)  # finite, in [0, pi]
     if wd.size != G.shape[2]:
         raise FrequencyDataError(f"omega_d has {wd.size} frequencies but G has K={G.shape[2]} (G.shape[2])")
+    check_distinct(wd, "omega_d")   # (every frequency equal gave a model on the unit circle)
     return G, wd
 
 

@@ -128,6 +128,12 @@ def test_bad_input():
         diagnose(np.ones(3))
     with pytest.raises(FrequencyGridError, match="positive finite"):
         default_T([0.0, np.inf])
+    wd, _ = mckelvey_grid(16, 1.0)
+    frf = FrequencyResponse(np.ones(17), wd, 1.0)
+    with pytest.raises(FrequencyGridError, match="T must be positive"):   # accepted before
+        diagnose(frf, T=-1.0)
+    with pytest.raises(sysid.FrequencyDataError, match="zero at every frequency"):   # passed every check before
+        diagnose(frf.replace(H=np.zeros((1, 1, 17))))
 
 
 def test_paper_data_are_flagged_where_the_samples_do_not_determine_cm():

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import sysid
-from sysid import FrequencyDataError, FrequencyGridError, FrequencyResponse, mckelvey_grid
+from sysid import FrequencyDataError, FrequencyFileError, FrequencyGridError, FrequencyResponse, mckelvey_grid
 
 
 def first_order(z, a=0.5):
@@ -117,6 +117,8 @@ _WD5 = np.pi * np.arange(5) / 4
     (dict(inputs=["a", "b"]), FrequencyDataError, "inputs"),
     (dict(outputs=["Cl", "Cm"]), FrequencyDataError, "outputs"),
     (dict(omega_d=None), FrequencyGridError, "give the frequencies"),
+    (dict(omega_d=_WD5 + 1j), FrequencyGridError, "must be real frequencies"),   # cast to real with a warning before
+    (dict(metadata=[1]), FrequencyDataError, "metadata must be a mapping"),       # a bare TypeError before
 ])
 def test_bad_input_raises(kwargs, exc, match):
     args = dict(H=np.ones(5), omega_d=_WD5, T=1.0)
@@ -422,3 +424,15 @@ def test_channel_names_must_be_distinct():
     # outputs ['a', 'a'] were accepted: per-output results keyed by name overwrote each other
     with pytest.raises(FrequencyDataError, match="outputs names must be distinct .* 'a' more than once"):
         FrequencyResponse(np.ones((2, 1, 3)), [0.0, 1.0, 2.0], 1.0, outputs=["a", "a"])
+
+
+def test_file_errors_are_typed(tmp_path):
+    frf = FrequencyResponse(np.ones(5), _WD5, 1.0)
+    with pytest.raises(FrequencyFileError, match="cannot write .*folder that exists"):
+        frf.save(tmp_path / "no" / "such" / "folder" / "frf.npz")
+    with pytest.raises(FrequencyFileError, match="does not exist"):
+        FrequencyResponse.load(tmp_path / "missing.npz")
+    with pytest.raises(FrequencyFileError, match="is a directory"):
+        FrequencyResponse.load(tmp_path)
+    with pytest.raises(FrequencyGridError, match="omega_d must be an array of real frequencies"):
+        sysid.discrete_to_continuous("x", 1.0)

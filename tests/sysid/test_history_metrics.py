@@ -26,6 +26,9 @@ def test_known_values():
     (lambda: envelope_errors([0, 1, 2], [1, 2], [1, 2, 3]), "y_model has 2 samples"),     # compared silently before
     (lambda: history_errors([0, 1, 2], {"Cl": [1, 2, 3]}, {"Cl": [1, np.nan, 3]}), r"reference\['Cl'\] contains NaN"),
     (lambda: history_errors([0, 1, 2], {"Cl": [1, 2]}, {"Cl": [1, 2, 3]}), r"model\['Cl'\] has 2 samples"),
+    # an output asked for but missing, or no output in common: {} before (a comparison of nothing)
+    (lambda: history_errors([0, 1, 2], {"Cl": [1, 2, 3]}, {"Cl": [1, 2, 3]}, outputs=["X"]), r"outputs \['X'\] are not"),
+    (lambda: history_errors([0, 1, 2], {"Cl": [1, 2, 3]}, {"Cm": [1, 2, 3]}), "have none in common"),
 ])
 def test_bad_histories_are_refused(call, match):
     with pytest.raises(sysid.TimeDataError, match=match):

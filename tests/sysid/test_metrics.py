@@ -22,6 +22,27 @@ def test_known_values_two_outputs():
     assert e.max_rel == pytest.approx(0.25) and e.rms_rel == pytest.approx(np.sqrt(1.25 / 406))
 
 
+def test_zero_data_give_infinite_or_zero_relative_errors():
+    # an output whose data are zero everywhere: the relative error of a nonzero model is infinite (4.5e307 before,
+    # a division by the smallest double), and 0 where the model is zero too
+    H = np.zeros((2, 1, 4), dtype=complex)
+    H[1] = 1.0
+    Hm = H.copy()
+    Hm[0, 0, 2] = 1e-3
+    np.testing.assert_array_equal(max_relative_error(Hm, H, per_output=True), [np.inf, 0.0])
+    np.testing.assert_array_equal(rms_relative_error(Hm, H, per_output=True), [np.inf, 0.0])
+    assert frf_errors(H, H).max_rel == 0.0 and rms_relative_error(0 * H, 0 * H) == 0.0
+
+
+@pytest.mark.parametrize("a, b, match", [
+    (np.zeros((1, 1, 0)), np.zeros((1, 1, 0)), "K >= 1 frequencies"),        # a NumPy reduction error before
+    ("a", "b", "must be arrays of numbers"),                                   # "complex() arg is malformed"
+])
+def test_empty_or_non_numeric_data_are_refused(a, b, match):
+    with pytest.raises(FrequencyDataError, match=match):
+        max_relative_error(a, b)
+
+
 def test_siso_1d_and_shape_mismatch():
     assert max_relative_error(np.array([1.0, 2.0]), np.array([1.0, 1.0])) == pytest.approx(1.0)
     with pytest.raises(FrequencyDataError, match="shape"):

@@ -64,6 +64,16 @@ def test_noise_level_edge_cases():
     assert sysid.noise_level(H, W)[0] < 1e-4
 
 
+@pytest.mark.parametrize("H, omega, match", [
+    (np.ones((1, 1, 40)), np.arange(39.0), r"omega of shape \(K,\)"),                  # an IndexError before
+    ("x", np.arange(40.0), "an array of numbers"),
+    (np.where(np.arange(40) == 7, np.nan, 1.0).reshape(1, 1, -1), np.arange(40.0), "NaN"),  # gave 0 noise
+])
+def test_noise_level_bad_input(H, omega, match):
+    with pytest.raises(sysid.FrequencyDataError, match=match):
+        sysid.noise_level(H, omega)
+
+
 def test_at_noise_level():
     assert relocation.at_noise_level([0.02, 0.01], [0.01, 0.005])
     assert not relocation.at_noise_level([0.2, 0.01], [0.01, 0.005])

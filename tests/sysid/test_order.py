@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 from sysid_synth import freqresp, noisy_resonant_system, random_system
 
+import sysid
 from sysid import FrequencyResponse, OrderError, OrderSweep, identify, mckelvey_grid, order_sweep
 
 
@@ -80,6 +81,16 @@ def test_table_and_no_holdout():
 def test_bad_max_order(max_order, match):
     with pytest.raises(OrderError, match=match):
         order_sweep(frf_of(3, 1, M=32), max_order)
+
+
+@pytest.mark.parametrize("kw, match", [
+    (dict(holdout_tol=float("nan")), "holdout_tol must be a finite number >= 0"),   # suggested 1 instead of 3 before
+    (dict(holdout_atol=-1.0), "holdout_atol must be a finite number >= 0"),
+    (dict(holdout="no"), "holdout must be True or False"),
+])
+def test_bad_holdout_options(kw, match):
+    with pytest.raises(sysid.OptionError, match=match):
+        order_sweep(frf_of(3, 1, M=32), 6, **kw)
 
 
 def test_default_max_order():

@@ -501,6 +501,13 @@ def _with(a, k, v):
     (dict(dc_gain=np.ones(2)), sysid.ConstraintError, r"dc_gain must have shape \(p, m\) = \(1, 1\)"),
     (dict(feedthrough=1j), sysid.ConstraintError, "feedthrough must be real"),
     (dict(G=lambda G: 0 * G), FrequencyDataError, "output 0 is zero at every frequency"),
+    # counts and budgets: a negative iteration count ran no relocation (error 2e-15 -> 0.08, no complaint)
+    (dict(iterations=-1), sysid.OptionError, "iterations must be a whole number >= 0"),
+    (dict(lawson=-1), sysid.OptionError, "lawson must be a whole number >= 0"),
+    (dict(refine=1.5), sysid.OptionError, "refine must be a whole number >= 0"),
+    (dict(minimax_rounds=-1), sysid.OptionError, "minimax_rounds must be a whole number >= 0"),
+    (dict(budget=-1.0), sysid.OptionError, "budget must be a positive number of seconds"),
+    (dict(start_poles="x"), sysid.OptionError, "start_poles must be a dict"),
 ])
 def test_fit_relocated_bad_arguments(change, error, what):
     frf = siso_frf()

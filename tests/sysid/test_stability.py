@@ -193,7 +193,10 @@ def test_margin_must_be_a_number_in_the_unit_interval(margin):
 @pytest.mark.parametrize("kwargs, match", [(dict(delta=-1.0), "delta must be a nonnegative number"),
                                            (dict(delta=np.nan), "delta must be"),
                                            (dict(subspace="no"), "subspace must be True or False"),
-                                           (dict(force=1), "force must be True or False")])
+                                           (dict(force=1), "force must be True or False"),
+                                           # checked only by the reflection before / a bare ValueError
+                                           (dict(mode="bogus"), "mode must be 'mirror' or 'circle'"),
+                                           (dict(solver_opts="x"), "solver_opts must be a dict")])
 def test_other_options_are_checked(kwargs, match):
     # delta = -1 was accepted (a non-strict LMI); force=1 and subspace="no" were read as truthy
     import sysid

@@ -121,6 +121,17 @@ def test_omega_d_array_checked_up_front(bad, shown, call):
         call(G, wd)
 
 
+def test_repeated_or_non_numeric_data_are_refused():
+    # every frequency the same gave mckelvey2 a model on the unit circle (spectral radius 1.0)
+    wd, _ = mckelvey_grid(32, 1.0)
+    A, B, C, D, _ = random_system(2, 1, 1, 0)
+    G = freqresp(A, B, C, D, np.exp(1j * wd))
+    with pytest.raises(FrequencyGridError, match="are the same frequency"):
+        mckelvey2(G, np.zeros(wd.size), 2)
+    with pytest.raises(sysid.FrequencyDataError, match="G must be an array of numbers"):
+        sysid.hankel_svd("x")
+
+
 @pytest.mark.parametrize("order, q, match", [
     (8, 8, r"q = 8"),
     (20, None, r"largest possible order is 15"),
