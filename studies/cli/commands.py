@@ -105,7 +105,7 @@ def add_subcommands(sub) -> None:
     p.add_argument("--order", type=int, required=True, help="model order N_r")
     p.add_argument("--naca", default=None, help="NACA 4-digit code of a user case (e.g. 0012)")
     p.add_argument("--mach", default=None, help="Mach number of a user case")
-    p.add_argument("--alpha", default=0.0, help="incidence of a user case, degrees (default 0)")
+    p.add_argument("--alpha", default=None, help="incidence of a user case, degrees (default 0)")
     p.add_argument("--T", default="70/(2*pi)", help="sampling period of the bilinear map (default 70/(2*pi))")
     p.add_argument("--M", type=int, default=256, help="grid intervals, N_omega = M + 1 (default 256)")
     p.add_argument("--dc-gain", action=argparse.BooleanOptionalAction, default=True,
@@ -456,16 +456,18 @@ def cmd_report(args) -> int:
 def rom_study(args) -> StudyConfig:
     """The one-point study of ``lfdrom rom`` (validated like a study file; raises StudyConfigError)."""
     if args.case.casefold() in {n.casefold() for n in TEST_CASES}:
-        if args.naca is not None or args.mach is not None:
-            raise StudyConfigError("<command line>", "--naca", f"{args.case} is a paper case with a fixed aerofoil "
-                                   "and Mach number; give another CASE label to define your own")
+        given = [f"--{n}" for n in ("naca", "mach", "alpha") if getattr(args, n, None) is not None]
+        if given:
+            raise StudyConfigError("<command line>", given[0], f"{args.case} is a paper case with a fixed aerofoil, "
+                                   "Mach number and incidence; give another CASE label to define your own")
         case = args.case
     else:
         if args.naca is None or args.mach is None:
             raise StudyConfigError("<command line>", "CASE", (
                 f"{args.case!r} is not a paper case ({', '.join(TEST_CASES)}); for your own aerofoil give "
                 "--naca and --mach (e.g. lfdrom rom mine --naca 0012 --mach 0.5 --order 20)"))
-        case = {"name": args.case, "naca": args.naca, "mach": args.mach, "alpha_deg": args.alpha}
+        case = {"name": args.case, "naca": args.naca, "mach": args.mach,
+                "alpha_deg": 0.0 if args.alpha is None else args.alpha}
     paper = bool(getattr(args, "paper", False))
     method = {"dc_gain": "match" if args.dc_gain and not paper else "none", "stable": bool(args.stable) and not paper}
     data = {"name": "rom", "cases": [case], "sweep": {"orders": [args.order], "T": [args.T],

@@ -26,6 +26,8 @@ from __future__ import annotations
 import argparse
 import csv
 import io
+import math
+import sys
 import time
 import warnings
 from dataclasses import dataclass
@@ -272,10 +274,46 @@ def build_parser(parser: argparse.ArgumentParser | None = None) -> argparse.Argu
     return p
 
 
-def main(argv=None) -> int:
-    args = build_parser().parse_args(argv)
+def check_args(args) -> str | None:
+    """What is wrong with the demo's options (``None``: nothing), found before any computation: ``--M`` within
+    McKelvey's grid's range, ``--orders`` that the grid supports, ``--noise`` a finite fraction >= 0, ``--seed``
+    >= 0."""
+    from sysid.grids import MAX_GRID_M
+    from sysid.order_limits import max_order
+
+    if not 2 <= args.M <= MAX_GRID_M:
+        return f"--M: {args.M} grid intervals; give 2 .. {MAX_GRID_M} (the paper uses 256)"
+    top = max_order(args.M, "auto", p=2, m=1)
+    bad = [n for n in args.orders if not 1 <= n <= top]
+    if bad:
+        return f"--orders: {bad} outside 1 .. {top}, the orders M = {args.M} intervals support (a larger --M allows more)"
+    if not (math.isfinite(args.noise) and args.noise >= 0):
+        return f"--noise: {args.noise!r}; give the noise as a fraction of each channel's peak, >= 0 (e.g. 2e-3)"
+    if args.seed < 0:
+        return f"--seed: {args.seed}; give a whole number >= 0"
+    return None
+
+
+def cli(args) -> int:
+    """``lfdrom demo``: check the options and the output folder (exit 2 / 4 before computing), then run."""
+    from ..store.files import NotWritableError, probe_writable
+    from .exit_codes import EXIT_NOT_WRITTEN, EXIT_OK, EXIT_UNAVAILABLE
+
+    problem = check_args(args)
+    if problem is not None:
+        print(f"lfdrom demo: {problem}", file=sys.stderr)
+        return EXIT_UNAVAILABLE
+    try:
+        probe_writable(args.out, what="demo output folder", fix="choose another --out")
+    except NotWritableError as e:
+        print(f"lfdrom demo: {e}", file=sys.stderr)
+        return EXIT_NOT_WRITTEN
     run_demo(args.out, M=args.M, noise=args.noise, orders=tuple(args.orders), seed=args.seed, verbose=not args.quiet)
-    return 0
+    return EXIT_OK
+
+
+def main(argv=None) -> int:
+    return cli(build_parser().parse_args(argv))
 
 
 if __name__ == "__main__":

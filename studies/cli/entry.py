@@ -65,11 +65,9 @@ def _main(argv=None) -> int:
         parser.print_help()
         return 2
     if args.command == "demo":
-        from .demo import run_demo
+        from .demo import cli
 
-        run_demo(args.out, M=args.M, noise=args.noise, orders=tuple(args.orders), seed=args.seed,
-                 verbose=not args.quiet)
-        return 0
+        return cli(args)
     from . import commands
 
     if args.command in commands.COMMANDS:

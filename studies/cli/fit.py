@@ -174,6 +174,11 @@ def holdout_order(frf, *, max_order: int = 30, dc_gain=None, stable: bool = True
     -------
     HoldoutSelection
     """
+    from sysid.data_checks import check_data_scale, check_nonzero_outputs
+
+    # what would make every order fail, said as identify says it ("no order could be fitted" hid it)
+    check_nonzero_outputs(frf.H, frf.outputs)
+    check_data_scale(frf.H, frf.outputs)
     fit_idx, held = _split(frf)
     if held.size == 0:
         raise FitInputError(_source(frf), "--order", "too few frequencies to hold any out; give --order N")

@@ -175,9 +175,13 @@ def _read_arrays(path: Path, d: dict, T_opt: float | None):
     T = T_opt
     if T is None and "T" in d:
         try:
-            T = float(np.asarray(d["T"], dtype=float).reshape(-1)[0])
-        except (TypeError, ValueError, IndexError):
+            values = np.asarray(d["T"], dtype=float).reshape(-1)
+        except (TypeError, ValueError):
             raise FitInputError(path, "key 'T'", f"is not a number: {d['T']!r}") from None
+        if values.size != 1:   # (the first of several was taken)
+            raise FitInputError(path, "key 'T'", f"must be one number (the sampling period), got {values.size}: "
+                                f"{values[:4].tolist()}")
+        T = float(values[0])
         if not (math.isfinite(T) and T > 0):
             raise FitInputError(path, "key 'T'", f"must be positive and finite, got {T!r}")
     unit = given[0]

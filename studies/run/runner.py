@@ -44,7 +44,7 @@ from ..config.schema import StudyConfig
 from ..config.study import as_config
 from ..sections.protocol import active_sections, piece_kinds
 from ..store.entries import error_text, open_store
-from ..store.files import atomic_write_bytes
+from ..store.files import atomic_write_bytes, probe_writable
 from ..store.results import StudyResults, load_results
 from .compute import pinned_store
 from .executors import RunnerError, make_pool
@@ -214,6 +214,8 @@ def run_study(study, *, output_dir=None, store_dir=None, scheduler: Optional[str
         ``study`` is neither a StudyConfig nor a path.
     ValueError
         An unknown ``progress`` mode.
+    studies.store.files.NotWritableError
+        The results store cannot be written (checked before anything is computed; a ``PermissionError``).
     """
     mode = resolve_mode(progress)
     config = as_config(study)
@@ -224,6 +226,9 @@ def run_study(study, *, output_dir=None, store_dir=None, scheduler: Optional[str
         changes["store_dir"] = Path(store_dir).resolve()
     if changes:
         config = replace(config, **changes)
+    # the store is written as each piece is computed: an unwritable one would lose every piece (it failed late and
+    # reported "0 failed"); the command line probes the same way (exit 4)
+    probe_writable(config.store_dir, what="results store", fix="give store_dir= a folder you may write")
     if workers == "auto":
         workers = auto_workers(config)
     elif scheduler in (None, "local") and isinstance(workers, int) and not isinstance(workers, bool) and workers > 1:

@@ -149,6 +149,8 @@ def test_report_page_and_prose_are_handed_over(fake_modules, tmp_path):
     (["rom", "T2", "--order", "9", "--M", "48"], "--M: must be a power of two"),
     (["rom", "T2", "--order", "9", "--T", "-1"], "--T: must be positive"),
     (["rom", "T2", "--order", "9", "--naca", "0012"], "--naca: T2 is a paper case"),
+    (["rom", "T2", "--order", "9", "--mach", "0.3"], "--mach: T2 is a paper case"),       # named --naca before
+    (["rom", "T2", "--order", "9", "--alpha", "3"], "--alpha: T2 is a paper case"),       # ignored before (alpha 0)
     (["rom", "mine", "--naca", "0012", "--mach", "1.5", "--order", "9"], "--mach: mach = 1.5 is out of range"),
     (["rom", "mine", "--naca", "00x2", "--mach", "0.5", "--order", "9"], "--naca: .*non-digit"),
     (["rom", "mine", "--naca", "0012", "--mach", "fast", "--order", "9"], "--mach: 'fast' is not a number"),

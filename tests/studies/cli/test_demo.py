@@ -1,6 +1,7 @@
 """The identification demo runs quickly and delivers what it promises."""
 
 import csv
+import re
 
 import numpy as np
 import pytest
@@ -52,3 +53,21 @@ def test_demo_says_which_roms_are_unstable(tmp_path, capsys):
     assert len(lines) == len(res.rows)
     for row, line in zip(res.rows, lines):
         assert ("UNSTABLE" in line) == (not row["stable"])
+
+
+@pytest.mark.parametrize("argv, code, match", [
+    # each was a traceback and exit 1 (or, --noise -1, accepted)
+    (["--M", "0"], 2, "--M: 0 grid intervals"),
+    (["--M", "3"], 2, r"--orders: \[4, 6, 40\] outside 1 .. 2"),
+    (["--orders", "0"], 2, r"--orders: \[0\] outside"),
+    (["--noise", "nan"], 2, "--noise: nan"),
+    (["--noise", "-1"], 2, "--noise: -1.0"),
+    (["--seed", "-1"], 2, "--seed: -1"),
+    (["--out", "/proc/forbidden/demo"], 4, "cannot write the demo output folder"),
+])
+def test_cli_demo_refuses_bad_options_before_computing(argv, code, match, capsys, monkeypatch):
+    import studies.cli.demo as demo
+
+    monkeypatch.setattr(demo, "run_demo", lambda *a, **k: pytest.fail("computed despite bad options"))
+    assert cli.main(["demo", "--quiet"] + argv) == code
+    assert re.search(match, capsys.readouterr().err)

@@ -234,6 +234,7 @@ def test_bad_csv_names_the_line(tmp_path, text, where, what):
     ({"H": np.ones(3, complex), "omega": np.arange(3.0), "k": np.arange(3.0)}, "key 'omega'", "ambiguous"),
     ({"H": np.ones(3, complex), "omega_d": np.arange(3.0)}, "key 'omega_d'", "need the sampling period"),
     ({"H": np.ones(3, complex), "omega": np.arange(3.0), "T": -1.0}, "key 'T'", "positive"),
+    ({"H": np.ones(3, complex), "omega": np.arange(3.0), "T": np.array([1.0, 2.0])}, "key 'T'", "must be one number"),
     ({"H": np.array([1, np.nan, 1], complex), "omega": np.arange(3.0)}, "key 'H'", "NaN or inf"),
     ({"H": np.ones((2, 1, 3), complex), "omega": np.arange(3.0), "outputs": np.array(["Cl"], dtype=object)},
      "key 'outputs'", "has 1 names"),
@@ -267,6 +268,25 @@ def test_bad_input_exit_code_2(tmp_path, capsys):
     (tmp_path / "data.xlsx").write_text("x")
     assert cli.main(["fit", str(tmp_path / "data.xlsx")]) == 2
     assert "unknown suffix '.xlsx'" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("argv, msg", [
+    # said "no order could be fitted ... give --order N" (the order search failed at every order)
+    (["--scale", "1e200"], "outside 1e-150 .. 1e+150"),
+    # a DC gain 1e300 times the data's: a ROM 1.6e301 % off, exit 0, with a warning
+    (["--order", "4", "--dc-gain", "1e300,1"], "times the largest |H| of the data"),
+])
+def test_data_or_dc_gain_out_of_scale_exit_2(tmp_path, capsys, argv, msg):
+    src = EXAMPLE
+    if argv[:1] == ["--scale"]:
+        from studies.cli.fit_data import load_data
+
+        frf = load_data(EXAMPLE)
+        src = tmp_path / "big.npz"
+        np.savez(src, H=np.asarray(frf.H) * float(argv[1]), omega=frf.omega)
+        argv = []
+    assert cli.main(["fit", str(src), *argv, "--no-figures", "--quiet", "--out", str(tmp_path / "o")]) == 2
+    assert msg in capsys.readouterr().err
 
 
 def _unreadable(tmp_path, kind):

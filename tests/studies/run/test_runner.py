@@ -190,6 +190,16 @@ def test_auto_workers(study, cpus, expected):
     assert auto_workers(replace(config, gusts=()), cpus=cpus) == min(cpus, len(config.cases))
 
 
+def test_an_unwritable_store_is_refused_before_computing(computed, monkeypatch):
+    # the run computed the steady flow, logged a FileNotFoundError and returned "0 failed" before
+    import studies.run.runner as runner
+    from studies.store.files import NotWritableError
+
+    monkeypatch.setattr(runner, "_run", lambda *a, **k: pytest.fail("computed with an unwritable store"))
+    with pytest.raises(NotWritableError, match="results store"):
+        run_study(computed[0], store_dir="/proc/no/store", progress=False)
+
+
 def test_bad_study_argument():
     with pytest.raises(TypeError, match="StudyConfig or the path"):
         run_study(3.5)
