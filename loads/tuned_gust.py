@@ -441,7 +441,8 @@ def tuned_gust(model: Any, point: FlightPoint, *, outputs: Sequence[str] | None 
         ``H_range`` outside the rule's without ``outside_rule=True``, or not ``0 < H_min <= H_max``; a bad
         ``n_grid`` or ``h_rtol``; a flight point above 60 000 ft.
     LoadsModelError
-        A model without a ``"gust"`` input, an unknown output, an unstable model.
+        A model without a ``"gust"`` input, an unknown output, a NaN or inf in the model's matrices, an unstable
+        model, a moment axis or ``moment_reference`` that is not a finite number.
     FlightPointError
         ``point`` not a :class:`FlightPoint`.
 

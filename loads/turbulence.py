@@ -36,7 +36,7 @@ import numpy as np
 
 from .atmosphere import FT, FlightPoint
 from .errors import GustError, LoadsModelError, SpectrumError
-from .system import GustSystem, gust_system, moment_output_name
+from .system import GustSystem, check_moment_axes, gust_system, moment_output_name
 
 __all__ = ["TurbulenceResult", "continuous_turbulence", "von_karman", "SCALE_LENGTH", "WARN_ERROR"]
 
@@ -181,7 +181,8 @@ def continuous_turbulence(model_or_frf: Any, point: FlightPoint, *, outputs: Seq
     SpectrumError
         ``N0`` diverges (a feedthrough, no cut-off), or the quadrature did not reach ``rtol`` (model path).
     LoadsModelError
-        No ``"gust"`` input, unknown output, unstable model, data without continuous frequencies.
+        No ``"gust"`` input, unknown output, a NaN or inf in the model's matrices, unstable model, data without
+        continuous frequencies, a moment axis or ``moment_reference`` that is not a finite number.
     GustError
         Bad ``f_max_hz``, ``rtol`` or ``L_m``.
     """
@@ -348,13 +349,14 @@ def _from_data(frf, point, outputs, L, f_max, moment_axes, moment_reference):
         raise LoadsModelError(f"the data have no input named 'gust' (inputs {list(frf.inputs)})")
     H = np.asarray(frf.H)[:, list(frf.inputs).index("gust"), :]
     names_all = list(frf.outputs)
-    if np.size(moment_axes):
+    axes, x_ref = check_moment_axes(moment_axes, moment_reference)
+    if axes:
         if "Cl" not in names_all or "Cm" not in names_all:
             raise LoadsModelError(f"moment_axes needs outputs 'Cl' and 'Cm'; the data's outputs are {names_all}")
         il, im = names_all.index("Cl"), names_all.index("Cm")
-        extra = [H[im] + (float(x) - moment_reference) * H[il] for x in np.atleast_1d(moment_axes)]
+        extra = [H[im] + (x - x_ref) * H[il] for x in axes]
         H = np.vstack([H] + [e[None] for e in extra])
-        names_all += [moment_output_name(float(x)) for x in np.atleast_1d(moment_axes)]
+        names_all += [moment_output_name(x) for x in axes]
     rows = _rows(names_all, outputs)
     names = [names_all[r] for r in rows]
     w = np.asarray(frf.omega, dtype=float)
