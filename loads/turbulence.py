@@ -47,11 +47,60 @@ WARN_ERROR = 0.01
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(8)
 
 
+def _check_scale(name: str, L: Any) -> float:
+    """``L`` as a positive, finite turbulence scale (m), else :class:`GustError` naming ``name``."""
+    try:
+        f = math.nan if isinstance(L, (bool, np.bool_, str, bytes)) else float(L)
+    except (TypeError, ValueError):
+        f = math.nan
+    if not (math.isfinite(f) and f > 0):
+        raise GustError(f"{name} must be a positive, finite turbulence scale (m; the rule's is 2500 ft = 762 m), "
+                        f"got {L!r}")
+    return f
+
+
 def von_karman(Omega: Any, L: float = SCALE_LENGTH) -> np.ndarray:
     """Von Karman vertical-gust spectrum of unit rms, ``Phi(Omega)`` (m/rad), ``Omega`` in rad/m, any shape.
 
     One-sided: ``int_0^inf Phi dOmega = 1``.
+
+    Parameters
+    ----------
+    Omega : array_like
+        Spatial frequencies (rad/m), real and finite (the spectrum is even in ``Omega``).
+    L : float
+        Turbulence scale (m), positive and finite; default the rule's 2500 ft.
+
+    Returns
+    -------
+    ndarray
+        ``Phi`` with the shape of ``Omega``.
+
+    Raises
+    ------
+    GustError
+        ``L`` not a positive, finite number (``L < 0`` gave a negative spectrum, ``L = 0`` zero); ``Omega`` not
+        real numbers, or NaN or inf (``Phi`` was NaN).
     """
+    L = _check_scale("L", L)
+    try:
+        w = np.asarray(Omega)
+        bad = w.dtype.kind not in "iuf"
+        if not bad:
+            w = w.astype(float)
+    except (TypeError, ValueError):
+        bad = True
+    if bad:
+        raise GustError(f"Omega must be real spatial frequencies (rad/m: a number or an array of numbers), got "
+                        f"{Omega!r}")
+    if not np.all(np.isfinite(w)):
+        raise GustError(f"Omega must be finite (rad/m), got {np.count_nonzero(~np.isfinite(w))} NaN or inf value(s) "
+                        f"(first {w[~np.isfinite(w)][0]!r}); the spectrum tends to 0 like Omega^(-5/3) at infinity")
+    return _phi(w, L)
+
+
+def _phi(Omega: np.ndarray, L: float) -> np.ndarray:
+    """:func:`von_karman` without the checks (the integrals' own, finite frequencies)."""
     x = (1.339 * L * np.asarray(Omega, dtype=float)) ** 2
     return (L / math.pi) * (1.0 + 8.0 / 3.0 * x) / (1.0 + x) ** (11.0 / 6.0)
 
@@ -190,12 +239,7 @@ def continuous_turbulence(model_or_frf: Any, point: FlightPoint, *, outputs: Seq
 
     f_max = _check_fmax(f_max_hz)
     rtol = _check_rtol(rtol)
-    try:
-        L = float(L_m)
-    except (TypeError, ValueError):
-        L = math.nan
-    if not (math.isfinite(L) and L > 0):
-        raise GustError(f"L_m must be a positive turbulence scale (m), got {L_m!r}")
+    L = _check_scale("L_m", L_m)
     if isinstance(model_or_frf, sysid.FrequencyResponse):
         return _from_data(model_or_frf, point, outputs, L, f_max, moment_axes, moment_reference)
     system = gust_system(model_or_frf, point, moment_axes=moment_axes, moment_reference=moment_reference)
@@ -255,7 +299,7 @@ def _from_system(system: GustSystem, point, outputs, L, f_max, rtol):
         w = (half[:, None] * _GL_W[None, :]).ravel()
         Om = np.exp(x)
         G = system.frequency_response(Om * c)[rows] / U                  # (p, K)
-        return Om, w * Om * von_karman(Om, L), G                         # dOmega = Omega dx
+        return Om, w * Om * _phi(Om, L), G                         # dOmega = Omega dx
 
     def integrals(n_panels):
         Om, wt, G = panels(n_panels, hi)
@@ -298,7 +342,7 @@ def _from_system(system: GustSystem, point, outputs, L, f_max, rtol):
     quad_a = np.where(zero, 0.0, 0.5 * err_a)
     quad_m = np.where(zero, 0.0, 0.5 * (err_m + err_a))
     plotO = np.geomspace(max(lo, 1e-3 / (1.339 * L)), min(hi, 10.0 * max(scale, 1.0) / c), 600)
-    psd = np.abs(system.frequency_response(plotO * c)[rows] / U) ** 2 * von_karman(plotO, L)
+    psd = np.abs(system.frequency_response(plotO * c)[rows] / U) ** 2 * _phi(plotO, L)
     return _result(names, rows, system.scale, system.units, a_bar, n0, cross, quad_a, trunc_a, quad_m, trunc_m,
                    plotO, psd, "model", f_max, point)
 
@@ -374,7 +418,7 @@ def _from_data(frf, point, outputs, L, f_max, moment_axes, moment_reference):
     if f_max is None and Hinf.size and np.any(np.abs(Hinf) > 1e-10 * np.abs(G * U).max(axis=1, keepdims=True)):
         raise SpectrumError("N0 diverges: the data's omega = inf sample (the feedthrough) is not zero, so "
                             "Omega^2 |H|^2 Phi grows like Omega^(1/3); give f_max_hz")
-    Phi = von_karman(Om, L)
+    Phi = _phi(Om, L)
     cross_int = (G[:, None, :] * G[None, :, :].conj()).real * Phi
     cross = np.trapezoid(cross_int, Om, axis=-1)
     Om_m = Om[keep]
