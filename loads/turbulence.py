@@ -162,8 +162,18 @@ class TurbulenceResult:
     point: FlightPoint | None = field(default=None, repr=False)
 
     def rho(self, x: str, y: str) -> float:
-        """Correlation coefficient of outputs ``x`` and ``y``."""
+        """Correlation coefficient of outputs ``x`` and ``y``.
+
+        Raises
+        ------
+        LoadsModelError
+            ``x`` or ``y`` not one of ``outputs`` (the message lists them).
+        """
         o = list(self.outputs)
+        for arg, name in (("x", x), ("y", y)):
+            if not isinstance(name, str) or name not in o:
+                raise LoadsModelError(f"{arg} = {name!r} is not an output of the turbulence result; its outputs are "
+                                      f"{o}")
         return float(self.correlation[o.index(x), o.index(y)])
 
     def summary(self) -> str:

@@ -161,6 +161,18 @@ def test_bad_input(kw, err, match):
         loads.continuous_turbulence(sys, PT, **({"f_max_hz": 20.0} | kw))
 
 
+@pytest.mark.parametrize("x, y, match", [
+    ("Cl", "X", r"y = 'X' is not an output of the turbulence result; its outputs are \['Cl'\]"),  # bare ValueError
+    (0, "Cl", r"x = 0 is not an output"),
+])
+def test_rho_of_an_unknown_output_is_refused(x, y, match):
+    sys, _, _ = _jones_sears_model()
+    ct = loads.continuous_turbulence(sys, PT, f_max_hz=20.0)
+    assert ct.rho("Cl", "Cl") == 1.0
+    with pytest.raises(loads.LoadsModelError, match=match):
+        ct.rho(x, y)
+
+
 def test_an_unreached_output_gets_zeros_not_nan():
     sys, _, _ = _jones_sears_model()
     two = control.ss(sys.A, sys.B, np.vstack([sys.C, 0 * np.asarray(sys.C)]), np.vstack([sys.D, 0 * np.asarray(sys.D)]),
