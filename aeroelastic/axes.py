@@ -53,6 +53,31 @@ def _x(name: str, v: Any) -> float:
     return f
 
 
+_AXIS_TOL = 1e-9
+"""Largest difference (chords) between ``pivot`` / ``moment_axis`` and the axis the data state (``metadata["axis"]``)
+that :func:`change_axes` takes as the same axis (:func:`aeroelastic.flutter`'s check uses the same)."""
+
+
+def _check_stated_axis(frf, xp: float, xm: float) -> None:
+    """:class:`AeroModelError` when ``frf.metadata["axis"]`` (set by an earlier :func:`change_axes`) is not ``xp`` and
+    ``xm``: moving the data again from an axis they are not about gave loads about neither axis, with the new axis
+    stamped on them (a flutter speed 21 % low that ``flutter``'s own axis check then passed)."""
+    md = frf.metadata
+    if "axis" not in md:
+        return
+    try:
+        xa = float(md["axis"])
+    except (TypeError, ValueError):
+        raise AeroModelError(f"the data's metadata['axis'] = {md['axis']!r} is not a position in chords; remove it "
+                             "or set it to the axis of the data's pitch and Cm") from None
+    wrong = [f"{n} = {v:.6g}" for n, v in (("pivot", xp), ("moment_axis", xm)) if abs(v - xa) > _AXIS_TOL]
+    if wrong:
+        raise AeroModelError(
+            f"the data are about the axis {xa:.6g} chords from the leading edge (metadata['axis'], set by an earlier "
+            f"change_axes) but {' and '.join(wrong)} were given; pass pivot={xa:.6g}, moment_axis={xa:.6g} (or move "
+            "the original data, not the moved ones)")
+
+
 def change_axes(frf, *, pivot: float, moment_axis: float, new_axis: float):
     """Re-express motion (and gust) data about a new pitch pivot and moment axis.
 
@@ -77,14 +102,16 @@ def change_axes(frf, *, pivot: float, moment_axis: float, new_axis: float):
     Raises
     ------
     AeroModelError
-        ``frf`` not a :class:`sysid.FrequencyResponse`, missing ``"Cl"`` / ``"Cm"`` outputs, or an axis position
-        not a finite number.
+        ``frf`` not a :class:`sysid.FrequencyResponse`, missing ``"Cl"`` / ``"Cm"`` outputs, an axis position
+        not a finite number, or ``pivot`` / ``moment_axis`` other than the axis the data state they are about
+        (``metadata["axis"]``, set by an earlier :func:`change_axes`).
     """
     import sysid
 
     if not isinstance(frf, sysid.FrequencyResponse):
         raise AeroModelError(f"change_axes() expects a sysid.FrequencyResponse, got {type(frf).__name__}")
     xp, xm, xe = _x("pivot", pivot), _x("moment_axis", moment_axis), _x("new_axis", new_axis)
+    _check_stated_axis(frf, xp, xm)
     oi = channel_indices(frf.outputs, LOAD_OUTPUTS, "outputs")
     H = np.array(frf.H, copy=True)
     # outputs: Cm_e = Cm_m + (x_e - x_m) Cl
@@ -124,8 +151,9 @@ def to_elastic_axis(frf, section, *, pivot: float = 0.25, moment_axis: float = 0
     SectionError
         ``section`` not a :class:`TypicalSection`.
     AeroModelError
-        ``frf`` not a :class:`sysid.FrequencyResponse`, missing ``"Cl"`` / ``"Cm"`` outputs, or ``pivot`` /
-        ``moment_axis`` not a finite number.
+        ``frf`` not a :class:`sysid.FrequencyResponse`, missing ``"Cl"`` / ``"Cm"`` outputs, ``pivot`` /
+        ``moment_axis`` not a finite number, or not the axis the data state they are about
+        (``metadata["axis"]``, set by an earlier :func:`change_axes`).
     """
     check_section(section)
     return change_axes(frf, pivot=pivot, moment_axis=moment_axis, new_axis=section.elastic_axis)

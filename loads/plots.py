@@ -31,16 +31,46 @@ def _check(value, cls, what):
         raise LoadsModelError(f"expected the result of loads.{what}, got {type(value).__name__}")
 
 
+MAX_ELLIPSE_POINTS = 100_000
+"""Most points :func:`turbulence_ellipse` draws (a smooth curve needs a few hundred)."""
+
+
 def turbulence_ellipse(turbulence: TurbulenceResult, x: str, y: str, *, dimensional: bool = True, n: int = 181):
     """The correlated-load ellipse of outputs ``x`` and ``y``: ``(U_sigma A_x cos t,
     U_sigma A_y (rho cos t + sqrt(1 - rho^2) sin t))``, ``t`` in ``[0, 2 pi]``; shapes (n,), (n,).
 
     Its extreme in ``x`` is ``(A_x U_sigma, rho A_x ... )``: the design load of ``x`` with the correlated ``y``.
+
+    Parameters
+    ----------
+    turbulence : TurbulenceResult
+    x, y : str
+        Outputs of ``turbulence``.
+    dimensional : bool
+        SI at the flight point (default) or model units.
+    n : int
+        Points on the ellipse, 3 to :data:`MAX_ELLIPSE_POINTS` (default 181).
+
+    Returns
+    -------
+    ex, ey : ndarray, shape (n,)
+
+    Raises
+    ------
+    LoadsModelError
+        ``turbulence`` not a :class:`TurbulenceResult`, ``x`` or ``y`` not one of its outputs, ``dimensional`` not
+        a boolean, ``n`` not an integer in 3 .. :data:`MAX_ELLIPSE_POINTS`.
     """
     _check(turbulence, TurbulenceResult, "continuous_turbulence")
     for o in (x, y):
-        if o not in turbulence.outputs:
+        if not isinstance(o, str) or o not in turbulence.outputs:
             raise LoadsModelError(f"no output {o!r} in the turbulence result ({list(turbulence.outputs)})")
+    if not isinstance(dimensional, (bool, np.bool_)):
+        raise LoadsModelError(f"dimensional must be True (SI at the flight point) or False (model units), got "
+                              f"{dimensional!r}")
+    if isinstance(n, (bool, np.bool_)) or not isinstance(n, (int, np.integer)) or not 3 <= n <= MAX_ELLIPSE_POINTS:
+        raise LoadsModelError(f"n (points on the ellipse) must be an integer from 3 to {MAX_ELLIPSE_POINTS}, got "
+                              f"{n!r}; the default 181 draws a smooth curve")
     r = turbulence.rho(x, y)
     sx, sy = turbulence.design[x], turbulence.design[y]
     if dimensional:

@@ -19,7 +19,9 @@ Each output carries the factor that makes it dimensional at the flight point (``
 
 from __future__ import annotations
 
+import math
 import warnings
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -28,7 +30,7 @@ import numpy as np
 from .atmosphere import FlightPoint
 from .errors import FlightPointError, LoadsModelError
 
-__all__ = ["GustSystem", "gust_system", "moment_output_name", "EIGENVECTOR_CONDITION_LIMIT"]
+__all__ = ["GustSystem", "gust_system", "moment_output_name", "check_moment_axes", "EIGENVECTOR_CONDITION_LIMIT"]
 
 EIGENVECTOR_CONDITION_LIMIT = 1e8
 """Condition number of the eigenvector matrix above which the modal form is refused (it would lose more than half
@@ -88,6 +90,47 @@ def moment_output_name(axis: float) -> str:
     return f"Cm@{axis:.3f}"
 
 
+def _position(name: str, v: Any) -> float:
+    """``v`` as a finite position in chords from the leading edge, else :class:`LoadsModelError` naming ``name``."""
+    bad = isinstance(v, (bool, np.bool_, str, bytes)) or (isinstance(v, np.ndarray) and v.ndim > 0)
+    try:
+        f = math.nan if bad else float(v)
+    except (TypeError, ValueError):
+        bad = True
+    if bad:
+        raise LoadsModelError(f"{name} must be a position in chords from the leading edge (a real number such as "
+                              f"0.25), got {v!r}")
+    if not math.isfinite(f):
+        raise LoadsModelError(f"{name} must be a finite position in chords from the leading edge, got {v!r}")
+    return f
+
+
+def check_moment_axes(moment_axes: Any, moment_reference: Any) -> tuple[list[float], float]:
+    """``(axes, reference)`` as floats, or :class:`LoadsModelError` naming the bad one.
+
+    ``moment_axes`` is one position or a sequence of them (empty for none), ``moment_reference`` one position;
+    positions are real, finite numbers (chords from the leading edge). A NaN gave ``Cm@x`` peaks of NaN, a string
+    a bare NumPy error.
+    """
+    ref = _position("moment_reference", moment_reference)
+    if (isinstance(moment_axes, (str, bytes)) or not isinstance(moment_axes, Iterable)
+            or (isinstance(moment_axes, np.ndarray) and moment_axes.ndim == 0)):
+        return [_position("moment_axes", moment_axes)], ref
+    return [_position(f"moment_axes[{i}]", x) for i, x in enumerate(moment_axes)], ref
+
+
+def _check_finite(A, B, C, D) -> None:
+    """:class:`LoadsModelError` naming the first matrix with a NaN or inf entry (its loads would be NaN)."""
+    for name, M in (("A", A), ("B", B), ("C", C), ("D", D)):
+        M = np.asarray(M, dtype=float)
+        bad = np.argwhere(~np.isfinite(M))
+        if bad.size:
+            at = tuple(int(i) for i in bad[0])
+            raise LoadsModelError(f"the model's {name} matrix has {len(bad)} non-finite entr"
+                                  f"{'y' if len(bad) == 1 else 'ies'} ({M[at]} at {list(at)}): its gust loads would "
+                                  "be NaN; repair or re-identify the model")
+
+
 def _ss_parts(model: Any):
     """``(A, B, C, D, inputs, outputs)`` of a continuous model in convective time from an accepted model type."""
     import control
@@ -108,6 +151,7 @@ def _ss_parts(model: Any):
             f"model must be a sysid.IdentificationResult, a control.StateSpace (discrete with dt = T or continuous, "
             f"convective time, a 'gust' input), an aeroelastic.MotionModel with a gust model or a "
             f"loads.FlexibleSection; got {type(model).__name__}")
+    _check_finite(model.A, model.B, model.C, model.D)
     dt = model.dt
     from aeroelastic.coupling import STATE_OUTPUTS
 
@@ -150,8 +194,9 @@ def gust_system(model: Any, point: FlightPoint, *, moment_axes=(), moment_refere
     Raises
     ------
     LoadsModelError
-        An unsupported type, no ``"gust"`` input, an unstable model, a defective state matrix, a moment axis
-        without ``Cl`` and ``Cm`` outputs.
+        An unsupported type, no ``"gust"`` input, a NaN or inf in the model's matrices, an unstable model, a
+        defective state matrix, a moment axis without ``Cl`` and ``Cm`` outputs, a moment axis or
+        ``moment_reference`` that is not a finite number.
     FlightPointError
         ``point`` not a :class:`FlightPoint`.
     """
@@ -160,14 +205,16 @@ def gust_system(model: Any, point: FlightPoint, *, moment_axes=(), moment_refere
                                f"{type(point).__name__}")
     from .flexible import FlexibleSection
 
+    moment_axes, moment_reference = check_moment_axes(moment_axes, moment_reference)
     if isinstance(model, GustSystem):
-        if model.point != point or np.size(moment_axes):
+        if model.point != point or moment_axes:
             raise LoadsModelError("a GustSystem is reused only at its own flight point and as built (no moment_axes); "
                                   "build another with loads.gust_system(model, point, ...)")
         return model
     scales: dict[str, tuple[float, str]] = {}
     if isinstance(model, FlexibleSection):
         A, B, C, D, inputs, outputs, scales = model.state_space(point)
+        _check_finite(A, B, C, D)
         moment_reference = model.elastic_axis
     else:
         A, B, C, D, inputs, outputs = _ss_parts(model)
@@ -197,7 +244,7 @@ def gust_system(model: Any, point: FlightPoint, *, moment_axes=(), moment_refere
 
 
 def _add_moment_axes(C, D, outputs, axes, x_ref):
-    axes = list(np.atleast_1d(np.asarray(axes, dtype=float))) if np.size(axes) else []
+    axes, x_ref = check_moment_axes(axes, x_ref)
     if not axes:
         return C, D, outputs
     if "Cl" not in outputs or "Cm" not in outputs:
@@ -205,8 +252,6 @@ def _add_moment_axes(C, D, outputs, axes, x_ref):
     il, im = outputs.index("Cl"), outputs.index("Cm")
     rowsC, rowsD = [C], [D]
     for x in axes:
-        if not np.isfinite(x):
-            raise LoadsModelError(f"moment axes must be finite positions in chords from the leading edge, got {x!r}")
         rowsC.append((C[im] + (x - x_ref) * C[il])[None, :])
         rowsD.append(np.atleast_1d(D[im] + (x - x_ref) * D[il]))
         outputs.append(moment_output_name(x))

@@ -33,7 +33,8 @@ from .errors import GustError, LoadsModelError
 from .one_minus_cosine import outputs_at
 from .system import GustSystem, gust_system
 
-__all__ = ["TunedGustResult", "tuned_gust", "peak_over_time", "initial_tail", "GOLDEN_STEPS", "ILLINOIS_STEPS", "MAX_SAMPLES"]
+__all__ = ["TunedGustResult", "tuned_gust", "peak_over_time", "initial_tail", "GOLDEN_STEPS", "ILLINOIS_STEPS", "MAX_SAMPLES",
+           "MAX_GRID"]
 
 GOLDEN_STEPS = 24
 """Golden-section steps of the time refinement: the bracket of two samples shrinks by 0.618^24 = 1e-5, so the
@@ -43,6 +44,11 @@ ILLINOIS_STEPS = 12
 for a smooth peak; brackets where the slope keeps its sign fall back to :data:`GOLDEN_STEPS` of golden section)."""
 MAX_SAMPLES = 20000
 """Most time samples per gust (a finer need is capped, with a ``RuntimeWarning``)."""
+MAX_GRID = 2000
+"""Largest ``n_grid`` of :func:`tuned_gust` (the study files' limit too). The first grid only brackets each local
+maximum of the load against ``H`` for the golden-section search, which refines it to ``h_rtol``; its gusts' time
+responses are all held in memory at once (1000 points took 21 s and 3.4 GB with an order-8 ROM, two outputs;
+``n_grid = 10**7`` asked for 107 GiB after 67 s)."""
 _GR = (math.sqrt(5.0) - 1.0) / 2.0
 
 
@@ -377,9 +383,11 @@ def _illinois(f, a, b, fa, fb, steps: int = ILLINOIS_STEPS):
     return np.where(np.abs(fa) < np.abs(fb), a, b)
 
 
-def _check_count(name: str, v: Any, least: int) -> int:
+def _check_count(name: str, v: Any, least: int, most: int, why: str) -> int:
     if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < least:
         raise GustError(f"{name} must be an integer >= {least}, got {v!r}")
+    if v > most:
+        raise GustError(f"{name} = {v} is more than {most}: {why}")
     return int(v)
 
 
@@ -423,7 +431,7 @@ def tuned_gust(model: Any, point: FlightPoint, *, outputs: Sequence[str] | None 
     outside_rule : bool
         Allow an ``H_range`` outside the rule's.
     n_grid : int
-        Gradients of the first, geometric grid (default 24, at least 3).
+        Gradients of the first, geometric grid (default 24, 3 to :data:`MAX_GRID` = 2000).
     h_rtol : float
         Relative width of the final bracket of the critical ``H`` (default 1e-4).
     moment_axes : sequence of float
@@ -438,10 +446,11 @@ def tuned_gust(model: Any, point: FlightPoint, *, outputs: Sequence[str] | None 
     Raises
     ------
     GustError
-        ``H_range`` outside the rule's without ``outside_rule=True``, or not ``0 < H_min <= H_max``; a bad
-        ``n_grid`` or ``h_rtol``; a flight point above 60 000 ft.
+        ``H_range`` outside the rule's without ``outside_rule=True``, or not ``0 < H_min <= H_max``; ``n_grid``
+        not an integer in 3 .. :data:`MAX_GRID`; a bad ``h_rtol``; a flight point above 60 000 ft.
     LoadsModelError
-        A model without a ``"gust"`` input, an unknown output, an unstable model.
+        A model without a ``"gust"`` input, an unknown output, a NaN or inf in the model's matrices, an unstable
+        model, a moment axis or ``moment_reference`` that is not a finite number.
     FlightPointError
         ``point`` not a :class:`FlightPoint`.
 
@@ -451,7 +460,10 @@ def tuned_gust(model: Any, point: FlightPoint, *, outputs: Sequence[str] | None 
     >>> tg.peak["Cl"], tg.critical_H["Cl"]                                             # doctest: +SKIP
     """
     system = gust_system(model, point, moment_axes=moment_axes, moment_reference=moment_reference)
-    n_grid = _check_count("n_grid", n_grid, 3)
+    n_grid = _check_count("n_grid", n_grid, 3, MAX_GRID,
+                          "the first grid of H only brackets each local maximum for the golden-section search (which "
+                          "refines it to h_rtol), and all its gusts' time responses are held in memory at once (1000 "
+                          "took 3.4 GB with an order-8 ROM); the default 24, or a few hundred, suffices")
     h_rtol = _check_rtol(h_rtol)
     if not isinstance(outside_rule, (bool, np.bool_)):
         raise GustError(f"outside_rule must be True or False, got {outside_rule!r}")

@@ -36,7 +36,7 @@ import numpy as np
 
 from .atmosphere import FT, FlightPoint
 from .errors import GustError, LoadsModelError, SpectrumError
-from .system import GustSystem, gust_system, moment_output_name
+from .system import GustSystem, check_moment_axes, gust_system, moment_output_name
 
 __all__ = ["TurbulenceResult", "continuous_turbulence", "von_karman", "SCALE_LENGTH", "WARN_ERROR"]
 
@@ -47,11 +47,60 @@ WARN_ERROR = 0.01
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(8)
 
 
+def _check_scale(name: str, L: Any) -> float:
+    """``L`` as a positive, finite turbulence scale (m), else :class:`GustError` naming ``name``."""
+    try:
+        f = math.nan if isinstance(L, (bool, np.bool_, str, bytes)) else float(L)
+    except (TypeError, ValueError):
+        f = math.nan
+    if not (math.isfinite(f) and f > 0):
+        raise GustError(f"{name} must be a positive, finite turbulence scale (m; the rule's is 2500 ft = 762 m), "
+                        f"got {L!r}")
+    return f
+
+
 def von_karman(Omega: Any, L: float = SCALE_LENGTH) -> np.ndarray:
     """Von Karman vertical-gust spectrum of unit rms, ``Phi(Omega)`` (m/rad), ``Omega`` in rad/m, any shape.
 
     One-sided: ``int_0^inf Phi dOmega = 1``.
+
+    Parameters
+    ----------
+    Omega : array_like
+        Spatial frequencies (rad/m), real and finite (the spectrum is even in ``Omega``).
+    L : float
+        Turbulence scale (m), positive and finite; default the rule's 2500 ft.
+
+    Returns
+    -------
+    ndarray
+        ``Phi`` with the shape of ``Omega``.
+
+    Raises
+    ------
+    GustError
+        ``L`` not a positive, finite number (``L < 0`` gave a negative spectrum, ``L = 0`` zero); ``Omega`` not
+        real numbers, or NaN or inf (``Phi`` was NaN).
     """
+    L = _check_scale("L", L)
+    try:
+        w = np.asarray(Omega)
+        bad = w.dtype.kind not in "iuf"
+        if not bad:
+            w = w.astype(float)
+    except (TypeError, ValueError):
+        bad = True
+    if bad:
+        raise GustError(f"Omega must be real spatial frequencies (rad/m: a number or an array of numbers), got "
+                        f"{Omega!r}")
+    if not np.all(np.isfinite(w)):
+        raise GustError(f"Omega must be finite (rad/m), got {np.count_nonzero(~np.isfinite(w))} NaN or inf value(s) "
+                        f"(first {w[~np.isfinite(w)][0]!r}); the spectrum tends to 0 like Omega^(-5/3) at infinity")
+    return _phi(w, L)
+
+
+def _phi(Omega: np.ndarray, L: float) -> np.ndarray:
+    """:func:`von_karman` without the checks (the integrals' own, finite frequencies)."""
     x = (1.339 * L * np.asarray(Omega, dtype=float)) ** 2
     return (L / math.pi) * (1.0 + 8.0 / 3.0 * x) / (1.0 + x) ** (11.0 / 6.0)
 
@@ -113,8 +162,18 @@ class TurbulenceResult:
     point: FlightPoint | None = field(default=None, repr=False)
 
     def rho(self, x: str, y: str) -> float:
-        """Correlation coefficient of outputs ``x`` and ``y``."""
+        """Correlation coefficient of outputs ``x`` and ``y``.
+
+        Raises
+        ------
+        LoadsModelError
+            ``x`` or ``y`` not one of ``outputs`` (the message lists them).
+        """
         o = list(self.outputs)
+        for arg, name in (("x", x), ("y", y)):
+            if not isinstance(name, str) or name not in o:
+                raise LoadsModelError(f"{arg} = {name!r} is not an output of the turbulence result; its outputs are "
+                                      f"{o}")
         return float(self.correlation[o.index(x), o.index(y)])
 
     def summary(self) -> str:
@@ -181,7 +240,8 @@ def continuous_turbulence(model_or_frf: Any, point: FlightPoint, *, outputs: Seq
     SpectrumError
         ``N0`` diverges (a feedthrough, no cut-off), or the quadrature did not reach ``rtol`` (model path).
     LoadsModelError
-        No ``"gust"`` input, unknown output, unstable model, data without continuous frequencies.
+        No ``"gust"`` input, unknown output, a NaN or inf in the model's matrices, unstable model, data without
+        continuous frequencies, a moment axis or ``moment_reference`` that is not a finite number.
     GustError
         Bad ``f_max_hz``, ``rtol`` or ``L_m``.
     """
@@ -189,12 +249,7 @@ def continuous_turbulence(model_or_frf: Any, point: FlightPoint, *, outputs: Seq
 
     f_max = _check_fmax(f_max_hz)
     rtol = _check_rtol(rtol)
-    try:
-        L = float(L_m)
-    except (TypeError, ValueError):
-        L = math.nan
-    if not (math.isfinite(L) and L > 0):
-        raise GustError(f"L_m must be a positive turbulence scale (m), got {L_m!r}")
+    L = _check_scale("L_m", L_m)
     if isinstance(model_or_frf, sysid.FrequencyResponse):
         return _from_data(model_or_frf, point, outputs, L, f_max, moment_axes, moment_reference)
     system = gust_system(model_or_frf, point, moment_axes=moment_axes, moment_reference=moment_reference)
@@ -254,7 +309,7 @@ def _from_system(system: GustSystem, point, outputs, L, f_max, rtol):
         w = (half[:, None] * _GL_W[None, :]).ravel()
         Om = np.exp(x)
         G = system.frequency_response(Om * c)[rows] / U                  # (p, K)
-        return Om, w * Om * von_karman(Om, L), G                         # dOmega = Omega dx
+        return Om, w * Om * _phi(Om, L), G                         # dOmega = Omega dx
 
     def integrals(n_panels):
         Om, wt, G = panels(n_panels, hi)
@@ -297,7 +352,7 @@ def _from_system(system: GustSystem, point, outputs, L, f_max, rtol):
     quad_a = np.where(zero, 0.0, 0.5 * err_a)
     quad_m = np.where(zero, 0.0, 0.5 * (err_m + err_a))
     plotO = np.geomspace(max(lo, 1e-3 / (1.339 * L)), min(hi, 10.0 * max(scale, 1.0) / c), 600)
-    psd = np.abs(system.frequency_response(plotO * c)[rows] / U) ** 2 * von_karman(plotO, L)
+    psd = np.abs(system.frequency_response(plotO * c)[rows] / U) ** 2 * _phi(plotO, L)
     return _result(names, rows, system.scale, system.units, a_bar, n0, cross, quad_a, trunc_a, quad_m, trunc_m,
                    plotO, psd, "model", f_max, point)
 
@@ -348,13 +403,14 @@ def _from_data(frf, point, outputs, L, f_max, moment_axes, moment_reference):
         raise LoadsModelError(f"the data have no input named 'gust' (inputs {list(frf.inputs)})")
     H = np.asarray(frf.H)[:, list(frf.inputs).index("gust"), :]
     names_all = list(frf.outputs)
-    if np.size(moment_axes):
+    axes, x_ref = check_moment_axes(moment_axes, moment_reference)
+    if axes:
         if "Cl" not in names_all or "Cm" not in names_all:
             raise LoadsModelError(f"moment_axes needs outputs 'Cl' and 'Cm'; the data's outputs are {names_all}")
         il, im = names_all.index("Cl"), names_all.index("Cm")
-        extra = [H[im] + (float(x) - moment_reference) * H[il] for x in np.atleast_1d(moment_axes)]
+        extra = [H[im] + (x - x_ref) * H[il] for x in axes]
         H = np.vstack([H] + [e[None] for e in extra])
-        names_all += [moment_output_name(float(x)) for x in np.atleast_1d(moment_axes)]
+        names_all += [moment_output_name(x) for x in axes]
     rows = _rows(names_all, outputs)
     names = [names_all[r] for r in rows]
     w = np.asarray(frf.omega, dtype=float)
@@ -372,7 +428,7 @@ def _from_data(frf, point, outputs, L, f_max, moment_axes, moment_reference):
     if f_max is None and Hinf.size and np.any(np.abs(Hinf) > 1e-10 * np.abs(G * U).max(axis=1, keepdims=True)):
         raise SpectrumError("N0 diverges: the data's omega = inf sample (the feedthrough) is not zero, so "
                             "Omega^2 |H|^2 Phi grows like Omega^(1/3); give f_max_hz")
-    Phi = von_karman(Om, L)
+    Phi = _phi(Om, L)
     cross_int = (G[:, None, :] * G[None, :, :].conj()).real * Phi
     cross = np.trapezoid(cross_int, Om, axis=-1)
     Om_m = Om[keep]

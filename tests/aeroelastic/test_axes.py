@@ -47,3 +47,29 @@ def test_errors():
 def test_axes_are_positions_near_the_aerofoil(pivot, match):
     with pytest.raises(ae.AeroModelError, match=match):
         ae.change_axes(th.theodorsen_frf(np.linspace(0.0, 2.0, 11), -0.2), pivot=pivot, moment_axis=0.25, new_axis=0.4)
+
+
+@pytest.mark.parametrize("pivot, moment_axis, match", [
+    (0.25, 0.25, r"about the axis 0\.4 .* but pivot = 0\.25 and moment_axis = 0\.25 were given"),  # flutter 1.735 for 2.184
+    (0.4, 0.25, r"but moment_axis = 0\.25 were given; pass pivot=0\.4, moment_axis=0\.4"),
+    (0.25, 0.4, r"but pivot = 0\.25 were given"),
+])
+def test_moving_moved_data_from_another_axis_is_refused(pivot, moment_axis, match):
+    ea = ae.change_axes(th.theodorsen_frf(W, -0.5), pivot=0.25, moment_axis=0.25, new_axis=0.4)
+    with pytest.raises(ae.AeroModelError, match=match):
+        ae.change_axes(ea, pivot=pivot, moment_axis=moment_axis, new_axis=0.4)
+
+
+def test_moved_data_move_on_from_their_stated_axis():
+    src = th.theodorsen_frf(W, -0.5, gust=True)
+    twice = ae.change_axes(ae.change_axes(src, pivot=0.25, moment_axis=0.25, new_axis=0.4),
+                           pivot=0.4, moment_axis=0.4, new_axis=0.6)
+    once = ae.change_axes(src, pivot=0.25, moment_axis=0.25, new_axis=0.6)
+    np.testing.assert_allclose(twice.H, once.H, rtol=1e-12, atol=1e-12)
+    assert twice.metadata["axis"] == 0.6
+
+
+def test_a_stated_axis_that_is_not_a_number_is_refused():
+    frf = th.theodorsen_frf(W, -0.5).replace(metadata={"axis": "quarter chord"})
+    with pytest.raises(ae.AeroModelError, match=r"metadata\['axis'\] = 'quarter chord' is not a position"):
+        ae.change_axes(frf, pivot=0.25, moment_axis=0.25, new_axis=0.4)

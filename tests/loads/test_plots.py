@@ -52,3 +52,16 @@ def test_plots_refuse_other_arguments(results):
     with pytest.raises(loads.LoadsModelError, match="give a tuned_gust"):
         loads.correlated_loads_plot(None, None)
     plt.close("all")
+
+
+@pytest.mark.parametrize("kw, match", [
+    (dict(n=-5), r"n \(points on the ellipse\) must be an integer from 3 to 100000, got -5"),   # bare ValueError
+    (dict(n=0), r"must be an integer from 3"),                                                   # empty arrays
+    (dict(n=10**9), r"must be an integer from 3 to 100000"),
+    (dict(n=181.0), r"must be an integer from 3"),
+    (dict(dimensional="no"), r"dimensional must be True .* or False"),
+    (dict(y="X"), r"no output 'X' in the turbulence result"),
+])
+def test_turbulence_ellipse_refuses_bad_arguments(results, kw, match):
+    with pytest.raises(loads.LoadsModelError, match=match):
+        loads.turbulence_ellipse(results[1], **({"x": "Cl", "y": "Cm"} | kw))

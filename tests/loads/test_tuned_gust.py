@@ -119,6 +119,8 @@ def test_moment_axes():
     (dict(H_range=(5.0, 100.0)), loads.GustError, "30 .. 350 ft"),
     (dict(H_range=(50.0, 20.0)), loads.GustError, "H_min <= H_max"),
     (dict(n_grid=2), loads.GustError, "n_grid"),
+    (dict(n_grid=10**7), loads.GustError, r"n_grid = 10000000 is more than 2000: .* held in memory"),  # 107 GiB
+    (dict(n_grid=2001), loads.GustError, r"n_grid = 2001 is more than 2000"),
     (dict(h_rtol=0.0), loads.GustError, "h_rtol"),
     (dict(outputs=["Cz"]), loads.LoadsModelError, "no output 'Cz'"),
 ])

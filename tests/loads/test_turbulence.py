@@ -24,6 +24,29 @@ def test_von_karman_has_unit_variance():
     assert v == pytest.approx(1.0, rel=1e-4)
 
 
+@pytest.mark.parametrize("Omega, L, match", [
+    (1.0, -1.0, r"L must be a positive, finite turbulence scale.*got -1\.0"),     # gave Phi = -0.28
+    (1.0, 0.0, r"L must be a positive"),                                         # gave 0
+    (1.0, float("inf"), r"L must be a positive"),
+    (1.0, "762", r"L must be a positive"),
+    ("x", 762.0, r"Omega must be real spatial frequencies.*got 'x'"),             # bare ValueError
+    ([0.1, None], 762.0, r"Omega must be real"),
+    (1j, 762.0, r"Omega must be real"),
+    (np.array([0.1, np.nan]), 762.0, r"Omega must be finite .*1 NaN or inf"),      # gave nan
+    (np.inf, 762.0, r"Omega must be finite"),
+])
+def test_von_karman_refuses_bad_arguments(Omega, L, match):
+    with pytest.raises(loads.GustError, match=match):
+        von_karman(Omega, L)
+
+
+def test_von_karman_of_numbers_in_any_form():
+    ref = von_karman(np.array([0.0, 0.01, 1.0]))
+    assert von_karman([0, 0.01, 1]) == pytest.approx(ref, rel=0)
+    assert von_karman(-0.01) == von_karman(0.01) and von_karman(np.float32(1.0)).shape == ()
+    assert von_karman(np.zeros((2, 0))).shape == (2, 0)
+
+
 def _jones_sears_model():
     """Lift per gust angle of R. T. Jones' Kussner approximation: 2 pi (1 - sum G s / (s + 2 g)), s in U/c."""
     G = np.array([a for a, _ in KUSSNER_JONES])
@@ -129,12 +152,25 @@ def test_feedthrough_makes_n0_diverge():
     (dict(f_max_hz=-1.0), loads.GustError, "f_max_hz"),
     (dict(rtol=0.0), loads.GustError, "rtol"),
     (dict(L_m=0.0), loads.GustError, "L_m"),
+    (dict(L_m="762"), loads.GustError, "L_m must be a positive, finite turbulence scale"),
     (dict(outputs=["Cq"]), loads.LoadsModelError, "no output 'Cq'"),
 ])
 def test_bad_input(kw, err, match):
     sys, _, _ = _jones_sears_model()
     with pytest.raises(err, match=match):
         loads.continuous_turbulence(sys, PT, **({"f_max_hz": 20.0} | kw))
+
+
+@pytest.mark.parametrize("x, y, match", [
+    ("Cl", "X", r"y = 'X' is not an output of the turbulence result; its outputs are \['Cl'\]"),  # bare ValueError
+    (0, "Cl", r"x = 0 is not an output"),
+])
+def test_rho_of_an_unknown_output_is_refused(x, y, match):
+    sys, _, _ = _jones_sears_model()
+    ct = loads.continuous_turbulence(sys, PT, f_max_hz=20.0)
+    assert ct.rho("Cl", "Cl") == 1.0
+    with pytest.raises(loads.LoadsModelError, match=match):
+        ct.rho(x, y)
 
 
 def test_an_unreached_output_gets_zeros_not_nan():
