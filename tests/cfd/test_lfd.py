@@ -212,3 +212,11 @@ def test_absurd_frequency_counts_are_refused_before_any_solve(plate):
     with pytest.raises(LinearError, match=r"omega holds 100001 frequencies, more than "
                                           r"cfd.frequencies.MAX_FREQUENCIES = 100000"):
         lfd_response(plate, np.zeros(MAX_FREQUENCIES + 1))
+
+
+@pytest.mark.parametrize("omega", [np.array([1.0 + 1.0j]), "1.0", ["0.5", "1.0"], None,
+                                   (np.array([0.1, 0.2]), np.array([0.5j, 1.0]))])
+def test_frequencies_that_are_not_real_numbers_are_refused(plate, omega):
+    # a complex omega was cast to its real part with only a ComplexWarning, "1.0" parsed as a frequency
+    with pytest.raises(LinearError, match=r"must be an array of real frequencies"):
+        lfd_response(plate, omega)
