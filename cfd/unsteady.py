@@ -160,6 +160,10 @@ MAX_SNAPSHOT_BYTES = 4 * 2**30
 distinct step): 4 GiB, some 12 000 states of the paper grid."""
 
 
+_SNAPSHOT_SLACK = 1e-9
+"""Round-off allowed (in steps) on a snapshot time at either end of the march (``3 * 0.1`` for a ``t_end`` of 0.3)."""
+
+
 def _check_input(gust, method, dt, t_end):
     if method not in METHODS:
         raise UnsteadyError(f"method must be one of {METHODS} (split or field velocity method); got {method!r}")
@@ -171,7 +175,7 @@ def _check_input(gust, method, dt, t_end):
 
 
 def _check_settings(rtol, atol, max_iter, stall_ratio, max_refactor, snapshot_times, max_phase_error,
-                    max_local_mach, separation_mach, steady_tol):
+                    max_local_mach, separation_mach, steady_tol, dt, t_end):
     """The iteration and monitoring settings of :func:`unsteady_response` (UnsteadyError naming the argument);
     returns ``snapshot_times`` as a list of floats."""
     def real(v):
@@ -199,6 +203,10 @@ def _check_settings(rtol, atol, max_iter, stall_ratio, max_refactor, snapshot_ti
     if times is None or not all(np.isfinite(times)):
         raise UnsteadyError(f"snapshot_times must be a sequence of finite convective times, e.g. (1.0, 2.5); got "
                             f"{snapshot_times!r}")
+    outside = [s for s in times if not -_SNAPSHOT_SLACK * dt <= s <= t_end + _SNAPSHOT_SLACK * dt]
+    if outside:   # a time past t_end stored the state of t_end under its own time
+        raise UnsteadyError(f"snapshot_times must lie in the march, 0 <= s <= t_end = {t_end:g}; got {outside[0]!r}: "
+                            "give times inside it (or march to a later t_end)")
     return times
 
 
@@ -284,7 +292,7 @@ def unsteady_response(sol, gust, dt, t_end, method="svm", x_ref=0.0, *, rtol=1e-
     krylov : bool
         Newton corrections by preconditioned GMRES (matrix-free ``J(x) v``) instead of chord steps.
     snapshot_times : sequence of float
-        Convective times at which to store the full state (nearest step).
+        Convective times at which to store the full state (nearest step), each in ``[0, t_end]``.
     progress : callable, optional
         ``progress(step, n_steps, t, iterations)`` after every step (``t`` convective, ``iterations`` of the
         step); its return value is ignored.
@@ -311,8 +319,8 @@ def unsteady_response(sol, gust, dt, t_end, method="svm", x_ref=0.0, *, rtol=1e-
         Unknown method, not a gust, bad ``dt`` or ``t_end``, more than ``cfd.ltd.MAX_STEPS`` steps (refused before
         any work, as the LTD), a gust that passes in fewer than ``cfd.gust.MIN_GUST_STEPS`` steps, a ``krylov``
         that is not a bool, a ``progress`` that is not callable, a negative ``log_interval``, snapshots of more than
-        :data:`MAX_SNAPSHOT_BYTES`, a non-finite ``x_ref``, a setting out of range
-        (``rtol``, ``atol`` negative; ``max_iter``, ``max_refactor`` not whole numbers; ``stall_ratio`` outside
+        :data:`MAX_SNAPSHOT_BYTES` or at times outside ``[0, t_end]``, a non-finite ``x_ref``, a setting out of
+        range (``rtol``, ``atol`` negative; ``max_iter``, ``max_refactor`` not whole numbers; ``stall_ratio`` outside
         (0, 1]; a limit or ``steady_tol`` not positive; any of them NaN), a non-converged ``sol``.
     UnsteadyStepError
         A step did not converge (``.partial`` holds the history so far); subclasses
@@ -327,7 +335,7 @@ def unsteady_response(sol, gust, dt, t_end, method="svm", x_ref=0.0, *, rtol=1e-
     dt, t_end = _check_input(gust, method, dt, t_end)
     x_ref = check_x_ref(x_ref, UnsteadyError)
     snapshot_times = _check_settings(rtol, atol, max_iter, stall_ratio, max_refactor, snapshot_times,
-                                     max_phase_error, max_local_mach, separation_mach, steady_tol)
+                                     max_phase_error, max_local_mach, separation_mach, steady_tol, dt, t_end)
     krylov = flag("krylov", krylov, UnsteadyError)
     progress = callback("progress", progress, UnsteadyError)
     log_interval = check_log_interval(log_interval, UnsteadyError)

@@ -62,7 +62,8 @@ def test_small_amplitudes_follow_the_ltd_and_the_difference_is_linear(subsonic):
 
 def test_history_fields_totals_and_snapshots(coarse):
     g = gust(0.5)
-    u = unsteady_response(coarse, g, 0.1, 1.0, snapshot_times=(0.0, 0.52, 5.0), max_phase_error=1.0)
+    # 1 + 1e-12: round-off past t_end is the last step (a time well past it is refused: test_bad_arguments)
+    u = unsteady_response(coarse, g, 0.1, 1.0, snapshot_times=(0.0, 0.52, 1.0 + 1e-12), max_phase_error=1.0)
     assert u.t.shape == u.cl.shape == u.cd.shape == u.iterations.shape == u.max_mach.shape == (11,)
     assert u.cl[0] == u.cm[0] == u.cd[0] == 0.0 and u.iterations[0] == 0
     np.testing.assert_allclose(u.cl_total, coarse.cl + u.cl)
@@ -169,6 +170,9 @@ def test_non_converged_steady_solution_is_refused(coarse):
     (dict(separation_mach=np.nan), "separation_mach must be a positive number"),
     (dict(snapshot_times=5), "snapshot_times must be a sequence of finite convective times"),
     (dict(snapshot_times=[1.0, np.nan]), "snapshot_times must be a sequence"),
+    # a time past t_end stored the state of t_end (under t_end's key): the asked-for state was silently missing
+    (dict(snapshot_times=(0.5, 100.0)), r"snapshot_times must lie in the march, 0 <= s <= t_end = 1; got 100.0"),
+    (dict(snapshot_times=(-1.0,)), r"snapshot_times must lie in the march, 0 <= s <= t_end = 1; got -1.0"),
 ])
 def test_bad_arguments(coarse, kwargs, match):
     args = dict(gust=gust(0.1), dt=0.1, t_end=1.0)
