@@ -62,7 +62,7 @@ from .errors import (LocalMachError, MarchInterrupted, NonPhysicalStateError, Un
                      UnsteadyStepError)
 from .checks import callback, flag, log_interval as check_log_interval, whole_number
 from .euler import residual
-from .flow import FlowCondition, primitive
+from .flow import FlowCondition, is_physical, primitive
 from .frequencies import check_x_ref
 from .gust import (OneMinusCosine, SharpEdged, SineGust, cell_x_gradient, check_gust_step, face_gust,
                    gust_face_velocity, svm_source, warn_unseen)
@@ -581,5 +581,4 @@ class _March:
 
 
 def _physical(q, gamma):
-    rho, _, _, p = primitive(q, gamma)
-    return bool(np.all(np.isfinite(q)) and np.all(rho > 0.0) and np.all(p > 0.0))
+    return is_physical(q, gamma)
