@@ -59,7 +59,7 @@ class FlowCondition:
     def __post_init__(self):
         for name in ("mach", "alpha_deg", "gamma"):
             value = getattr(self, name)
-            if isinstance(value, (bool, np.bool_)):
+            if isinstance(value, (bool, np.bool_, str, bytes)):   # "0.5" was parsed
                 raise FlowConditionError(f"{name} must be a real number; got {value!r}")
             try:
                 value = float(value)

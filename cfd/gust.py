@@ -99,6 +99,8 @@ class GustPositionError(GustError):
 
 def _finite(name, value):
     try:
+        if isinstance(value, (str, bytes)):   # length="4" was parsed
+            raise TypeError
         v = float(value)
     except (TypeError, ValueError):
         raise GustError(f"{name} must be a real number; got {value!r}") from None

@@ -188,7 +188,7 @@ def check_times(dt, t_end, error=LinearError):
     """``(dt, t_end)`` as floats, checked for every time march (LTD, coupled, nonlinear) before any work: ``dt``
     positive and finite, ``t_end`` finite and at least ``dt``, at most :data:`MAX_STEPS` steps; else ``error``."""
     try:
-        if isinstance(dt, bool) or isinstance(t_end, bool):
+        if isinstance(dt, (bool, str, bytes)) or isinstance(t_end, (bool, str, bytes)):   # dt="0.1" was parsed
             raise TypeError
         dt = float(dt)
         t_end = float(t_end)

@@ -304,3 +304,13 @@ def test_input_times_must_be_real_numbers(gust, s, kind):
     # "abc" raised NumPy's "could not convert string to float"; None and NaN times gave an input of 0
     with pytest.raises(GustError, match=rf"s must be a real number or an array of real convective times .*got {kind}"):
         gust.input(s)
+
+
+@pytest.mark.parametrize("make, name", [
+    (lambda: OneMinusCosine(length="4", angle_deg=1.0), "length"),     # strings were parsed
+    (lambda: OneMinusCosine(length=4.0, angle_deg="1"), "angle_deg"),
+    (lambda: SineGust(angle_deg=1.0, omega="1.0"), "omega"),
+])
+def test_gust_parameters_are_not_strings(make, name):
+    with pytest.raises(GustError, match=rf"{name} must be a real number; got '"):
+        make()

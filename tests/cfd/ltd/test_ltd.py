@@ -441,9 +441,10 @@ def test_progress_and_log_interval_are_checked_before_the_march(lin, kwargs, mat
         march(lin, SharpEdged(angle_deg=1.0), 0.1, 1.0, **kwargs)
 
 
-def test_booleans_are_not_times(lin):
+@pytest.mark.parametrize("dt, t_end", [(True, 1.0), ("0.1", 1.0), (0.1, "1")])   # strings were parsed
+def test_booleans_and_strings_are_not_times(lin, dt, t_end):
     with pytest.raises(LinearError, match="dt and t_end must be real numbers"):
-        ltd_response(lin, SharpEdged(angle_deg=1.0), True, 1.0)
+        ltd_response(lin, SharpEdged(angle_deg=1.0), dt, t_end)
 
 
 @pytest.mark.parametrize("kwargs, match", [
