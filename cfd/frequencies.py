@@ -74,7 +74,7 @@ def frequency_grid(omega, T):
     if T is not None:
         what = "T (sampling period of the data, convective time) must be"
         try:
-            T_value = None if isinstance(T, bool) else float(T)
+            T_value = None if isinstance(T, (bool, str, bytes)) else float(T)   # T="1" was parsed
         except (TypeError, ValueError):
             T_value = None
         if T_value is None:
