@@ -23,6 +23,8 @@ Units and conventions (those of the project, docs/conventions.md)
 import numpy as np
 from scipy import special
 
+from .checks import kind_of, real_array
+
 __all__ = [
     "AnalyticError",
     "sears",
@@ -43,10 +45,10 @@ _REFERENCES = ("midchord", "leading_edge")
 
 
 def _omega(omega):
-    try:
-        w = np.asarray(omega, dtype=float)
-    except (TypeError, ValueError):
-        raise AnalyticError(f"omega must be a number or an array of numbers (U/c units), got {omega!r}") from None
+    w = None if isinstance(omega, (str, bytes)) else real_array(omega)
+    if w is None:   # a complex omega was cast to its real part (ComplexWarning), "1" parsed
+        raise AnalyticError(f"omega must be a real number or an array of real numbers (U/c units); got "
+                            f"{kind_of(omega)} {omega!r:.80}")
     if np.any(~np.isfinite(w)) or np.any(w < 0.0):
         raise AnalyticError(
             "omega must be finite and >= 0 (U/c units; the response at -omega is the complex conjugate)"
@@ -166,10 +168,11 @@ def sears_compressible(omega, mach, reference="midchord"):
 
 
 def _time(s, unit):
-    try:
-        s = np.asarray(s, dtype=float)
-    except (TypeError, ValueError):
-        raise AnalyticError(f"s (time) must be a number or an array of numbers, got {s!r}") from None
+    v = None if isinstance(s, (str, bytes)) else real_array(s)
+    if v is None:   # None became NaN and was refused as "time contains NaN"; "1" was parsed
+        raise AnalyticError(f"s must be a real number or an array of real times (convective s = U t / c, or U t / b "
+                            f"with unit='semichord'); got {kind_of(s)} {s!r:.80}")
+    s = v
     if unit == "chord":
         sb = 2.0 * s
     elif unit == "semichord":
@@ -177,7 +180,7 @@ def _time(s, unit):
     else:
         raise AnalyticError(f"unit must be 'chord' (s = U t / c, the project's time) or 'semichord'; got {unit!r}")
     if np.any(np.isnan(sb)):
-        raise AnalyticError("time contains NaN")
+        raise AnalyticError("s (time) contains NaN; give real times (psi = 0 before s = 0)")
     return sb
 
 

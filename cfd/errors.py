@@ -5,7 +5,7 @@ built-in one. Messages say what was wrong and what to do about it.
 """
 
 __all__ = ["GeometryError", "MeshError", "FlowConditionError", "ConvergenceError", "UnsteadyError",
-           "UnsteadyStepError", "NonPhysicalStateError", "LocalMachError"]
+           "UnsteadyStepError", "NonPhysicalStateError", "LocalMachError", "MarchInterrupted"]
 
 
 class GeometryError(ValueError):
@@ -69,3 +69,27 @@ class NonPhysicalStateError(UnsteadyStepError):
 
 class LocalMachError(UnsteadyStepError):
     """The local Mach number exceeded ``max_local_mach``: a shock stronger than the study means to resolve."""
+
+
+class MarchInterrupted(KeyboardInterrupt):
+    """A time march (:func:`cfd.unsteady_response`, :func:`cfd.ltd_response`, :func:`cfd.ltd_responses`) was
+    interrupted (Ctrl-C, or a ``KeyboardInterrupt`` raised by its ``progress`` callback): the interrupt propagates
+    (``except KeyboardInterrupt`` still catches it) and carries the history marched so far.
+
+    Attributes
+    ----------
+    partial : cfd.ltd.LTDHistory, cfd.unsteady.UnsteadyHistory or list of LTDHistory
+        The history up to the last completed step (``partial.t[-1]`` its time; an ``UnsteadyHistory`` has
+        ``complete`` False; a list, one per gust, for :func:`cfd.ltd_responses`). None when the interrupt came
+        before the first step was set up.
+    step : int
+        Index of the last completed step (``t = step * dt``).
+    time : float
+        Its convective time.
+    """
+
+    def __init__(self, message, partial=None, step=None, time=None):
+        super().__init__(message)
+        self.partial = partial
+        self.step = step
+        self.time = time

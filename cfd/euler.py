@@ -32,7 +32,7 @@ from . import boundary as bc
 from .checks import not_a_grid
 from .errors import FlowConditionError, MeshError
 
-__all__ = ["Scheme", "residual", "spectral_radius_sum", "check_state"]
+__all__ = ["Scheme", "residual", "spectral_radius_sum", "check_state", "check_input"]
 
 
 @dataclass(frozen=True)
@@ -75,14 +75,17 @@ def check_state(grid, q, name="state"):
         raise MeshError(f"{name} has shape {np.shape(q)}; this grid needs (..., {shape[0]}, {shape[1]}, 4)")
 
 
-def _check(grid, q, flow, scheme, face_velocity, source):
+def check_input(grid, q, flow, scheme, face_velocity, source):
+    """The argument checks of :func:`residual` (shared by :func:`cfd.jacobian`): ``grid``, ``flow`` and ``scheme``
+    of their types, ``q``, ``face_velocity`` and ``source`` of the grid's shapes (leading batch axes allowed);
+    :class:`MeshError` or :class:`FlowConditionError` naming the argument."""
     if not hasattr(grid, "cell_shape") or not hasattr(grid, "si"):
         raise MeshError(not_a_grid(grid))
     if not hasattr(flow, "gamma") or not hasattr(flow, "q"):
         raise FlowConditionError(f"flow must be a cfd.FlowCondition(mach, alpha_deg); got {type(flow).__name__}")
     if not isinstance(scheme, Scheme):
         raise FlowConditionError(f"scheme must be a cfd.Scheme or None; got {type(scheme).__name__}")
-    check_state(grid, q)
+    check_state(grid, q, "q")
     shape = grid.cell_shape + (4,)
     if face_velocity is not None:
         wi, wj = face_velocity
@@ -293,7 +296,7 @@ def residual(grid, q, flow, *, face_velocity=None, source=None, scheme=None, cir
     """
     scheme = DEFAULT_SCHEME if scheme is None else scheme
     q = np.asarray(q)
-    _check(grid, q, flow, scheme, face_velocity, source)
+    check_input(grid, q, flow, scheme, face_velocity, source)
     g = flow.gamma
     NI, NJ = grid.cell_shape
     W = np.moveaxis(q, -1, -3)

@@ -17,7 +17,8 @@ import numpy as np
 
 from .errors import FlowConditionError, MeshError
 
-__all__ = ["FlowCondition", "conserved", "primitive", "pressure", "check_gamma", "MIN_MACH", "LOW_MACH"]
+__all__ = ["FlowCondition", "conserved", "primitive", "pressure", "check_gamma", "is_physical", "NON_PHYSICAL",
+           "MIN_MACH", "LOW_MACH"]
 
 MIN_MACH = 0.01
 """Lowest free-stream Mach number accepted. The JST dissipation of a compressible scheme scales like ``1 / M`` at
@@ -58,7 +59,7 @@ class FlowCondition:
     def __post_init__(self):
         for name in ("mach", "alpha_deg", "gamma"):
             value = getattr(self, name)
-            if isinstance(value, (bool, np.bool_)):
+            if isinstance(value, (bool, np.bool_, str, bytes)):   # "0.5" was parsed
                 raise FlowConditionError(f"{name} must be a real number; got {value!r}")
             try:
                 value = float(value)
@@ -195,3 +196,26 @@ def primitive(q, gamma=1.4):
 def pressure(q, gamma=1.4):
     """Static pressure of conserved states ``q`` (shape (..., 4)) -> shape (...)."""
     return primitive(q, gamma)[3]
+
+
+NON_PHYSICAL = "contains NaN, inf or non-positive density or pressure"
+"""What :func:`is_physical` refuses, for the messages of the functions that check a state with it."""
+
+
+def is_physical(q, gamma=1.4):
+    """Whether every state of ``q`` (shape (..., 4)) is finite with positive density and pressure: the states the
+    solvers (``solve_steady``'s ``q0``), the loads and the linearisation accept.
+
+    Parameters
+    ----------
+    q : ndarray, shape (..., 4)
+    gamma : float
+
+    Returns
+    -------
+    bool
+    """
+    q = np.asarray(q)
+    if not (np.all(np.isfinite(q)) and np.all(q[..., 0] > 0.0)):
+        return False
+    return bool(np.all(pressure(q, gamma) > 0.0))

@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 
+from .checks import kind_of, real_array
 from .linear import LinearError
 
 __all__ = ["frequencies", "frequency_grid", "check_position", "check_x_ref", "check_pivot",
@@ -19,15 +20,39 @@ larger array is a mistake of units or of ``sysid.mckelvey_grid``'s ``M`` (1e9 fr
 first solve); split a genuine larger sweep into calls."""
 
 
+def _real_frequencies(name, value):
+    """``value`` as a float array if it holds real numbers, else :class:`LinearError` naming ``name``: a complex
+    frequency was cast to its real part with only a ``ComplexWarning``, a string such as ``"1.0"`` parsed."""
+    v = None if isinstance(value, (str, bytes)) else real_array(value)
+    if v is None:
+        raise LinearError(f"{name} must be an array of real frequencies (U/c units); got {kind_of(value)} "
+                          f"{value!r:.80}")
+    return v
+
+
 def frequencies(omega):
-    """Accept an array of frequencies or the ``(omega_d, omega)`` pair of ``sysid.mckelvey_grid``."""
+    """Accept an array of frequencies or the ``(omega_d, omega)`` pair of ``sysid.mckelvey_grid``.
+
+    Parameters
+    ----------
+    omega : array_like or tuple of two 1-D arrays
+        Real frequencies >= 0 (U/c units; ``inf``: the feedthrough), or the pair ``(omega_d, omega)``.
+
+    Returns
+    -------
+    omega_d : ndarray or None
+    omega : ndarray
+
+    Raises
+    ------
+    LinearError
+        If the frequencies are not real numbers (complex, strings, objects), not a non-empty 1-D array, too many,
+        NaN, -inf or negative.
+    """
     omega_d = None
     if isinstance(omega, tuple) and len(omega) == 2 and all(np.ndim(o) == 1 for o in omega):
-        omega_d, omega = (np.asarray(o, dtype=float) for o in omega)
-    try:
-        w = np.atleast_1d(np.asarray(omega, dtype=float))
-    except (TypeError, ValueError):
-        raise LinearError(f"omega must be an array of real frequencies (U/c units); got {omega!r}") from None
+        omega_d, omega = _real_frequencies("omega_d", omega[0]), omega[1]
+    w = np.atleast_1d(_real_frequencies("omega", omega))
     if w.ndim != 1 or w.size == 0:
         raise LinearError(f"omega must be a non-empty 1-D array of frequencies; got shape {w.shape}")
     if w.size > MAX_FREQUENCIES:
@@ -49,7 +74,7 @@ def frequency_grid(omega, T):
     if T is not None:
         what = "T (sampling period of the data, convective time) must be"
         try:
-            T_value = None if isinstance(T, bool) else float(T)
+            T_value = None if isinstance(T, (bool, str, bytes)) else float(T)   # T="1" was parsed
         except (TypeError, ValueError):
             T_value = None
         if T_value is None:

@@ -43,6 +43,8 @@ from typing import Optional
 
 import numpy as np
 
+from .checks import kind_of, real_array
+
 __all__ = [
     "GustError",
     "GustPositionError",
@@ -97,6 +99,8 @@ class GustPositionError(GustError):
 
 def _finite(name, value):
     try:
+        if isinstance(value, (str, bytes)):   # length="4" was parsed
+            raise TypeError
         v = float(value)
     except (TypeError, ValueError):
         raise GustError(f"{name} must be a real number; got {value!r}") from None
@@ -151,7 +155,17 @@ class _Gust:
         return -self.dvdx(x, s)
 
     def input(self, s, x_ref=0.0):
-        """Input signal ``u(s) = v_g(x_ref, s) / U``, shape of ``s``."""
+        """Input signal ``u(s) = v_g(x_ref, s) / U``, shape of ``s``.
+
+        Raises
+        ------
+        GustError
+            ``s`` not real numbers (a string, None, complex) or holding NaN (whose input was 0).
+        """
+        t = None if isinstance(s, (str, bytes)) else real_array(s)
+        if t is None or np.any(np.isnan(t)):
+            raise GustError(f"s must be a real number or an array of real convective times (s = U t / c), without "
+                            f"NaN; got {kind_of(s)} {s!r:.80}")
         return self.velocity(x_ref, s)
 
     def arrival(self, x_ref=0.0):

@@ -25,8 +25,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from .checks import kind_of, whole_number
-from .errors import FlowConditionError
-from .euler import DEFAULT_SCHEME, lift_coefficient, residual
+from .errors import FlowConditionError, MeshError
+from .euler import DEFAULT_SCHEME, check_input, lift_coefficient, residual
 
 __all__ = ["jacobian", "cell_stencil", "greedy_colouring", "coloured_complex_step", "residual_derivative"]
 
@@ -193,7 +193,8 @@ def jacobian(grid, q, flow, *, face_velocity=None, source=None, scheme=None, chu
     FlowConditionError
         ``chunk`` not a whole number >= 1; ``q`` not real or holding NaN or inf; as :func:`cfd.residual`.
     MeshError
-        As :func:`cfd.residual` (``q`` of the wrong shape, ``grid`` not a grid).
+        As :func:`cfd.residual` (``q`` or ``face_velocity`` of the wrong shape, ``grid`` not a grid), checked by the
+        same function (:func:`cfd.euler.check_input`); ``q`` a batch of states (one state only).
     """
     scheme = DEFAULT_SCHEME if scheme is None else scheme
     n = whole_number(chunk)
@@ -205,6 +206,10 @@ def jacobian(grid, q, flow, *, face_velocity=None, source=None, scheme=None, chu
         q = np.asarray(q, dtype=float)
     except (TypeError, ValueError):
         raise FlowConditionError(f"q must be an array of real conserved states; got {kind_of(q)}") from None
+    check_input(grid, q, flow, scheme, face_velocity, None)   # residual's checks: the types and the shapes
+    if q.shape != grid.cell_shape + (4,):   # a batch of states: residual takes it, the Jacobian is of one state
+        raise MeshError(f"q has shape {q.shape}; the Jacobian is of one state: this grid needs "
+                        f"{grid.cell_shape + (4,)}")
     if not np.all(np.isfinite(q)):
         raise FlowConditionError("q contains NaN or inf: the Jacobian of such a state is NaN (with NumPy's warnings); "
                                  "linearise about a converged, finite steady state (cfd.solve_steady)")

@@ -44,7 +44,7 @@ from .superlu import splu_nested, splu_pivoted
 from .boundary import wall_pressure
 from .checks import not_a_grid
 from .euler import Scheme, residual
-from .flow import FlowCondition, pressure
+from .flow import NON_PHYSICAL, FlowCondition, is_physical, pressure
 from .gust import cell_x_gradient, svm_source
 from .jacobian import H_STEP, coloured_complex_step, jacobian
 from .loads import force_coefficients
@@ -431,6 +431,12 @@ def linearise_state(grid, q, flow, scheme=None):
     Returns
     -------
     LinearSystem
+
+    Raises
+    ------
+    LinearError
+        ``grid``, ``flow`` or ``scheme`` of the wrong type; ``q`` not a real array of the grid's shape, or holding
+        NaN, inf or a non-positive density or pressure (:func:`cfd.flow.is_physical`).
     """
     if not isinstance(grid, Grid):
         raise LinearError(not_a_grid(grid))
@@ -444,8 +450,8 @@ def linearise_state(grid, q, flow, scheme=None):
         raise LinearError(f"the steady state q must be an array of real numbers; got {type(q).__name__}") from None
     if q.shape != grid.cell_shape + (4,):
         raise LinearError(f"steady state has shape {q.shape}; this grid needs {grid.cell_shape + (4,)}")
-    if not np.all(np.isfinite(q)):
-        raise LinearError("the steady state q contains NaN or inf; linearise a converged cfd.solve_steady solution")
+    if not is_physical(q, flow.gamma):
+        raise LinearError(f"the steady state q {NON_PHYSICAL}; linearise a converged cfd.solve_steady solution")
     V = np.repeat(grid.area.ravel(), 4)
     J = jacobian(grid, q, flow, scheme=scheme)
     Bi = _face_matrix(grid, q, flow, scheme, "i")
@@ -485,8 +491,8 @@ def linearise(sol, scheme=None):
     Raises
     ------
     LinearError
-        ``sol`` without ``grid`` and ``q`` (e.g. None or a Grid), a state of the wrong shape or with NaN or inf, a
-        ``scheme`` that is not a ``cfd.Scheme``.
+        ``sol`` without ``grid`` and ``q`` (e.g. None or a Grid), a state of the wrong shape or with NaN, inf or a
+        non-positive density or pressure, a ``scheme`` that is not a ``cfd.Scheme``.
     """
     if not (hasattr(sol, "grid") and hasattr(sol, "q")):
         hint = ("solve the flow first: cfd.linearise(cfd.solve_steady(grid, mach, alpha_deg))" if isinstance(sol, Grid)

@@ -14,7 +14,7 @@ from .boundary import wall_pressure
 from .checks import not_a_grid
 from .errors import FlowConditionError, MeshError
 from .euler import check_state
-from .flow import FlowCondition
+from .flow import NON_PHYSICAL, FlowCondition, is_physical
 from .mesh.metrics import Grid
 
 __all__ = ["wall_cp", "force_coefficients"]
@@ -29,7 +29,8 @@ def _wall_pressure(grid, q, gamma):
 
 
 def _check_load_input(grid, q, flow):
-    """``q`` as an array after :func:`cfd.euler.check_state` (as :func:`cfd.residual` checks it) and the types."""
+    """``q`` as an array after :func:`cfd.euler.check_state` (as :func:`cfd.residual` checks it), the types, and
+    the state physical (:func:`cfd.flow.is_physical`, as ``solve_steady`` checks ``q0``)."""
     if not isinstance(grid, Grid):
         raise MeshError(not_a_grid(grid))
     if not isinstance(flow, FlowCondition):
@@ -37,9 +38,10 @@ def _check_load_input(grid, q, flow):
                                  f"got {type(flow).__name__}")
     q = np.asarray(q)
     check_state(grid, q, "q")
-    if not np.all(np.isfinite(q)):
-        raise FlowConditionError("q contains NaN or inf: its loads would be NaN; compute loads of a converged, finite "
-                                 "state (cfd.solve_steady reports a diverged solve with ConvergenceError)")
+    if not is_physical(q, flow.gamma):   # NaN gave NaN loads; a negative density or pressure, loads of no flow
+        raise FlowConditionError(f"q {NON_PHYSICAL}: it is not a flow, and its loads would be NaN or meaningless; "
+                                 "compute loads of a converged, physical state (cfd.solve_steady reports a diverged "
+                                 "solve with ConvergenceError)")
     return q
 
 
@@ -65,7 +67,7 @@ def wall_cp(grid, q, flow):
     MeshError
         ``q`` whose last three axes are not ``(ni-1, nj-1, 4)`` (as :func:`cfd.residual`), ``grid`` not a Grid.
     FlowConditionError
-        ``flow`` not a FlowCondition; ``q`` holding NaN or inf.
+        ``flow`` not a FlowCondition; ``q`` holding NaN, inf or a non-positive density or pressure.
     """
     q = _check_load_input(grid, q, flow)
     x = grid.x[:, 0]

@@ -51,7 +51,7 @@ from .checks import callback, flag, log_interval as check_log_interval, not_a_gr
 from .superlu import splu_nested, splu_pivoted
 from .errors import ConvergenceError, FlowConditionError, MeshError
 from .euler import DEFAULT_SCHEME, Scheme, residual as _euler_residual, spectral_radius_sum
-from .flow import LOW_MACH, FlowCondition, primitive
+from .flow import LOW_MACH, NON_PHYSICAL, FlowCondition, is_physical, primitive
 from .jacobian import jacobian
 from .loads import force_coefficients, wall_cp
 from .mesh import Grid
@@ -163,8 +163,7 @@ def factorise(A, perm=None):
 
 
 def _positive(q, gamma):
-    rho, _, _, p = primitive(q, gamma)
-    return bool(np.all(rho > 0.0) and np.all(p > 0.0) and np.all(np.isfinite(q)))
+    return is_physical(q, gamma)
 
 
 STRATEGIES = ("classic", "chord")
@@ -357,8 +356,7 @@ def solve_steady(grid, mach, alpha_deg, *, gamma=1.4, tol=1e-10, scheme=None, q0
             raise MeshError(f"q0 has shape {q.shape}; this grid needs {grid.cell_shape + (4,)}")
         if not _positive(q, gamma):
             raise FlowConditionError(
-                "q0 contains NaN, inf or non-positive density or pressure; start from the free stream "
-                "(q0=None) or from a converged solution's q"
+                f"q0 {NON_PHYSICAL}; start from the free stream (q0=None) or from a converged solution's q"
             )
     history = []
     info = {"t_jacobian": 0.0, "t_factor": 0.0, "t_solve": 0.0, "n_factor": 0, "n_solve": 0, "n_jacobian": 0,

@@ -40,11 +40,12 @@ Failures
 A step that does not converge in ``max_iter`` iterations and ``max_refactor`` refactorisations, a state with
 non-positive density or pressure, or a local Mach number (total velocity, gust included) above
 ``max_local_mach`` raises a subclass of :class:`UnsteadyStepError` that names the step, the time and the
-gust amplitude and carries the history so far (``.partial``). A gust that raises the peak local Mach number
-above ``separation_mach`` (1.3 by default: about the pre-shock Mach number at which a turbulent boundary layer
-separates) and by more than 0.01 above its steady value gives a ``RuntimeWarning``: the Euler equations
-cannot separate, so the response past that point is that of an attached flow that a real aerofoil would not
-have. Measurements against the LTD and the cost: ``docs/nonlinear.md``.
+gust amplitude and carries the history so far (``.partial``); an interrupt (Ctrl-C) is re-raised as
+:class:`cfd.errors.MarchInterrupted`, a ``KeyboardInterrupt`` that carries it the same way. A gust that raises
+the peak local Mach number above ``separation_mach`` (1.3 by default: about the pre-shock Mach number at which a
+turbulent boundary layer separates) and by more than 0.01 above its steady value gives a ``RuntimeWarning``: the
+Euler equations cannot separate, so the response past that point is that of an attached flow that a real aerofoil
+would not have. Measurements against the LTD and the cost: ``docs/nonlinear.md``.
 """
 
 import logging
@@ -57,10 +58,11 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from .errors import LocalMachError, NonPhysicalStateError, UnsteadyError, UnsteadyStepError  # noqa: F401 (re-exported)
+from .errors import (LocalMachError, MarchInterrupted, NonPhysicalStateError, UnsteadyError,  # noqa: F401 (re-exported)
+                     UnsteadyStepError)
 from .checks import callback, flag, log_interval as check_log_interval, whole_number
 from .euler import residual
-from .flow import FlowCondition, primitive
+from .flow import FlowCondition, is_physical, primitive
 from .frequencies import check_x_ref
 from .gust import (OneMinusCosine, SharpEdged, SineGust, cell_x_gradient, check_gust_step, face_gust,
                    gust_face_velocity, svm_source, warn_unseen)
@@ -160,6 +162,10 @@ MAX_SNAPSHOT_BYTES = 4 * 2**30
 distinct step): 4 GiB, some 12 000 states of the paper grid."""
 
 
+_SNAPSHOT_SLACK = 1e-9
+"""Round-off allowed (in steps) on a snapshot time at either end of the march (``3 * 0.1`` for a ``t_end`` of 0.3)."""
+
+
 def _check_input(gust, method, dt, t_end):
     if method not in METHODS:
         raise UnsteadyError(f"method must be one of {METHODS} (split or field velocity method); got {method!r}")
@@ -171,7 +177,7 @@ def _check_input(gust, method, dt, t_end):
 
 
 def _check_settings(rtol, atol, max_iter, stall_ratio, max_refactor, snapshot_times, max_phase_error,
-                    max_local_mach, separation_mach, steady_tol):
+                    max_local_mach, separation_mach, steady_tol, dt, t_end):
     """The iteration and monitoring settings of :func:`unsteady_response` (UnsteadyError naming the argument);
     returns ``snapshot_times`` as a list of floats."""
     def real(v):
@@ -199,6 +205,10 @@ def _check_settings(rtol, atol, max_iter, stall_ratio, max_refactor, snapshot_ti
     if times is None or not all(np.isfinite(times)):
         raise UnsteadyError(f"snapshot_times must be a sequence of finite convective times, e.g. (1.0, 2.5); got "
                             f"{snapshot_times!r}")
+    outside = [s for s in times if not -_SNAPSHOT_SLACK * dt <= s <= t_end + _SNAPSHOT_SLACK * dt]
+    if outside:   # a time past t_end was clamped to it: the state asked for was silently not stored
+        raise UnsteadyError(f"snapshot_times must lie in the march, 0 <= s <= t_end = {t_end:g}; got {outside[0]!r}: "
+                            "give times inside it (or march to a later t_end)")
     return times
 
 
@@ -284,7 +294,7 @@ def unsteady_response(sol, gust, dt, t_end, method="svm", x_ref=0.0, *, rtol=1e-
     krylov : bool
         Newton corrections by preconditioned GMRES (matrix-free ``J(x) v``) instead of chord steps.
     snapshot_times : sequence of float
-        Convective times at which to store the full state (nearest step).
+        Convective times at which to store the full state (nearest step), each in ``[0, t_end]``.
     progress : callable, optional
         ``progress(step, n_steps, t, iterations)`` after every step (``t`` convective, ``iterations`` of the
         step); its return value is ignored.
@@ -311,12 +321,15 @@ def unsteady_response(sol, gust, dt, t_end, method="svm", x_ref=0.0, *, rtol=1e-
         Unknown method, not a gust, bad ``dt`` or ``t_end``, more than ``cfd.ltd.MAX_STEPS`` steps (refused before
         any work, as the LTD), a gust that passes in fewer than ``cfd.gust.MIN_GUST_STEPS`` steps, a ``krylov``
         that is not a bool, a ``progress`` that is not callable, a negative ``log_interval``, snapshots of more than
-        :data:`MAX_SNAPSHOT_BYTES`, a non-finite ``x_ref``, a setting out of range
-        (``rtol``, ``atol`` negative; ``max_iter``, ``max_refactor`` not whole numbers; ``stall_ratio`` outside
+        :data:`MAX_SNAPSHOT_BYTES` or at times outside ``[0, t_end]``, a non-finite ``x_ref``, a setting out of
+        range (``rtol``, ``atol`` negative; ``max_iter``, ``max_refactor`` not whole numbers; ``stall_ratio`` outside
         (0, 1]; a limit or ``steady_tol`` not positive; any of them NaN), a non-converged ``sol``.
     UnsteadyStepError
         A step did not converge (``.partial`` holds the history so far); subclasses
         :class:`NonPhysicalStateError` (non-positive density or pressure) and :class:`LocalMachError`.
+    MarchInterrupted
+        A ``KeyboardInterrupt`` (Ctrl-C, or raised by ``progress``) during the march: re-raised as this subclass of
+        ``KeyboardInterrupt``, with the history up to the last completed step in ``.partial`` (``complete`` False).
 
     Warns
     -----
@@ -327,7 +340,7 @@ def unsteady_response(sol, gust, dt, t_end, method="svm", x_ref=0.0, *, rtol=1e-
     dt, t_end = _check_input(gust, method, dt, t_end)
     x_ref = check_x_ref(x_ref, UnsteadyError)
     snapshot_times = _check_settings(rtol, atol, max_iter, stall_ratio, max_refactor, snapshot_times,
-                                     max_phase_error, max_local_mach, separation_mach, steady_tol)
+                                     max_phase_error, max_local_mach, separation_mach, steady_tol, dt, t_end)
     krylov = flag("krylov", krylov, UnsteadyError)
     progress = callback("progress", progress, UnsteadyError)
     log_interval = check_log_interval(log_interval, UnsteadyError)
@@ -361,12 +374,13 @@ def unsteady_response(sol, gust, dt, t_end, method="svm", x_ref=0.0, *, rtol=1e-
     march.info["steady_max_mach"] = steady_mach
     snaps = {0.0: qbar.copy()} if 0 in snap_steps else {}
     q_prev, q = qbar, qbar
+    done = (0, qbar)   # the last completed step and its state: what an interrupt keeps
     warned = False
     t_start = t_log = time.perf_counter()
 
-    def history(k, complete):
+    def history(k, complete, q_k):
         arrays = [t[:k + 1], gust.input(t[:k + 1], x_ref), *(loads[:k + 1] - loads0).T, iters[:k + 1],
-                  res[:k + 1], mmax[:k + 1], (q - qbar).ravel()]
+                  res[:k + 1], mmax[:k + 1], (q_k - qbar).ravel()]
         arrays = [np.ascontiguousarray(a) for a in arrays]
         for a in arrays:
             a.setflags(write=False)
@@ -376,44 +390,54 @@ def unsteady_response(sol, gust, dt, t_end, method="svm", x_ref=0.0, *, rtol=1e-
                                dt=dt, q=arrays[8], steady_loads=loads0, amplitude_deg=gust.angle_deg,
                                iterations=arrays[5], residual=arrays[6], max_mach=arrays[7],
                                n_factorisations=march.info["n_factor"], refactorised_at=tuple(march.refactored),
-                               snapshots=dict(snaps), complete=complete, info=info)
+                               snapshots={s: v for s, v in snaps.items() if s <= t[k]}, complete=complete,
+                               info=info)
 
     for k in range(1, n + 1):
         try:
-            q_new, iters[k], res[k] = march.step(k, t[k], q, q_prev)
-            m = march.local_mach(q_new, t[k])
-            mmax[k] = m.max()
-            if mmax[k] > max_local_mach:
-                i, j = np.unravel_index(np.argmax(m), m.shape)
-                raise LocalMachError(
-                    f"step {k} (s = {t[k]:.4g}) of the {gust.angle_deg:g} deg gust: local Mach number "
-                    f"{mmax[k]:.3f} at cell ({i}, {j}) exceeds max_local_mach = {max_local_mach:g}. A shock this "
-                    "strong would separate a real boundary layer and is far outside the linear range; use a "
-                    "smaller amplitude (or raise max_local_mach if this is meant)")
-        except UnsteadyStepError as e:
-            e.partial = history(k - 1, complete=False)
-            e.step, e.time, e.amplitude_deg = k, t[k], gust.angle_deg
-            raise
-        q_prev, q = q, q_new
-        loads[k] = wall_loads(grid, q, flow)
-        if k in snap_steps:
-            snaps[float(t[k])] = q.copy()
-        if not warned and mmax[k] > separation_mach and mmax[k] > steady_mach + 0.01:
-            warned = True
-            warnings.warn(
-                f"the {gust.angle_deg:g} deg gust raises the peak local Mach number from {steady_mach:.3f} (steady) to "
-                f"{mmax[k]:.3f} at s = {t[k]:.3g}, above separation_mach = {separation_mach:g}: a boundary layer "
-                "would likely separate behind a shock this strong, which the Euler equations cannot show. Look at "
-                "history.max_mach (the pre-shock Mach number) and the shock position in the snapshots; past that "
-                "point the loads are those of an attached flow only", RuntimeWarning, stacklevel=2)
-        if progress is not None:
-            progress(k, n, float(t[k]), int(iters[k]))
-        now = time.perf_counter()
-        if now - t_log >= log_interval:
-            t_log = now
-            log.info("unsteady %s: step %d / %d (s = %.3f), %d iterations, %d factorisations, %.0f s",
-                     method, k, n, t[k], iters[k], march.info["n_factor"], now - t_start)
-    return history(n, complete=True)
+            try:
+                q_new, iters[k], res[k] = march.step(k, t[k], q, q_prev)
+                m = march.local_mach(q_new, t[k])
+                mmax[k] = m.max()
+                if mmax[k] > max_local_mach:
+                    i, j = np.unravel_index(np.argmax(m), m.shape)
+                    raise LocalMachError(
+                        f"step {k} (s = {t[k]:.4g}) of the {gust.angle_deg:g} deg gust: local Mach number "
+                        f"{mmax[k]:.3f} at cell ({i}, {j}) exceeds max_local_mach = {max_local_mach:g}. A shock this "
+                        "strong would separate a real boundary layer and is far outside the linear range; use a "
+                        "smaller amplitude (or raise max_local_mach if this is meant)")
+            except UnsteadyStepError as e:
+                e.partial = history(k - 1, False, q)
+                e.step, e.time, e.amplitude_deg = k, t[k], gust.angle_deg
+                raise
+            q_prev, q = q, q_new
+            loads[k] = wall_loads(grid, q, flow)
+            if k in snap_steps:
+                snaps[float(t[k])] = q.copy()
+            done = (k, q)
+            if not warned and mmax[k] > separation_mach and mmax[k] > steady_mach + 0.01:
+                warned = True
+                warnings.warn(
+                    f"the {gust.angle_deg:g} deg gust raises the peak local Mach number from {steady_mach:.3f} "
+                    f"(steady) to {mmax[k]:.3f} at s = {t[k]:.3g}, above separation_mach = {separation_mach:g}: a "
+                    "boundary layer would likely separate behind a shock this strong, which the Euler equations "
+                    "cannot show. Look at history.max_mach (the pre-shock Mach number) and the shock position in "
+                    "the snapshots; past that point the loads are those of an attached flow only", RuntimeWarning,
+                    stacklevel=2)
+            if progress is not None:
+                progress(k, n, float(t[k]), int(iters[k]))
+            now = time.perf_counter()
+            if now - t_log >= log_interval:
+                t_log = now
+                log.info("unsteady %s: step %d / %d (s = %.3f), %d iterations, %d factorisations, %.0f s",
+                         method, k, n, t[k], iters[k], march.info["n_factor"], now - t_start)
+        except KeyboardInterrupt as e:
+            k_done, q_done = done
+            raise MarchInterrupted(
+                f"the {gust.angle_deg:g} deg {method} gust response was interrupted at step {k} of {n}; the history "
+                f"up to step {k_done} (s = {t[k_done]:.4g}) is in .partial", partial=history(k_done, False, q_done),
+                step=k_done, time=float(t[k_done])) from e
+    return history(n, True, q)
 
 
 class _March:
@@ -557,5 +581,4 @@ class _March:
 
 
 def _physical(q, gamma):
-    rho, _, _, p = primitive(q, gamma)
-    return bool(np.all(np.isfinite(q)) and np.all(rho > 0.0) and np.all(p > 0.0))
+    return is_physical(q, gamma)

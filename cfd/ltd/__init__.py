@@ -49,6 +49,7 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from ..checks import callback, kind_of, log_interval as check_log_interval, real_array
+from ..errors import MarchInterrupted
 from ..gust import OneMinusCosine, SharpEdged, SineGust, check_gust_step, face_gust, warn_unseen
 from ..frequencies import check_pivot, check_x_ref
 from ..linear import LinearError, check_gust_method, check_linear_system
@@ -187,7 +188,7 @@ def check_times(dt, t_end, error=LinearError):
     """``(dt, t_end)`` as floats, checked for every time march (LTD, coupled, nonlinear) before any work: ``dt``
     positive and finite, ``t_end`` finite and at least ``dt``, at most :data:`MAX_STEPS` steps; else ``error``."""
     try:
-        if isinstance(dt, bool) or isinstance(t_end, bool):
+        if isinstance(dt, (bool, str, bytes)) or isinstance(t_end, (bool, str, bytes)):   # dt="0.1" was parsed
             raise TypeError
         dt = float(dt)
         t_end = float(t_end)
@@ -286,8 +287,18 @@ class _Clock:
                      now - self.start)
 
 
+class _Stopped(KeyboardInterrupt):
+    """An interrupt of a march's loop after output step ``k``: the loads ``Y[:k + 1]`` and the state there (as the
+    loop would return them had it ended at ``k``); :func:`_march` turns it into :class:`MarchInterrupted`."""
+
+    def __init__(self, k, Y, q):
+        super().__init__(k)
+        self.k, self.Y, self.q = k, Y, q
+
+
 def _bdf2(lin, gusts, t, method, initial, moves, clock):
-    """BDF2 on the grid ``t``: the loads ``Y`` (n + 1, 3, g) (without the motions' ``d x``) and the final state."""
+    """BDF2 on the grid ``t``: the loads ``Y`` (n + 1, 3, g) (without the motions' ``d x``) and the final state;
+    :class:`_Stopped` on an interrupt."""
     n = t.size - 1
     dt = t[1] - t[0]
     h = lin.to_solver_time(dt)
@@ -301,13 +312,19 @@ def _bdf2(lin, gusts, t, method, initial, moves, clock):
         q_prev, q = (np.asarray(a, dtype=float).reshape(lin.n, 1).copy() for a in initial)
     Y = np.zeros((n + 1, 3, g))
     Y[0] = lin.C @ q
-    for k in range(1, n + 1):  # time steps: each one back-substitution of g right-hand sides
-        b = _gust_forcing(lin, gusts, t[k], method) if gusts else np.zeros((lin.n, g))
-        for f, x, rate in moves:
-            b = b + (f.b0 * x[k] + f.b1 * rate[k])[:, None]
-        q_prev, q = q, solve(V * (4.0 * q - q_prev) / (2.0 * h) - b)
-        Y[k] = lin.C @ q
-        clock(k, n, t[k])
+    done = (0, q)   # the last completed step and its state: what an interrupt keeps
+    try:
+        for k in range(1, n + 1):  # time steps: each one back-substitution of g right-hand sides
+            b = _gust_forcing(lin, gusts, t[k], method) if gusts else np.zeros((lin.n, g))
+            for f, x, rate in moves:
+                b = b + (f.b0 * x[k] + f.b1 * rate[k])[:, None]
+            q_prev, q = q, solve(V * (4.0 * q - q_prev) / (2.0 * h) - b)
+            Y[k] = lin.C @ q
+            done = (k, q)
+            clock(k, n, t[k])
+    except KeyboardInterrupt as e:
+        k, q = done
+        raise _Stopped(k, Y[:k + 1], q) from e
     return Y, q
 
 
@@ -375,6 +392,11 @@ def _radau(lin, gusts, t, method, initial, moves, m, stage_times, clock):
         Loads, motions' terms included.
     q : ndarray, shape (4N, g)
         State at ``t[-1]``.
+
+    Raises
+    ------
+    _Stopped
+        On an interrupt, with the loads and state up to the last completed step.
     """
     n = t.size - 1
     dt = t[1] - t[0]
@@ -395,31 +417,43 @@ def _radau(lin, gusts, t, method, initial, moves, m, stage_times, clock):
     Y = np.zeros((n + 1, 3, g))
     Y[0] = lin.C @ q
     y_n = Y[0]
-    for k, times in enumerate(stage_times):
-        b = np.zeros((3, lin.n, g))
-        for i, s_i in enumerate(times):
-            if gusts:
-                b[i] = _gust_forcing(lin, gusts, s_i, method)
-            for fb, (_, _, xs) in zip(forces, moves):
-                b[i] += (fb * xs[k, i])[:, None]
-        Vq = V * q
-        r = np.tensordot(Pinv[:2], b, axes=(1, 0))     # (2, 4N, g): (P^-1 b)_k for the real and complex rows
-        w_r = solve_r((lam[0].real / h) * e[0].real * Vq - r[0].real)
-        w_c = solve_c((lam[1] / h) * e[1] * Vq - r[1])
-        stages = [P[i, 0].real * w_r + 2.0 * (P[i, 1] * w_c).real for i in range(3)]
-        y_stages = np.stack([y_n] + [lin.C @ Q for Q in stages])          # (4, 3, g)
-        lo = k * m
-        hi = min(lo + m, n)
-        Y[lo + 1:hi + 1] = np.tensordot(W[:hi - lo], y_stages, axes=(1, 0))
-        if hi < lo + m:                                # the last step ends past t_end: the state there
-            q = np.tensordot(dense_weights([(hi - lo) / m])[0], np.stack([q] + stages), axes=(0, 0))
-        else:
-            q = stages[-1]
-        y_n = y_stages[-1]
-        clock(hi, n, t[hi])
+    done = (0, q)   # the last completed output step and the state there: what an interrupt keeps
+    try:
+        for k, times in enumerate(stage_times):
+            b = np.zeros((3, lin.n, g))
+            for i, s_i in enumerate(times):
+                if gusts:
+                    b[i] = _gust_forcing(lin, gusts, s_i, method)
+                for fb, (_, _, xs) in zip(forces, moves):
+                    b[i] += (fb * xs[k, i])[:, None]
+            Vq = V * q
+            r = np.tensordot(Pinv[:2], b, axes=(1, 0))     # (2, 4N, g): (P^-1 b)_k for the real and complex rows
+            w_r = solve_r((lam[0].real / h) * e[0].real * Vq - r[0].real)
+            w_c = solve_c((lam[1] / h) * e[1] * Vq - r[1])
+            stages = [P[i, 0].real * w_r + 2.0 * (P[i, 1] * w_c).real for i in range(3)]
+            y_stages = np.stack([y_n] + [lin.C @ Q for Q in stages])          # (4, 3, g)
+            lo = k * m
+            hi = min(lo + m, n)
+            Y[lo + 1:hi + 1] = np.tensordot(W[:hi - lo], y_stages, axes=(1, 0))
+            if hi < lo + m:                                # the last step ends past t_end: the state there
+                q = np.tensordot(dense_weights([(hi - lo) / m])[0], np.stack([q] + stages), axes=(0, 0))
+            else:
+                q = stages[-1]
+            y_n = y_stages[-1]
+            done = (hi, q)
+            clock(hi, n, t[hi])
+    except KeyboardInterrupt as e:
+        hi, q = done
+        raise _Stopped(hi, *_radau_motion_terms(lin, Y[:hi + 1], q, shifts, moves, hi)) from e
+    return _radau_motion_terms(lin, Y, q, shifts, moves, n)
+
+
+def _radau_motion_terms(lin, Y, q, shifts, moves, k):
+    """The loads ``Y[:k + 1]`` and the state at output step ``k`` of :func:`_radau` back in ``q`` from ``p``: the
+    motions' terms ``(d - C V^-1 b1 / mach) x`` added to ``Y`` (in place) and ``V^-1 b1 x / mach`` taken from ``q``."""
     for s, (f, x, _) in zip(shifts, moves):
-        Y += np.multiply.outer(x, f.d - lin.C @ s)[:, :, None]
-    q = q - sum((s * x[-1] for s, (_, x, _) in zip(shifts, moves)), np.zeros(lin.n))[:, None]
+        Y += np.multiply.outer(x[:k + 1], f.d - lin.C @ s)[:, :, None]
+    q = q - sum((s * x[k] for s, (_, x, _) in zip(shifts, moves)), np.zeros(lin.n))[:, None]
     return Y, q
 
 
@@ -436,27 +470,36 @@ def _march(lin, gusts, dt, t_end, method, x_ref, initial, motion=None, progress=
     ``motion``: None or ``(plunge, pitch, pivot)`` (see :func:`_motions`), forcing every column. ``progress`` and
     ``log_interval``: see :func:`ltd_response`; ``scheme`` and ``step``: see :func:`ltd_responses`.
     """
-    n = int(round(t_end / dt))
+    n_steps = n = int(round(t_end / dt))
     t = dt * np.arange(n + 1)
     g = max(len(gusts), 1)
     clock = _Clock(method, g, progress, log_interval)
+    stopped = None
     # one BLAS thread: the steps' small dense products would otherwise leave BLAS threads spinning on the other
     # core while SuperLU back-substitutes (measured on the 2-core machine: Radau's complex solve 55 ms instead
     # of 25 ms on a 91 x 30 grid)
     with threadpool_limits(limits=1, user_api="blas"):
         if scheme == "bdf2":
             moves = [] if motion is None else _motions(lin, t, *motion)
-            Y, q = _bdf2(lin, gusts, t, method, initial, moves, clock)
+            try:
+                Y, q = _bdf2(lin, gusts, t, method, initial, moves, clock)
+            except _Stopped as e:                              # interrupted: the history so far, then re-raise
+                stopped, Y, q = e, e.Y, e.q
             for f, x, _ in moves:
-                Y += np.multiply.outer(x, f.d)[:, :, None]       # the explicit load term d x
-            moves = [(f, x) for f, x, _ in moves]
+                Y += np.multiply.outer(x[:Y.shape[0]], f.d)[:, :, None]   # the explicit load term d x
         else:
             m = radau_substeps(dt, step)
             stage_times = _stage_times(t, m)
             moves = [] if motion is None else _radau_motions(lin, t, *motion, stage_times)
-            Y, q = _radau(lin, gusts, t, method, initial, moves, m, stage_times, clock)
-            moves = [(f, x) for f, x, _ in moves]
-    if not np.all(np.isfinite(Y)):
+            try:
+                Y, q = _radau(lin, gusts, t, method, initial, moves, m, stage_times, clock)
+            except _Stopped as e:
+                stopped, Y, q = e, e.Y, e.q
+    if stopped is not None:
+        n = stopped.k
+        t = t[:n + 1]
+    moves = [(f, x[:n + 1]) for f, x, _ in moves]
+    if stopped is None and not np.all(np.isfinite(Y)):
         raise LinearError("the march's loads overflowed to inf or NaN: the inputs are too large for floating point "
                           "(the system is linear: march a unit input and scale the loads)")
     x_of = {f.name: x for f, x in moves}
@@ -471,6 +514,9 @@ def _march(lin, gusts, dt, t_end, method, x_ref, initial, motion=None, progress=
             a.setflags(write=False)
         out.append(LTDHistory(t=arrays[0], u=arrays[1], cl=arrays[2], cm=arrays[3], cd=arrays[4], method=method,
                               dt=dt, q=arrays[5], h=arrays[6], alpha=arrays[7], pivot=pivot))
+    if stopped is not None:
+        raise MarchInterrupted(f"the {method} march was interrupted; the history up to step {n} of {n_steps} "
+                               f"(s = {t[n]:.4g}) is in .partial", partial=out, step=n, time=float(t[n])) from stopped
     return out
 
 
@@ -532,6 +578,8 @@ def ltd_responses(lin, gusts, dt, t_end, method="svm", x_ref=0.0, max_phase_erro
     ------
     LinearError
         As :func:`ltd_response`, or ``gusts`` empty or not a sequence (a single gust).
+    MarchInterrupted
+        As :func:`ltd_response`; ``.partial`` is the list of histories so far, one per gust.
     """
     check_linear_system(lin)
     check_gust_method(method)
@@ -557,10 +605,18 @@ def ltd_responses(lin, gusts, dt, t_end, method="svm", x_ref=0.0, max_phase_erro
         _warn_phase(gust, dt, max_phase_error, scheme, step)
         warn_unseen(gust, t_end, x_ref)
     reps, maps = _shape_groups(gusts)
-    marched = _march(lin, reps, dt, t_end, method, x_ref, None, progress=progress, log_interval=log_interval,
-                     scheme=scheme, step=step)
-    return [marched[i] if gust is reps[i] else _scaled(marched[i], gust, factor, marched[i].t, x_ref)
-            for gust, (i, factor) in zip(gusts, maps)]
+
+    def per_gust(marched):
+        return [marched[i] if gust is reps[i] else _scaled(marched[i], gust, factor, marched[i].t, x_ref)
+                for gust, (i, factor) in zip(gusts, maps)]
+
+    try:
+        marched = _march(lin, reps, dt, t_end, method, x_ref, None, progress=progress, log_interval=log_interval,
+                         scheme=scheme, step=step)
+    except MarchInterrupted as e:
+        e.partial = per_gust(e.partial)
+        raise
+    return per_gust(marched)
 
 
 def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, max_phase_error=0.01, *,
@@ -627,6 +683,9 @@ def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, ma
         ``x_ref``, a ``max_phase_error`` that is not a positive number, a Radau step that is not a positive whole
         multiple of ``dt``, an ``initial`` that is not a pair of finite real states of shape (4N,), ``lin`` not a
         ``LinearSystem``; loads that overflow to inf or NaN (inputs too large for floating point).
+    MarchInterrupted
+        A ``KeyboardInterrupt`` (Ctrl-C, or raised by ``progress``) during the march: re-raised as this subclass of
+        ``KeyboardInterrupt``, with the history up to the last completed output step in ``.partial``.
 
     Warns
     -----
@@ -654,5 +713,9 @@ def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, ma
         if initial is None:
             warn_unseen(gust, t_end, x_ref)
     motion = None if plunge is None and pitch is None else (plunge, pitch, pivot)
-    return _march(lin, [] if gust is None else [gust], dt, t_end, method, x_ref, initial, motion,
-                  progress=progress, log_interval=log_interval, scheme=scheme, step=step)[0]
+    try:
+        return _march(lin, [] if gust is None else [gust], dt, t_end, method, x_ref, initial, motion,
+                      progress=progress, log_interval=log_interval, scheme=scheme, step=step)[0]
+    except MarchInterrupted as e:
+        e.partial = e.partial[0]
+        raise

@@ -134,6 +134,20 @@ def _matrix(name, a, required=True):
     return m
 
 
+def _mass(a):
+    """The mass matrix, checked by :func:`_matrix` and positive definite: its eigenvalues of positive real part
+    (``trace > 0`` and ``det > 0`` for a 2 x 2; for a symmetric matrix exactly the Cholesky test). The typical
+    section's ``[[2, -x_alpha], [-2 x_alpha, r_alpha2]]`` is not symmetric (rows scaled by ``diag(1, 2)``) and passes
+    exactly when ``r_alpha2 > x_alpha^2``, ``aeroelastic.TypicalSection``'s condition."""
+    m = _matrix("mass", a)
+    if not (np.trace(m) > 0.0 and np.linalg.det(m) > 0.0):   # a negative or zero mass or inertia marched as given
+        ev = ", ".join(f"{v:.3g}" for v in np.linalg.eigvals(m))
+        raise LinearError(f"mass must be positive definite (positive mass and inertia: eigenvalues of positive real "
+                          f"part, e.g. the typical section's [[2, -x_alpha], [-2 x_alpha, r_alpha2]] with r_alpha2 > "
+                          f"x_alpha^2); got eigenvalues {ev}. For the rigid (infinite mass) limit give load=0")
+    return m
+
+
 def coupled_ltd(lin, gust, dt, t_end, *, mass, stiffness, load, pivot, damping=None, method="svm", x_ref=0.0,
                 max_phase_error=0.01):
     """Gust response of a section on springs: the linear CFD and the structure marched together (BDF2).
@@ -149,7 +163,9 @@ def coupled_ltd(lin, gust, dt, t_end, *, mass, stiffness, load, pivot, damping=N
     t_end : float
         Final convective time, ``>= dt``.
     mass : array_like, shape (2, 2)
-        ``M`` of ``M x'' + D x' + K x = L y`` (see the module docstring), ``x = [h / c, alpha]``, ``'`` = d/ds.
+        ``M`` of ``M x'' + D x' + K x = L y`` (see the module docstring), ``x = [h / c, alpha]``, ``'`` = d/ds;
+        positive definite (eigenvalues of positive real part: a symmetric ``M`` must be SPD; the typical section's
+        is not symmetric).
     stiffness : array_like, shape (2, 2)
         ``K``, per convective time squared relative to ``M`` (for the typical section ``(4 / V^2) Ks``).
     load : array_like, shape (2, 2)
@@ -175,8 +191,9 @@ def coupled_ltd(lin, gust, dt, t_end, *, mass, stiffness, load, pivot, damping=N
     LinearError
         Not a gust, bad ``dt`` or ``t_end`` (more than ``cfd.ltd.MAX_STEPS`` steps included), a gust that passes in
         fewer than ``cfd.gust.MIN_GUST_STEPS`` steps, unknown method, a matrix that is not a finite (2, 2) array, a
-        non-finite pivot or ``x_ref``, a singular coupled step (e.g. ``mass``, ``stiffness`` and ``load`` all zero), or
-        ``lin`` not a ``LinearSystem``.
+        ``mass`` that is not positive definite (negative or zero), a non-finite pivot or ``x_ref``, a singular
+        coupled step (e.g. a damping of ``-1.5 mass / dt`` with ``stiffness`` and ``load`` zero), or ``lin`` not a
+        ``LinearSystem``.
 
     Notes
     -----
@@ -188,7 +205,7 @@ def coupled_ltd(lin, gust, dt, t_end, *, mass, stiffness, load, pivot, damping=N
     x_ref = check_x_ref(x_ref)
     dt, t_end = check_march(gust, dt, t_end, max_phase_error, x_ref)
     pivot = check_pivot(pivot)
-    M = _matrix("mass", mass)
+    M = _mass(mass)
     K = _matrix("stiffness", stiffness)
     L = _matrix("load", load)
     D = _matrix("damping", damping, required=False)

@@ -79,8 +79,9 @@ def _check_sizes(ni, nj, n_surface, farfield):
     return n_wake2 // 2
 
 
-def _check_smoothing(max_iter, tol, n_layers, march_distance):
-    """The smoother's settings of :func:`c_grid`, checked (:class:`MeshError` naming the argument)."""
+def _check_smoothing(max_iter, tol, n_layers, march_distance, farfield):
+    """The smoother's settings of :func:`c_grid`, checked (:class:`MeshError` naming the argument); ``farfield``
+    already checked."""
     for name, v, default in (("max_iter", max_iter, 100), ("n_layers", n_layers, 16)):
         if not isinstance(v, (int, np.integer)) or isinstance(v, bool) or v < 0:
             raise MeshError(f"{name} must be a whole number >= 0 (default {default}); got {v!r}")
@@ -91,9 +92,12 @@ def _check_smoothing(max_iter, tol, n_layers, march_distance):
     if not (real(tol) and tol > 0.0):
         raise MeshError(f"tol must be a positive finite number (the smoother's node-move tolerance, default 1e-3); "
                         f"got {tol!r}")
-    if not (real(march_distance) and march_distance >= 0.0):
-        raise MeshError(f"march_distance must be a finite number >= 0 (chords of the marched near-wall block, "
-                        f"default 0.3); got {march_distance!r}")
+    if not (real(march_distance) and 0.0 < march_distance < farfield):
+        # 0 marched two layers and folded coarse grids of any section; beyond the reach of every i-line (100 with the
+        # far field at 25) it fell back to two layers too; both failed as "folds around strongly cambered sections"
+        raise MeshError(f"march_distance must be a number of chords with 0 < march_distance < farfield = {farfield:g} "
+                        f"(the thickness of the marched near-wall block, default 0.3; at most nj // 2 layers are "
+                        f"marched, so a larger value adds nothing); got {march_distance!r}")
 
 
 def _boundaries(foil, ni, nj, n_surface, n_wake, farfield, le_spacing, te_spacing, wall_spacing, outer_blend):
@@ -233,7 +237,8 @@ def _smooth(x_in, y_in, x_o, y_o, h, nj, max_iter, tol, n_layers, march_distance
     ni = x_in.size
     length = np.hypot(x_o - x_in, y_o - y_in)
     dist, _ = geometric_distribution(nj - 1, h, length)
-    k = int(np.clip(np.argmax(dist.min(axis=0) >= march_distance), 2, nj // 2))
+    reach = dist.min(axis=0) >= march_distance
+    k = int(np.clip(np.argmax(reach) if reach.any() else nj // 2, 2, nj // 2))   # beyond every line: the most
     xm, ym = _march(x_in, y_in, dist[:, : k + 1], spread=0.5)
     # Outer block from layer k: first spacing continues the marched geometric growth.
     first = dist[:, k + 1] - dist[:, k]
@@ -307,7 +312,8 @@ def c_grid(
     n_layers : int
         j-lines above the marched block blended towards its last marching direction.
     march_distance : float
-        Thickness (chords) of the marched near-wall block, at most ``nj // 2`` layers.
+        Thickness (chords) of the marched near-wall block, at least 2 and at most ``nj // 2`` layers;
+        ``0 < march_distance < farfield``.
 
     Returns
     -------
@@ -320,14 +326,15 @@ def c_grid(
     MeshError
         If the sizes do not fit the stencil or each other, the far field is too close, the spacings
         are not positive and small enough, a smoother setting is out of range (``max_iter``, ``n_layers`` not
-        whole numbers >= 0, ``tol`` not positive, ``march_distance`` negative, any of them non-finite), ``smooth``
+        whole numbers >= 0, ``tol`` not positive, ``march_distance`` outside ``(0, farfield)``, any of them
+        non-finite), ``smooth``
         not a bool, ``farfield`` above :data:`MAX_FARFIELD`, more than :data:`MAX_NODES` nodes, or the grid folds
         (inverted cells).
     """
     if not all(hasattr(foil, a) for a in ("at_arc", "perimeter", "s_leading_edge_arc", "t")):
         raise MeshError(f"foil must be an aerofoil from cfd.naca (e.g. cfd.naca('0012')); got {type(foil).__name__}")
     n_wake = _check_sizes(ni, nj, n_surface, farfield)
-    _check_smoothing(max_iter, tol, n_layers, march_distance)
+    _check_smoothing(max_iter, tol, n_layers, march_distance, farfield)
     if not isinstance(smooth, (bool, np.bool_)):
         raise MeshError(f"smooth must be True or False; got {smooth!r}")
     if le_spacing is None:
@@ -357,10 +364,12 @@ def c_grid(
         y[ni - 1 - n_wake :, 0] = y[n_wake::-1, 0]
     folded = inverted_cells(x, y)
     if folded.size:   # said here, for the generator's user (grid_from_nodes speaks to whoever built the nodes)
+        thin = (f"; march_distance = {march_distance:g} chords is below the default 0.3: a thinner marched block "
+                "folds coarse grids of any section" if smooth and march_distance < 0.3 else "")
         raise MeshError(
             f"c_grid folded the grid around {getattr(foil, 'name', 'this section')}: {len(folded)} inverted cells, "
             f"first at cell {tuple(int(k) for k in folded[0])}. The generator folds around strongly cambered "
             "sections on coarse grids: use more nodes (ni, nj, n_surface; the paper's 181 x 60 meshes NACA 4912, "
             "which 81 x 16 folds); some sections (NACA 9912) fold at every setting: build the nodes yourself and "
-            "pass them to cfd.grid_from_nodes")
+            f"pass them to cfd.grid_from_nodes{thin}")
     return grid_from_nodes(x, y, n_wake)

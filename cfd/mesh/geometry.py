@@ -32,7 +32,7 @@ import numpy as np
 
 from ..errors import GeometryError
 
-__all__ = ["Aerofoil", "TabulatedAerofoil", "naca", "naca64a010", "MAX_PANELS"]
+__all__ = ["Aerofoil", "TabulatedAerofoil", "naca", "naca64a010", "MAX_PANELS", "MAX_CAMBER"]
 
 MAX_PANELS = 1_000_000
 """Most surface panels of an aerofoil's ``coordinates`` (``n``): 16 MB of points. The paper's grid has 100 wall
@@ -47,6 +47,36 @@ def _check_panels(n):
         raise GeometryError(f"n = {n} surface panels is more than cfd.mesh.geometry.MAX_PANELS = {MAX_PANELS:.0e} "
                             f"({16 * n / 2**30:.3g} GiB of coordinates); the default n=200 resolves the section, and "
                             "c_grid takes its own n_surface")
+
+MAX_CAMBER = 0.1
+"""Bound (excluded) on the maximum camber ``m`` of an :class:`Aerofoil`, fraction of chord: the NACA 4-digit family's
+first digit gives 0 - 9 % (``"9912"`` is the most cambered code)."""
+
+
+def _real(name, value, what):
+    """``value`` as a float if it is a finite real number (not a bool or a string), else :class:`GeometryError`."""
+    if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_)):
+        if np.isfinite(value):
+            return float(value)
+    raise GeometryError(f"{name} must be a finite real number ({what}); got {value!r}")
+
+
+def _check_section(m, p, t):
+    """Refuse (:class:`GeometryError`) a NACA 4-digit section outside the family's definition: ``0 <= m <
+    MAX_CAMBER``, ``0 < p < 1`` when ``m > 0`` (the camber line divides by ``p`` and ``1 - p``; any finite ``p``
+    when ``m = 0``, where it is unused), ``0 < t < 1``; all finite (a NaN ``m`` reached the grid generator)."""
+    m = _real("m", m, "maximum camber, fraction of chord, e.g. 0.02")
+    p = _real("p", p, "position of maximum camber, fraction of chord, e.g. 0.4")
+    t = _real("t", t, "maximum thickness, fraction of chord, e.g. 0.12")
+    if not 0.0 <= m < MAX_CAMBER:
+        raise GeometryError(f"m = {m!r} is outside the NACA 4-digit camber range 0 <= m < {MAX_CAMBER:g} (fraction of "
+                            "chord: 2 % camber is m = 0.02; use m = 0 for a symmetric section)")
+    if m > 0.0 and not 0.0 < p < 1.0:
+        raise GeometryError(f"p = {p!r}: a cambered section (m = {m:g}) needs the position of maximum camber inside "
+                            "the chord, 0 < p < 1 (fraction of chord, e.g. 0.4)")
+    if not 0.0 < t < 1.0:
+        raise GeometryError(f"t = {t!r} is not a thickness: give 0 < t < 1 (fraction of chord, e.g. 0.12 for 12 %)")
+
 
 # Closed-trailing-edge thickness coefficients: a0 sqrt(x) + a1 x + a2 x^2 + a3 x^3 + a4 x^4.
 _A0, _A1, _A2, _A3, _A4 = 0.2969, -0.1260, -0.3516, 0.2843, -0.1036
@@ -71,6 +101,12 @@ class Aerofoil:
         Maximum thickness, fraction of chord (last two digits / 100).
     n : int
         Default number of panels of ``coordinates()`` (cosine clustered).
+
+    Raises
+    ------
+    GeometryError
+        ``m``, ``p`` or ``t`` not a finite real number; ``m`` outside ``[0, MAX_CAMBER)``; ``p`` outside ``(0, 1)``
+        when ``m > 0``; ``t`` outside ``(0, 1)``; ``n`` not an integer in ``[4, MAX_PANELS]``.
     """
 
     code: str
@@ -81,6 +117,7 @@ class Aerofoil:
     _table: tuple = field(default=None, repr=False, compare=False)
 
     def __post_init__(self):
+        _check_section(self.m, self.p, self.t)
         _check_panels(self.n)
         # Dense table of (s, cumulative arc length) to place points at given arc positions.
         s = np.linspace(0.0, 1.0, _N_TABLE)

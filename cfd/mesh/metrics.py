@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..checks import whole_number
+from ..checks import kind_of, real_array, whole_number
 from ..errors import MeshError
 
 __all__ = ["Grid", "grid_from_nodes"]
@@ -130,6 +130,16 @@ def inverted_cells(x, y) -> np.ndarray:
     return np.argwhere(signed_cell_areas(x, y) <= 0.0)
 
 
+def _nodes(name, value):
+    """Node coordinates as a float array, or :class:`MeshError` naming ``name`` unless they are real numbers
+    (``grid_from_nodes("a", "b", 3)`` raised NumPy's "could not convert string to float")."""
+    v = real_array(value)
+    if v is None:
+        raise MeshError(f"{name} must be a 2-D array of real node coordinates (chords), shape (ni, nj); got "
+                        f"{kind_of(value)}")
+    return v
+
+
 def grid_from_nodes(x, y, n_wake):
     """Build a ``Grid`` (metrics included) from node coordinates.
 
@@ -150,12 +160,11 @@ def grid_from_nodes(x, y, n_wake):
     Raises
     ------
     MeshError
-        If the arrays disagree in shape, are too small for the two-layer JST stencil, contain
+        If the arrays are not real numbers, disagree in shape, are too small for the two-layer JST stencil, contain
         non-finite values, if ``n_wake`` is not a whole number, leaves fewer than 4 wall cells or does not
         match the wake cut (the message gives the value that does), or if any cell is inverted or degenerate.
     """
-    x = np.asarray(x, dtype=float)
-    y = np.asarray(y, dtype=float)
+    x, y = _nodes("x", x), _nodes("y", y)
     if x.ndim != 2 or x.shape != y.shape:
         raise MeshError(f"x and y must be 2-D arrays of one shape (ni, nj); got {x.shape} and {y.shape}")
     ni, nj = x.shape

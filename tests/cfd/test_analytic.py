@@ -119,10 +119,17 @@ def test_bad_input():
     (lambda: sears_compressible(1.0, mach="a"), r"mach = 'a' must be in \[0, 1\)"),
     (lambda: sears_compressible(1.0, mach=None), r"mach = None"),
     (lambda: sears_compressible(1.0, mach=True), r"mach = True"),
-    (lambda: sears("one"), r"omega must be a number or an array of numbers.*'one'"),
-    (lambda: sears_compressible([1.0, "x"], 0.5), r"omega must be a number"),
-    (lambda: kussner("late"), r"s \(time\) must be a number"),
-    (lambda: wagner(["a"]), r"s \(time\) must be a number"),
+    (lambda: sears("one"), r"omega must be a real number or an array of real numbers.*'one'"),
+    (lambda: sears_compressible([1.0, "x"], 0.5), r"omega must be a real number"),
+    (lambda: kussner("late"), r"s must be a real number or an array of real times"),
+    (lambda: wagner(["a"]), r"s must be a real number or an array of real times"),
+    # a complex omega was cast to its real part (ComplexWarning); "1" was parsed as a frequency
+    (lambda: sears(1.0 + 1.0j), r"omega must be a real number .*got complex"),
+    (lambda: sears("1"), r"omega must be a real number .*got str"),
+    # None became NaN: "time contains NaN"
+    (lambda: kussner(None), r"s must be a real number or an array of real times .*got NoneType"),
+    (lambda: wagner("1"), r"s must be a real number or an array of real times .*got str"),
+    (lambda: kussner([0.0, np.nan]), r"s \(time\) contains NaN"),
 ])
 def test_non_numeric_input_is_an_analytic_error(call, match):
     with pytest.raises(AnalyticError, match=match):

@@ -81,7 +81,7 @@ def test_complex_state_with_zero_imaginary_part_gives_the_real_residual():
 @pytest.mark.parametrize(
     "kwargs, match",
     [
-        (dict(q=np.ones((3, 3, 4))), "state has shape"),
+        (dict(q=np.ones((3, 3, 4))), r"q has shape \(3, 3, 4\); this grid needs"),
         (dict(face_velocity=(np.zeros((2, 3, 3)), np.zeros((2, 3, 3)))), "face_velocity"),
         (dict(source=np.zeros((2, 2, 4))), "source has shape"),
     ],

@@ -39,10 +39,11 @@ def test_primitive_arrays_that_do_not_broadcast_are_a_mesh_error():
 
 
 @pytest.mark.parametrize("name", ["mach", "alpha_deg", "gamma"])
-def test_a_flow_condition_is_not_made_of_booleans(name):
+@pytest.mark.parametrize("value", [True, "0.5"])     # alpha_deg=True was taken as 1 deg, mach="0.5" parsed
+def test_a_flow_condition_is_not_made_of_booleans_or_strings(name, value):
     from cfd import FlowCondition, FlowConditionError
 
     args = dict(mach=0.5, alpha_deg=1.0, gamma=1.4)
-    args[name] = True                                  # alpha_deg=True was taken as 1 deg
-    with pytest.raises(FlowConditionError, match=rf"{name} must be a real number; got True"):
+    args[name] = value
+    with pytest.raises(FlowConditionError, match=rf"{name} must be a real number; got {value!r}"):
         FlowCondition(**args)

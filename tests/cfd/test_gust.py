@@ -295,3 +295,22 @@ def test_the_study_gust_step_rule_is_the_marches():
     from studies.config.schema import MIN_GUST_STEPS as STUDY_MIN_GUST_STEPS
 
     assert STUDY_MIN_GUST_STEPS == MIN_GUST_STEPS
+
+
+@pytest.mark.parametrize("gust", [OneMinusCosine(length=4.0, angle_deg=1.0, x0=-2.0), SineGust(1.0, omega=1.0)])
+@pytest.mark.parametrize("s, kind", [("abc", "str"), (None, "NoneType"), (1.0 + 1.0j, "complex"),
+                                     (np.array([np.nan, 1.0]), "dtype float64")])
+def test_input_times_must_be_real_numbers(gust, s, kind):
+    # "abc" raised NumPy's "could not convert string to float"; None and NaN times gave an input of 0
+    with pytest.raises(GustError, match=rf"s must be a real number or an array of real convective times .*got {kind}"):
+        gust.input(s)
+
+
+@pytest.mark.parametrize("make, name", [
+    (lambda: OneMinusCosine(length="4", angle_deg=1.0), "length"),     # strings were parsed
+    (lambda: OneMinusCosine(length=4.0, angle_deg="1"), "angle_deg"),
+    (lambda: SineGust(angle_deg=1.0, omega="1.0"), "omega"),
+])
+def test_gust_parameters_are_not_strings(make, name):
+    with pytest.raises(GustError, match=rf"{name} must be a real number; got '"):
+        make()

@@ -88,3 +88,18 @@ def test_a_state_with_nan_is_refused(transonic):
     q[3, 2, 1] = np.nan
     with pytest.raises(FlowConditionError, match=r"q contains NaN or inf"):
         jacobian(grid, q, flow)
+
+
+@pytest.mark.parametrize("args, error, match", [
+    # a state of the wrong shape raised NumPy's "operands could not be broadcast" from the colouring
+    (lambda g, q, flow: (g, np.zeros((3, 3, 4)), flow), "MeshError", r"q has shape \(3, 3, 4\); this grid needs"),
+    (lambda g, q, flow: (g, np.stack([q, q]), flow), "MeshError", r"the Jacobian is of one state"),
+    (lambda g, q, flow: (None, q, flow), "MeshError", r"grid must be a cfd.Grid"),
+    (lambda g, q, flow: (g, q, "M0.8"), "FlowConditionError", r"flow must be a cfd.FlowCondition"),
+])
+def test_arguments_are_checked_as_the_residual_checks_them(transonic, args, error, match):
+    import cfd
+
+    grid, flow, q = transonic
+    with pytest.raises(getattr(cfd, error), match=match):
+        jacobian(*args(grid, q, flow))

@@ -190,7 +190,7 @@ def test_vortex_far_field_rank_one_term(thick):
     assert z @ lin.apply_jacobian(x[:, 0]) == pytest.approx(lin.apply_jacobian(z, transpose=True) @ x[:, 0], rel=1e-12)
 
 
-@pytest.mark.parametrize("T", [0.0, -1.0, np.nan, "x"])
+@pytest.mark.parametrize("T", [0.0, -1.0, np.nan, "x", "1"])
 @pytest.mark.parametrize("method", ["direct", "fast"])
 def test_bad_sampling_period_is_refused_up_front(plate, T, method):
     # checked with the frequencies, before any solve (it used to fail only when the response was assembled)
@@ -212,3 +212,11 @@ def test_absurd_frequency_counts_are_refused_before_any_solve(plate):
     with pytest.raises(LinearError, match=r"omega holds 100001 frequencies, more than "
                                           r"cfd.frequencies.MAX_FREQUENCIES = 100000"):
         lfd_response(plate, np.zeros(MAX_FREQUENCIES + 1))
+
+
+@pytest.mark.parametrize("omega", [np.array([1.0 + 1.0j]), "1.0", ["0.5", "1.0"], None,
+                                   (np.array([0.1, 0.2]), np.array([0.5j, 1.0]))])
+def test_frequencies_that_are_not_real_numbers_are_refused(plate, omega):
+    # a complex omega was cast to its real part with only a ComplexWarning, "1.0" parsed as a frequency
+    with pytest.raises(LinearError, match=r"must be an array of real frequencies"):
+        lfd_response(plate, omega)

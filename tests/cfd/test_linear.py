@@ -138,7 +138,12 @@ def _solution_like(grid, q, flow):
 @pytest.mark.parametrize("make, match", [
     (lambda grid, q, flow: None, "sol must be a steady solution with grid and q; got NoneType"),
     (lambda grid, q, flow: grid, r"got Grid: solve the flow first: cfd.linearise\(cfd.solve_steady"),
-    (lambda grid, q, flow: _solution_like(grid, np.full_like(q, np.nan), flow), "q contains NaN or inf"),
+    (lambda grid, q, flow: _solution_like(grid, np.full_like(q, np.nan), flow), "q contains NaN, inf or non-pos"),
+    # a negative density or pressure was linearised (solve_steady refuses such a q0)
+    (lambda grid, q, flow: _solution_like(grid, q * [-1.0, 1.0, 1.0, 1.0], flow),
+     "q contains NaN, inf or non-positive density or pressure"),
+    (lambda grid, q, flow: _solution_like(grid, q * [1.0, 1.0, 1.0, 0.0], flow),
+     "q contains NaN, inf or non-positive density or pressure"),
     (lambda grid, q, flow: _solution_like(grid, q[:-1], flow), "steady state has shape"),
     (lambda grid, q, flow: _solution_like(grid, np.full(q.shape, "a"), flow), "array of real numbers"),
 ])

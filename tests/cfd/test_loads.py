@@ -88,11 +88,26 @@ def test_moment_reference_must_be_a_finite_point(x_ref):
         force_coefficients(g, q, flow, x_ref=x_ref)
 
 
+def _negative_density(q):
+    q[..., 0] = -1.0   # every cell: loads of no flow, returned as numbers before
+
+
+def _negative_pressure(q):
+    q[3, 0, 3] = 0.0   # energy 0 under a moving fluid: p < 0 in one cell
+
+
+def _infinite(q):
+    q[0, 0, 3] = np.inf
+
+
 @pytest.mark.parametrize("load", [wall_cp, force_coefficients])
-def test_loads_of_a_state_with_nan_are_refused(load):
+@pytest.mark.parametrize("spoil", [_infinite, _negative_density, _negative_pressure])
+def test_loads_of_a_state_that_is_not_a_flow_are_refused(load, spoil):
+    # as solve_steady refuses such a q0; a negative density gave loads as numbers
     g = parabolic_c_grid(thickness=0.1, n_surface=32, n_wake=8, nj=13)
     flow = FlowCondition(0.5)
     q = np.array(np.broadcast_to(flow.q, g.cell_shape + (4,)))
-    q[0, 0, 3] = np.inf
-    with pytest.raises(FlowConditionError, match=r"q contains NaN or inf: its loads would be NaN"):
+    spoil(q)
+    with pytest.raises(FlowConditionError, match=r"q contains NaN, inf or non-positive density or pressure: it is "
+                                                 r"not a flow"):
         load(g, q, flow)

@@ -9,7 +9,7 @@ import pytest
 from flowgrids import parabolic_c_grid
 
 import cfd
-from cfd import (LocalMachError, NonPhysicalStateError, OneMinusCosine, SharpEdged, UnsteadyError,
+from cfd import (LocalMachError, MarchInterrupted, NonPhysicalStateError, OneMinusCosine, SharpEdged, UnsteadyError,
                  UnsteadyStepError, linearise, ltd_response, solve_steady, unsteady_response)
 from cfd.unsteady import _source_jacobian
 from cfd.gust import cell_x_gradient, face_gust, svm_source
@@ -62,7 +62,8 @@ def test_small_amplitudes_follow_the_ltd_and_the_difference_is_linear(subsonic):
 
 def test_history_fields_totals_and_snapshots(coarse):
     g = gust(0.5)
-    u = unsteady_response(coarse, g, 0.1, 1.0, snapshot_times=(0.0, 0.52, 5.0), max_phase_error=1.0)
+    # 1 + 1e-12: round-off past t_end is the last step (a time well past it is refused: test_bad_arguments)
+    u = unsteady_response(coarse, g, 0.1, 1.0, snapshot_times=(0.0, 0.52, 1.0 + 1e-12), max_phase_error=1.0)
     assert u.t.shape == u.cl.shape == u.cd.shape == u.iterations.shape == u.max_mach.shape == (11,)
     assert u.cl[0] == u.cm[0] == u.cd[0] == 0.0 and u.iterations[0] == 0
     np.testing.assert_allclose(u.cl_total, coarse.cl + u.cl)
@@ -169,6 +170,9 @@ def test_non_converged_steady_solution_is_refused(coarse):
     (dict(separation_mach=np.nan), "separation_mach must be a positive number"),
     (dict(snapshot_times=5), "snapshot_times must be a sequence of finite convective times"),
     (dict(snapshot_times=[1.0, np.nan]), "snapshot_times must be a sequence"),
+    # a time past t_end stored the state of t_end (under t_end's key): the asked-for state was silently missing
+    (dict(snapshot_times=(0.5, 100.0)), r"snapshot_times must lie in the march, 0 <= s <= t_end = 1; got 100.0"),
+    (dict(snapshot_times=(-1.0,)), r"snapshot_times must lie in the march, 0 <= s <= t_end = 1; got -1.0"),
 ])
 def test_bad_arguments(coarse, kwargs, match):
     args = dict(gust=gust(0.1), dt=0.1, t_end=1.0)
@@ -262,3 +266,27 @@ def test_snapshots_that_cannot_fit_in_memory_are_refused(coarse, monkeypatch):
     with pytest.raises(UnsteadyError, match=r"snapshot_times asks for 1000000 full states .* more than "
                                             r"MAX_SNAPSHOT_BYTES = 4 GiB"):
         unsteady_response(coarse, gust(1.0), 1e-3, 1000.0, snapshot_times=np.arange(1_000_000) * 1e-3)
+
+
+def interrupt_at(step):
+    """A ``progress`` callback that raises KeyboardInterrupt (Ctrl-C) at ``step``."""
+    def progress(k, *args):
+        if k == step:
+            raise KeyboardInterrupt
+    return progress
+
+
+def test_an_interrupt_keeps_the_history_so_far(coarse):
+    # Ctrl-C lost the march; now the KeyboardInterrupt carries it (.partial), as an UnsteadyStepError does
+    with pytest.raises(KeyboardInterrupt) as info:
+        unsteady_response(coarse, gust(0.5), 0.1, 1.0, snapshot_times=(0.2, 0.8), progress=interrupt_at(5),
+                          max_phase_error=1.0)
+    e = info.value
+    assert isinstance(e, MarchInterrupted) and e.step == 5 and e.time == pytest.approx(0.5)
+    assert "interrupted at step 5 of 10" in str(e)
+    p = e.partial
+    assert not p.complete and p.t.shape == p.cl.shape == p.iterations.shape == (6,)
+    assert sorted(p.snapshots) == [pytest.approx(0.2)]
+    full = unsteady_response(coarse, gust(0.5), 0.1, 0.5, max_phase_error=1.0)  # the same march, ended there
+    np.testing.assert_array_equal(p.cl, full.cl)
+    np.testing.assert_array_equal(p.q, full.q)

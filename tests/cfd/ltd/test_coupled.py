@@ -151,7 +151,15 @@ def test_sine_gust_response_matches_the_frequency_domain_coupling(lin):
     (dict(load="none"), "real"),
     (dict(mass=None), "required"),
     (dict(pivot=np.inf), "pivot"),
-    (dict(mass=np.zeros((2, 2)), stiffness=np.zeros((2, 2)), load=np.zeros((2, 2))), "singular"),
+    # the step's structural rows cancel (15 = 1.5 / dt): a positive mass, yet no coupled step
+    (dict(damping=-15.0 * section()["mass"], stiffness=np.zeros((2, 2)), load=np.zeros((2, 2))), "singular"),
+    # a negative or zero mass or inertia was marched as given
+    (dict(mass=-np.eye(2)), r"mass must be positive definite .*got eigenvalues -1, -1"),
+    (dict(mass=np.zeros((2, 2))), r"mass must be positive definite .*got eigenvalues 0, 0"),
+    (dict(mass=np.diag([1.0, -1.0])), r"mass must be positive definite"),
+    (dict(mass=[[2.0, -0.5], [-1.0, 0.2]]), r"mass must be positive definite"),   # r_alpha2 < x_alpha^2
+    (dict(damping=np.eye(3)), "damping has shape"),
+    (dict(stiffness=[[1.0, np.inf], [0.0, 1.0]]), "stiffness holds NaN or infinite"),
     (dict(x_ref=np.nan), "x_ref"),
     (dict(method="abc"), "method"),
 ])

@@ -15,6 +15,7 @@ from cfd import solve_steady  # noqa: E402
 from cfd.gust import OneMinusCosine, SharpEdged, SineGust  # noqa: E402
 from cfd.lfd import lfd_response, lfd_state  # noqa: E402
 from cfd.linear import LinearError, linearise  # noqa: E402
+from cfd.errors import MarchInterrupted  # noqa: E402
 from cfd.ltd import ltd_response, ltd_responses, phase_error_estimate  # noqa: E402
 
 # Many tests here march a few steps only (bad input, options, progress counts), ending before the gust front
@@ -440,9 +441,10 @@ def test_progress_and_log_interval_are_checked_before_the_march(lin, kwargs, mat
         march(lin, SharpEdged(angle_deg=1.0), 0.1, 1.0, **kwargs)
 
 
-def test_booleans_are_not_times(lin):
+@pytest.mark.parametrize("dt, t_end", [(True, 1.0), ("0.1", 1.0), (0.1, "1")])   # strings were parsed
+def test_booleans_and_strings_are_not_times(lin, dt, t_end):
     with pytest.raises(LinearError, match="dt and t_end must be real numbers"):
-        ltd_response(lin, SharpEdged(angle_deg=1.0), True, 1.0)
+        ltd_response(lin, SharpEdged(angle_deg=1.0), dt, t_end)
 
 
 @pytest.mark.parametrize("kwargs, match", [
@@ -468,3 +470,37 @@ def test_a_march_that_ends_before_the_gust_peak_warns(lin):
                                             r"x_ref = 0 at s = 5e\+299"):
         h = ltd_response(lin, g, 0.1, 4.0)
     assert np.abs(h.u).max() < 1e-300
+
+
+def interrupt_at(step):
+    """A ``progress`` callback that raises KeyboardInterrupt (Ctrl-C) at ``step``."""
+    def progress(k, *args):
+        if k >= step:
+            raise KeyboardInterrupt
+    return progress
+
+
+@pytest.mark.parametrize("scheme, done", [("bdf2", 5), ("radau5", 7)])   # Radau: steps of 7 dt = 0.14
+@pytest.mark.parametrize("pitch", [None, lambda s: 0.01 * np.sin(s)])
+def test_an_interrupt_keeps_the_history_so_far(lin, scheme, done, pitch):
+    # Ctrl-C lost the march; now the KeyboardInterrupt carries the history up to the last completed step
+    g = OneMinusCosine(length=2.0, angle_deg=1.0, x0=-1.0)
+    with pytest.raises(KeyboardInterrupt) as info:
+        ltd_response(lin, g, 0.02, 1.0, progress=interrupt_at(5), scheme=scheme, pitch=pitch)
+    e = info.value
+    assert isinstance(e, MarchInterrupted) and e.step == done and e.time == pytest.approx(0.02 * done)
+    assert f"up to step {done} of 50" in str(e)
+    short = ltd_response(lin, g, 0.02, 0.02 * done, scheme=scheme, pitch=pitch)   # the same march, ended there
+    for name in ("t", "u", "cl", "cm", "cd", "q", "alpha"):
+        np.testing.assert_array_equal(getattr(e.partial, name), getattr(short, name), err_msg=name)
+
+
+def test_an_interrupt_of_gusts_marched_together_keeps_each_history(lin):
+    gusts = [OneMinusCosine(length=2.0, angle_deg=a, x0=-1.0) for a in (1.0, 2.0)] + [SineGust(1.0, omega=1.0)]
+    with pytest.raises(MarchInterrupted) as info:
+        ltd_responses(lin, gusts, 0.02, 1.0, progress=interrupt_at(3))
+    short = ltd_responses(lin, gusts, 0.02, 0.06)
+    assert len(info.value.partial) == 3
+    for p, h in zip(info.value.partial, short):
+        np.testing.assert_array_equal(p.cl, h.cl)
+        np.testing.assert_array_equal(p.u, h.u)

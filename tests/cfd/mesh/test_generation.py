@@ -138,9 +138,15 @@ def test_small_and_large_grids_keep_the_far_field_and_cut(ni, nj, n_surface, far
         (dict(farfield="far"), "finite number of chords"),
         (dict(wall_spacing="a"), "wall_spacing must be a number of chords; got 'a'"),
         (dict(te_spacing=None), "te_spacing must be a number of chords; got None"),
-        (dict(march_distance=float("nan")), "march_distance must be a finite number >= 0"),
-        (dict(march_distance=-1.0), "march_distance must be a finite number >= 0"),
-        (dict(march_distance="a"), "march_distance must be a finite number >= 0"),
+        (dict(march_distance=float("nan")), r"march_distance must be a number of chords with 0 < march_distance < "
+                                             r"farfield = 25 .*got nan"),
+        (dict(march_distance=-1.0), r"march_distance must be a number of chords with 0 < march_distance"),
+        (dict(march_distance="a"), r"march_distance must be a number of chords with 0 < march_distance"),
+        # 0 and a distance past the far field both marched 2 layers and failed as a fold "around strongly cambered
+        # sections" (here on a NACA0012)
+        (dict(march_distance=0.0), r"march_distance must be a number of chords with 0 < march_distance"),
+        (dict(march_distance=100.0), r"0 < march_distance < farfield = 25 .*got 100.0"),
+        (dict(march_distance=5.0, farfield=5.0), r"0 < march_distance < farfield = 5 "),
         (dict(tol=float("nan")), "tol must be a positive finite number"),
         (dict(tol=0.0), "tol must be a positive finite number"),
         (dict(max_iter=-1), "max_iter must be a whole number >= 0"),
@@ -197,3 +203,18 @@ def test_c_grid_refuses_absurd_settings_before_any_work(kwargs, match):
     args.update(kwargs)
     with pytest.raises(MeshError, match=match):
         c_grid(naca("0012"), **args)
+
+
+def test_a_fold_of_a_thin_marched_block_names_march_distance():
+    with pytest.raises(MeshError, match=r"folded the grid around NACA0012.*march_distance = 0.01 chords is below the "
+                                        r"default 0.3"):
+        c_grid(naca("0012"), ni=65, nj=17, n_surface=48, march_distance=0.01)
+
+
+def test_a_march_distance_beyond_every_i_line_marches_the_most_layers():
+    # 24.9 chords reaches no layer of the shortest i-line (the far field is 24.5 chords from the leading edge):
+    # it marched 2 layers and folded; now nj // 2, the same grid as any distance past the last marched layer
+    a = c_grid(naca("0012"), ni=65, nj=17, n_surface=48, march_distance=24.9)
+    b = c_grid(naca("0012"), ni=65, nj=17, n_surface=48, march_distance=10.0)
+    np.testing.assert_array_equal(a.x, b.x)
+    np.testing.assert_array_equal(a.y, b.y)

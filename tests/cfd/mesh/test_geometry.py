@@ -223,3 +223,31 @@ def test_absurd_panel_counts_are_refused_with_their_size(make):
     with pytest.raises(GeometryError, match=r"n = 100000000 surface panels is more than cfd.mesh.geometry.MAX_PANELS = "
                                             r"1e\+06 \(1.49 GiB of coordinates\)"):
         make(100_000_000)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    # a NaN camber built and failed later in c_grid as "uniform spacing nan chords"
+    (dict(m=np.nan), r"m must be a finite real number \(maximum camber"),
+    (dict(t=np.inf), r"t must be a finite real number"),
+    (dict(p="0.4"), r"p must be a finite real number .*got '0.4'"),
+    (dict(m=True), r"m must be a finite real number"),
+    (dict(m=-0.02), r"m = -0.02 is outside the NACA 4-digit camber range 0 <= m < 0.1"),
+    (dict(m=0.5), r"m = 0.5 is outside the NACA 4-digit camber range"),
+    # p = 0 with camber raised ZeroDivisionError from the camber line
+    (dict(p=0.0), r"p = 0.0: a cambered section \(m = 0.02\) needs .* 0 < p < 1"),
+    (dict(p=1.0), r"0 < p < 1"),
+    # a negative or zero thickness built (and folded the grid)
+    (dict(t=-0.1), r"t = -0.1 is not a thickness: give 0 < t < 1"),
+    (dict(t=0.0), r"t = 0.0 is not a thickness"),
+    (dict(t=1.2), r"t = 1.2 is not a thickness"),
+])
+def test_sections_outside_the_naca_family_are_refused_at_construction(kwargs, match):
+    with pytest.raises(GeometryError, match=match):
+        Aerofoil(**{**dict(code="x", m=0.02, p=0.4, t=0.12), **kwargs})
+
+
+@pytest.mark.parametrize("kwargs", [dict(m=0.0, p=0.0), dict(m=0.0, p=0.4), dict(m=0, p=0, t=0.99),
+                                    dict(m=0.09, p=0.9), dict(m=0.025, p=0.35, t=0.105)])
+def test_sections_of_the_naca_family_are_built(kwargs):
+    foil = Aerofoil(**{**dict(code="x", m=0.02, p=0.4, t=0.12), **kwargs})
+    assert np.all(np.isfinite(foil.coordinates(16)))

@@ -27,6 +27,10 @@ def test_metrics_close_every_cell_and_sum_to_the_exact_area():
         (lambda x, y: (x[:, ::-1], y[:, ::-1]), "inverted"),
         (lambda x, y: (x[:5], y[:5]), "too small"),
         (lambda x, y: (np.where(x > 2.5, np.nan, x), y), "NaN"),
+        # strings raised NumPy's "could not convert string to float"; complex nodes lost their imaginary part
+        (lambda x, y: ("a", "b"), r"x must be a 2-D array of real node coordinates .*got str"),
+        (lambda x, y: (x, y + 0j), r"y must be a 2-D array of real node coordinates .*got dtype complex128"),
+        (lambda x, y: (x, None), r"y must be a 2-D array of real node coordinates .*got NoneType"),
     ],
 )
 def test_bad_grids_raise_mesh_error(mutate, match):
