@@ -201,7 +201,7 @@ def sim_metrics(t, rom: Mapping[str, Any], ltd: Mapping[str, Any], seconds_rom: 
         :func:`sysid.history_metrics.history_errors` (``peak_err_X``, ``t_peak_err_X``, ``rms_err_X``), then
         ``seconds_rom`` and ``seconds_ltd``.
     """
-    out = history_errors(t, rom, ltd, outputs=SIM_OUTPUTS)
+    out = history_errors(t, rom, ltd, outputs=[o for o in SIM_OUTPUTS if o in rom and o in ltd])
     out["seconds_rom"] = float(seconds_rom)
     out["seconds_ltd"] = float(seconds_ltd)
     return out
