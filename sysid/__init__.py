@@ -8,7 +8,7 @@ Main entry points: :class:`FrequencyResponse`, :func:`mckelvey_grid`, :func:`ide
 (:mod:`sysid.history_metrics`); the order limits :func:`max_order`, :func:`min_order`.
 """
 
-from .errors import (ConstraintError, FrequencyDataError, FrequencyFileError, FrequencyGridError,
+from .errors import (ArgumentTypeError, ConstraintError, FrequencyDataError, FrequencyFileError, FrequencyGridError,
                      FrequencyIndexError, ModelError, OptionError, OrderError, SolverError, TimeDataError)
 from .frd import FrequencyResponse, continuous_to_discrete, discrete_to_continuous, mckelvey_grid
 from .subspace import (
@@ -55,6 +55,7 @@ __all__ = [
     "OptionError",
     "FrequencyIndexError",
     "FrequencyFileError",
+    "ArgumentTypeError",
     # data
     "FrequencyResponse",
     "mckelvey_grid",

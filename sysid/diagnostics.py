@@ -78,7 +78,7 @@ import numpy as np
 
 from .arrays import freeze_array_fields
 from .data_checks import check_nonzero_outputs
-from .errors import FrequencyGridError, OptionError
+from .errors import ArgumentTypeError, FrequencyGridError, OptionError
 from .frd import FrequencyResponse, continuous_to_discrete
 from .grids import check_period
 
@@ -652,7 +652,7 @@ def diagnose(
     :mod:`sysid.diagnostics`.
     """
     if not isinstance(frf, FrequencyResponse):
-        raise TypeError(f"diagnose() expects a sysid.FrequencyResponse, got {type(frf).__name__}")
+        raise ArgumentTypeError(f"diagnose() expects a sysid.FrequencyResponse, got {type(frf).__name__}")
     for name, value in (("neg_time_tol", neg_time_tol), ("kk_tol", kk_tol), ("dc_imag_tol", dc_imag_tol)):
         if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)) \
                 or not (np.isfinite(value) and value >= 0):

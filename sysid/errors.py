@@ -15,6 +15,7 @@ __all__ = [
     "OptionError",
     "FrequencyIndexError",
     "FrequencyFileError",
+    "ArgumentTypeError",
 ]
 
 
@@ -61,3 +62,8 @@ class SolverError(RuntimeError):
 class ModelError(ValueError):
     """A state-space model is of the wrong kind for the operation (discrete vs continuous) or is
     singular where the operation needs an inverse (e.g. a pole at z = -1 for the bilinear map)."""
+
+
+class ArgumentTypeError(TypeError):
+    """An argument of the wrong kind of object (``identify(None, 4)``, a NumPy array where a
+    :class:`sysid.FrequencyResponse` or a ``control.StateSpace`` is expected); also a ``TypeError``."""

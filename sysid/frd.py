@@ -27,7 +27,7 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from .arrays import read_only
-from .errors import FrequencyDataError, FrequencyGridError, FrequencyIndexError
+from .errors import ArgumentTypeError, FrequencyDataError, FrequencyGridError, FrequencyIndexError
 from .grids import GRID_RTOL, check_period, continuous_to_discrete, discrete_to_continuous, mckelvey_grid
 from .state_space import shifted_solve
 
@@ -360,7 +360,7 @@ class FrequencyResponse:
         import control
 
         if not isinstance(model, control.StateSpace):
-            raise TypeError(f"from_model() expects a control.StateSpace, got {type(model).__name__}")
+            raise ArgumentTypeError(f"from_model() expects a control.StateSpace, got {type(model).__name__}")
         A, B, C, D = (np.asarray(x, dtype=float) for x in (model.A, model.B, model.C, model.D))
         wd = _as_freq(omega_d, "omega_d", np.size(omega_d))
         discrete = bool(model.dt) and model.dt is not True

@@ -13,7 +13,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from .errors import FrequencyDataError, FrequencyFileError, FrequencyGridError
+from .errors import ArgumentTypeError, FrequencyDataError, FrequencyFileError, FrequencyGridError
 
 __all__ = ["save_frf", "load_frf", "frf_to_control", "frf_from_control"]
 
@@ -113,7 +113,7 @@ def frf_from_control(cls, frd, T: float | None = None, *, feedthrough: Any = Non
     import control
 
     if not isinstance(frd, control.FrequencyResponseData):
-        raise TypeError(f"from_control() expects a control.FrequencyResponseData, got {type(frd).__name__}")
+        raise ArgumentTypeError(f"from_control() expects a control.FrequencyResponseData, got {type(frd).__name__}")
     if getattr(frd, "dt", 0) not in (0, None):
         raise FrequencyGridError(
             "from_control() expects a continuous-time FRD (dt = 0); a discrete FRD's frequencies follow "

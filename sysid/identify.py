@@ -45,7 +45,7 @@ from typing import Any
 import numpy as np
 
 from .data_checks import check_data_scale, check_flag, check_nonzero_outputs, check_weights
-from .errors import ConstraintError, FrequencyDataError, FrequencyGridError, OptionError
+from .errors import ArgumentTypeError, ConstraintError, FrequencyDataError, FrequencyGridError, OptionError
 from .frd import FrequencyResponse
 from .between import BETWEEN_MIN_ERROR, BETWEEN_RATIO
 from .grids import check_distinct, check_period_resolves
@@ -236,7 +236,7 @@ def identify(
     if not (isinstance(refit_c, (bool, np.bool_)) or (isinstance(refit_c, str) and refit_c == "auto")):
         raise OptionError(f"refit_c must be 'auto', True or False; got {refit_c!r}")
     if not isinstance(frf, FrequencyResponse):
-        raise TypeError(f"identify() expects a sysid.FrequencyResponse, got {type(frf).__name__}")
+        raise ArgumentTypeError(f"identify() expects a sysid.FrequencyResponse, got {type(frf).__name__}")
     if frf.T is None or frf.omega_d is None:
         raise FrequencyGridError(
             "identify() needs the sampling period T to place the data on the unit circle "

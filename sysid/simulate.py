@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .errors import ModelError, OptionError, TimeDataError
+from .errors import ArgumentTypeError, ModelError, OptionError, TimeDataError
 from .grids import check_period
 from .transforms import c2d_bilinear, c2d_zoh, d2c_bilinear
 
@@ -158,7 +158,7 @@ def rediscretise(model, dt: float, discretisation: str = "tustin"):
     if not isinstance(discretisation, str) or discretisation not in DISCRETISATIONS:
         raise OptionError(f"discretisation must be 'tustin' or 'zoh', got {discretisation!r}")
     if not isinstance(model, control.StateSpace):
-        raise TypeError(f"rediscretise() expects a discrete control.StateSpace, got {type(model).__name__}")
+        raise ArgumentTypeError(f"rediscretise() expects a discrete control.StateSpace, got {type(model).__name__}")
     continuous = d2c_bilinear(model)
     try:
         return c2d_bilinear(continuous, dt) if discretisation == "tustin" else c2d_zoh(continuous, dt)
@@ -367,7 +367,7 @@ def rom_response(model, t, u, *, discretisation: str = "tustin", method: str = "
     import control
 
     if not isinstance(model, control.StateSpace):
-        raise TypeError(f"rom_response() expects a control.StateSpace (a discrete ROM), got {type(model).__name__}")
+        raise ArgumentTypeError(f"rom_response() expects a control.StateSpace (a discrete ROM), got {type(model).__name__}")
     if not model.isdtime(strict=True) or model.dt is True:
         raise ModelError(f"rom_response() expects a discrete model with dt = T > 0 (the ROM's sampling period); "
                          f"this one has dt = {model.dt!r}: discretise it first (sysid.c2d_bilinear(model, T))")

@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 import scipy.linalg
 
-from .errors import FrequencyGridError, ModelError
+from .errors import ArgumentTypeError, FrequencyGridError, ModelError
 from .grids import check_period
 
 __all__ = ["d2c_bilinear", "c2d_bilinear", "c2d_zoh"]
@@ -40,7 +40,7 @@ def _check_model(model: Any, *, discrete: bool, func: str):
         if isinstance(model, control.LTI):
             model = control.ss(model)
         else:
-            raise TypeError(f"{func}() expects a control.StateSpace, got {type(model).__name__}")
+            raise ArgumentTypeError(f"{func}() expects a control.StateSpace, got {type(model).__name__}")
     if discrete:
         if not model.isdtime(strict=True):
             raise ModelError(

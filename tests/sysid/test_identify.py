@@ -790,3 +790,14 @@ def test_a_dc_gain_far_outside_the_data_is_refused():
     frf = _t4_32()
     with pytest.raises(ConstraintError, match=r"dc_gain\[0, 0\] = 1e\+300 is .* times the largest \|H\|"):
         identify(frf, 8, dc_gain=[[1e300], [1.0]], stable=True)
+
+
+@pytest.mark.parametrize("call", [
+    lambda: identify(None, 4), lambda: sysid.diagnose(np.ones(3)), lambda: sysid.c2d_bilinear(None, 1.0),
+    lambda: sysid.rom_response(None, np.arange(3.0), np.zeros(3)),
+])
+def test_the_wrong_kind_of_object_is_an_argument_type_error(call):
+    # a bare TypeError before: now the package's own, still a TypeError
+    with pytest.raises(sysid.ArgumentTypeError, match="expects a"):
+        call()
+    assert issubclass(sysid.ArgumentTypeError, TypeError)
