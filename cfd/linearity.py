@@ -81,8 +81,8 @@ def linearity(sol, gust, amplitudes, dt, t_end, method="svm", x_ref=0.0, lin=Non
     unknown = sorted(set(kwargs) - set(settings))
     if unknown:
         raise UnsteadyError(f"unknown keyword(s) {unknown} for unsteady_response; it takes {settings}")
-    try:
-        amps = np.asarray(amplitudes, dtype=float)
+    try:   # (text is refused, as the solvers refuse it: "1" was parsed)
+        amps = np.array([]) if np.asarray(amplitudes).dtype.kind in "USO" else np.asarray(amplitudes, dtype=float)
     except (TypeError, ValueError):
         amps = np.array([])   # refused just below, with the value as given
     if amps.ndim > 1:

@@ -103,6 +103,8 @@ def correlated_loads_plot(tuned: TunedGustResult | None, turbulence: TurbulenceR
     """
     if tuned is None and turbulence is None:
         raise LoadsModelError("give a tuned_gust result, a continuous_turbulence result or both")
+    if not isinstance(dimensional, (bool, np.bool_)):   # (checked by turbulence_ellipse only, when it was drawn)
+        raise LoadsModelError(f"dimensional must be True or False, got {dimensional!r}")
     ax = _axes(ax)
     unit_x = unit_y = ""
     if tuned is not None:

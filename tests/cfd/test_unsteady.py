@@ -250,6 +250,7 @@ def test_a_march_that_ends_before_the_gust_arrives_warns(coarse):
 @pytest.mark.parametrize("amplitudes, error, match", [
     ([[0.5, 1.0]], UnsteadyError, r"amplitudes must be a 1-D list .*got shape \(1, 2\)"),
     ([1.0, 95.0], cfd.GustError, r"angle_deg = 95.0 is not a gust angle"),
+    (["1"], UnsteadyError, r"amplitudes must be a non-empty list of finite, nonzero gust angles"),   # parsed before
 ])
 def test_linearity_refuses_2d_and_impossible_amplitudes_before_the_ltd(coarse, monkeypatch, amplitudes, error, match):
     # a 2-D list was flattened silently; a 95 deg amplitude failed only after the LTD and the first amplitudes

@@ -51,6 +51,8 @@ def test_plots_refuse_other_arguments(results):
         loads.correlated_loads_plot(tg, ct, y="Cz")
     with pytest.raises(loads.LoadsModelError, match="give a tuned_gust"):
         loads.correlated_loads_plot(None, None)
+    with pytest.raises(loads.LoadsModelError, match="dimensional must be True or False"):   # read as truthy
+        loads.correlated_loads_plot(tg, dimensional="no")
     plt.close("all")
 
 
