@@ -205,10 +205,11 @@ def _check_settings(rtol, atol, max_iter, stall_ratio, max_refactor, snapshot_ti
     if times is None or not all(np.isfinite(times)):
         raise UnsteadyError(f"snapshot_times must be a sequence of finite convective times, e.g. (1.0, 2.5); got "
                             f"{snapshot_times!r}")
-    outside = [s for s in times if not -_SNAPSHOT_SLACK * dt <= s <= t_end + _SNAPSHOT_SLACK * dt]
-    if outside:   # a time past t_end was clamped to it: the state asked for was silently not stored
-        raise UnsteadyError(f"snapshot_times must lie in the march, 0 <= s <= t_end = {t_end:g}; got {outside[0]!r}: "
-                            "give times inside it (or march to a later t_end)")
+    end = max(t_end, round(t_end / dt) * dt)   # the march's last step (t_end = 0.37, dt = 0.1: 0.4)
+    outside = [s for s in times if not -_SNAPSHOT_SLACK * dt <= s <= end + _SNAPSHOT_SLACK * dt]
+    if outside:   # a time past the end was clamped to it: the state asked for was silently not stored
+        raise UnsteadyError(f"snapshot_times must lie in the march, 0 <= s <= {end:g} (its last step); got "
+                            f"{outside[0]!r}: give times inside it (or march to a later t_end)")
     return times
 
 
@@ -352,7 +353,7 @@ def unsteady_response(sol, gust, dt, t_end, method="svm", x_ref=0.0, *, rtol=1e-
             f"scale (limit {100 * max_phase_error:.2g} %); reduce dt by {math.sqrt(err / max_phase_error):.2g}x",
             RuntimeWarning, stacklevel=2)
     grid, qbar, flow, scheme, R0, r_free, drop = _steady_state(sol, steady_tol)
-    snap_steps = {int(round(min(max(s, 0.0), t_end) / dt)) for s in snapshot_times}
+    snap_steps = {int(round(min(max(s, 0.0), max(t_end, round(t_end / dt) * dt)) / dt)) for s in snapshot_times}
     if len(snap_steps) * qbar.nbytes > MAX_SNAPSHOT_BYTES:
         raise UnsteadyError(f"snapshot_times asks for {len(snap_steps)} full states of {qbar.nbytes / 2**20:.3g} MiB, "
                             f"{len(snap_steps) * qbar.nbytes / 2**30:.3g} GiB, more than MAX_SNAPSHOT_BYTES = "

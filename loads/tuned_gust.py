@@ -170,53 +170,54 @@ def _sample_step(system: GustSystem, Hc: np.ndarray) -> np.ndarray:
     return step
 
 
-def free_oscillation_bound(system: GustSystem, Hc: np.ndarray, rows: np.ndarray) -> np.ndarray:
-    """``|C_ji b_i| (pi / H)^2 / |lambda_i|^3`` per gust and mode, shape (m, n): a bound on the amplitude of the
-    free response of mode ``i`` in output ``rows[k]`` that the gust leaves (per unit gust angle).
+def free_oscillation_amplitude(system: GustSystem, Hc: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """``|C_ji b_i| w^2 / (2 |lambda_i| |lambda_i^2 + w^2|)``, ``w = pi / H``, per gust and mode, shape (m, n): the
+    amplitude of the free response of mode ``i`` in output ``rows[k]`` that each end of the gust starts (per unit
+    gust angle).
 
-    The 1-cosine gust and its slope are continuous; its curvature ``u''`` jumps by ``(pi / H)^2 / 2`` at the start
-    and the end. Integrating the modal equation ``z' = lambda z + b u`` by parts three times, the response is a
-    smooth part (``u``, ``u'``, ``u''`` over powers of ``lambda``, sampled well at ``H / 16``) plus free
-    oscillations ``b Delta u'' exp(lambda s) / lambda^3`` started by the two jumps: at most
-    ``2 |b| (pi / H)^2 / 2 / |lambda|^3`` together. A mode much faster than the gust is negligible unless the
-    output weights it heavily (an acceleration: ``C`` grows like ``lambda^2``).
+    With ``u = (1 - cos w s) / 2`` on ``0 <= s <= 2 H``, the modal equation ``z' = lambda z + b u`` from rest has the
+    forced part ``-b / (2 lambda) + b (lambda cos w s - w sin w s) / (2 (lambda^2 + w^2))`` and the free part
+    ``c exp(lambda s)``, ``c = b w^2 / (2 lambda (lambda^2 + w^2))``; when the gust ends the forced part drops to 0
+    by ``-c``, which starts ``-c exp(lambda (s - 2 H))``. For a mode much faster than the gust ``|c|`` is about
+    ``|b| w^2 / (2 |lambda|^3)``: negligible unless the output weights the mode heavily (an acceleration: ``C``
+    grows like ``lambda^2``).
     """
-    lam = system.lam
-    amp = np.abs(system.C[rows] * system.b[None, :])                        # (m, n)
+    lam = system.lam[None, :]
+    w2 = (np.pi / Hc[:, None]) ** 2
     with np.errstate(divide="ignore", invalid="ignore"):
-        out = amp * (np.pi / Hc[:, None]) ** 2 / np.abs(lam[None, :]) ** 3
-    return np.where(np.abs(lam)[None, :] > 0, out, 0.0)
+        out = np.abs(system.C[rows] * system.b[None, :]) * w2 / (2.0 * np.abs(lam) * np.abs(lam * lam + w2))
+    return np.where(np.isfinite(out), out, 0.0)
 
 
 def _resolving_step(system: GustSystem, Hc: np.ndarray, rows: np.ndarray, step: np.ndarray, peak: np.ndarray,
                     rtol: float = 1e-4) -> np.ndarray:
-    """``step`` shortened to 12 samples per period of the lightly damped modes (damping ratio below 0.7, as
-    :func:`_sample_step`) that the grid does not resolve and that could lift the peak by more than ``rtol`` of it.
+    """``step`` shortened to 12 samples per ``2 pi / |lambda|`` of the modes that the grid does not resolve where
+    together they could lift the peak by more than ``rtol`` of it.
 
-    Such a mode is faster than 30 times the gust's frequency and weighted heavily by the output (an
-    acceleration: a grid of ``H / 16`` aliased 27 % of one's peak at 87 times the gust frequency). Its free
-    oscillation (:func:`free_oscillation_bound`, half of it per jump of ``u''``, decaying from the jump at
-    ``s = 0`` and at ``s = 2 H``) can add at most twice its amplitude to the response between two samples, so the
-    peak found (``peak``) stands where ``|y(s_k)| + 2 sum_i a_i(s_k) <= peak (1 + rtol)`` at every sample
-    ``s_k`` of the grid; elsewhere the step resolves those modes.
+    Such a mode is faster than the grid (30 times the gust's frequency, or a heavily damped one, or a fast real
+    pole) and weighted heavily by the output (an acceleration: a grid of ``H / 16`` aliased 27 % of one's peak at
+    87 times the gust frequency). Its free responses (:func:`free_oscillation_amplitude`, one from each end of the
+    gust, decaying from there) can change the response between two samples by at most twice their sum, so the peak
+    found (``peak``) stands where ``|y(s_k)| + 2 sum_i |c_i| (e^(Re lambda_i s_k) + e^(Re lambda_i (s_k - 2H)))``
+    stays below ``peak (1 + rtol)`` at every sample ``s_k``; elsewhere the step resolves the modes that carry it.
     """
     lam = system.lam
-    w_mode = np.abs(lam.imag)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        light = (w_mode > 1e-12) & (-lam.real / np.abs(lam) < 0.7)
-    amp = 0.5 * free_oscillation_bound(system, Hc, rows)                   # (m, n): per jump
-    unresolved = w_mode[None, :] * step[:, None] > 2.0 * np.pi / 12.0 * (1.0 + 1e-9)
-    need = light[None, :] & unresolved & (2.0 * amp > rtol * peak[:, None])
+    speed = np.abs(lam)
+    amp = free_oscillation_amplitude(system, Hc, rows)                     # (m, n): per end of the gust
+    unresolved = (speed[None, :] * step[:, None] > 2.0 * np.pi / 12.0 * (1.0 + 1e-9)) & (amp > 0)
     out = step.copy()
-    for k in np.flatnonzero(need.any(axis=1)):       # (few gusts: those with fast, heavily weighted modes)
-        i = np.flatnonzero(need[k])
+    for k in np.flatnonzero(4.0 * np.where(unresolved, amp, 0.0).sum(axis=1) > rtol * peak):
+        i = np.flatnonzero(unresolved[k])            # (few gusts: those with fast, heavily weighted modes)
         horizon = 2.0 * Hc[k] + float(initial_tail(system, Hc[k:k + 1])[0])
         s = np.linspace(0.0, horizon, int(min(np.ceil(horizon / step[k]) + 1, MAX_SAMPLES)))
         y = np.abs(_rowwise(system, np.full(s.size, Hc[k]), s, np.full(s.size, rows[k])))
+        after = np.maximum(s - 2.0 * Hc[k], 0.0)    # (from the gust's end on)
         decay = np.exp(np.outer(s, lam.real[i])) + np.where(s[:, None] >= 2.0 * Hc[k],
-                                                             np.exp(np.outer(s - 2.0 * Hc[k], lam.real[i])), 0.0)
+                                                             np.exp(np.outer(after, lam.real[i])), 0.0)
         if np.max(y + 2.0 * decay @ amp[k, i]) > peak[k] * (1.0 + rtol):
-            out[k] = min(step[k], 2.0 * np.pi / 12.0 / w_mode[i].max())
+            # the modes that matter: those whose share could reach rtol of the peak (their sum could)
+            big = i[2.0 * amp[k, i] * 2.0 > rtol * peak[k] / i.size]
+            out[k] = min(step[k], 2.0 * np.pi / 12.0 / speed[big if big.size else i].max())
     return out
 
 
@@ -255,7 +256,7 @@ def peak_over_time(system: GustSystem, Hc: Any, rows: Sequence[int], *, max_doub
     rows = np.asarray(rows, dtype=int).reshape(-1)
     step = _sample_step(system, Hc)
     value, time = _peaks(system, Hc, rows, step, max_doublings)
-    # modes faster than the grid that matter at this peak (their free oscillation above 1e-4 of it): again, resolved
+    # modes faster than the grid that could lift this peak by 1e-4 of it (their free responses): again, resolved
     finer = _resolving_step(system, Hc, rows, step, value)
     redo = np.flatnonzero(finer < step)
     if redo.size:

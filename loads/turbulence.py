@@ -243,10 +243,13 @@ def continuous_turbulence(model_or_frf: Any, point: FlightPoint, *, outputs: Seq
         No ``"gust"`` input, unknown output, a NaN or inf in the model's matrices, unstable model, data without
         continuous frequencies, a moment axis or ``moment_reference`` that is not a finite number.
     GustError
-        Bad ``f_max_hz``, ``rtol`` or ``L_m``.
+        Bad ``f_max_hz``, ``rtol`` or ``L_m``; a point above 60 000 ft (no turbulence intensity there).
     """
     import sysid
 
+    if not isinstance(point, FlightPoint):
+        raise GustError(f"point must be a loads.FlightPoint, got {type(point).__name__}")
+    point.turbulence_intensity()   # the rule's U_sigma exists at the point: checked before the integrals
     f_max = _check_fmax(f_max_hz)
     rtol = _check_rtol(rtol)
     L = _check_scale("L_m", L_m)
@@ -297,8 +300,8 @@ def _from_system(system: GustSystem, point, outputs, L, f_max, rtol):
             bad = [n for n, f in zip(names, feed) if f]
             raise SpectrumError(
                 f"N0 of {bad} diverges: the model's feedthrough d = {np.abs(d[feed]) .max():.3g} makes "
-                "Omega^2 |H|^2 Phi grow like Omega^(1/3); give f_max_hz (the band where the model holds) or a "
-                "strictly proper model")
+                "Omega^2 |H|^2 Phi grow like Omega^(1/3); give f_max_hz (the band N0's crossings are counted in) "
+                "or a strictly proper model")
 
     def panels(n_panels, top):
         """Gauss points ``Omega`` and weights ``w Omega Phi`` on ``n_panels`` panels in ``ln Omega`` up to ``top``, and
@@ -312,12 +315,12 @@ def _from_system(system: GustSystem, point, outputs, L, f_max, rtol):
         return Om, w * Om * _phi(Om, L), G                         # dOmega = Omega dx
 
     def integrals(n_panels):
+        """``(cross, mom, var_n0)``: the correlations' integrals to ``hi``; N0's two moments to ``hi_n0``."""
         Om, wt, G = panels(n_panels, hi)
         cross = (G[:, None, :] * G[None, :, :].conj()).real @ wt         # (p, p)
         if hi_n0 != hi:
             Om, wt, G = panels(n_panels, hi_n0)
-        mom = (np.abs(G) ** 2 * (Om * U) ** 2) @ wt
-        return cross, mom
+        return cross, (np.abs(G) ** 2 * (Om * U) ** 2) @ wt, np.abs(G) ** 2 @ wt
 
     n = 64
     prev = integrals(n)
@@ -325,7 +328,8 @@ def _from_system(system: GustSystem, point, outputs, L, f_max, rtol):
         n *= 2
         cur = integrals(n)
         err_a = np.abs(np.diag(cur[0]) - np.diag(prev[0])) / np.maximum(np.diag(cur[0]), 1e-300)
-        err_m = np.abs(cur[1] - prev[1]) / np.maximum(cur[1], 1e-300)
+        err_m = (np.abs(cur[1] - prev[1]) / np.maximum(cur[1], 1e-300)
+                 + np.abs(cur[2] - prev[2]) / np.maximum(cur[2], 1e-300))
         small = np.diag(cur[0]) <= 1e-24 * np.diag(cur[0]).max(initial=0.0)     # unreached outputs
         err_a, err_m = np.where(small, 0.0, err_a), np.where(small, 0.0, err_m)
         prev = cur
@@ -334,7 +338,7 @@ def _from_system(system: GustSystem, point, outputs, L, f_max, rtol):
     else:
         raise SpectrumError(f"the turbulence integrals did not converge to rtol = {rtol:g} with {n} panels; a pole "
                             "very near the imaginary axis (an undamped mode): add structural damping")
-    cross, mom = prev
+    cross, mom, var_n0 = prev
     var = np.diag(cross).copy()
     K = _tail_coefficient(L)
     low_a = H0**2 * (L / math.pi) * lo
@@ -345,10 +349,12 @@ def _from_system(system: GustSystem, point, outputs, L, f_max, rtol):
     zero = _unreached(var, names)
     var, mom = np.where(zero, 0.0, var), np.where(zero, 0.0, mom)
     sv, sm = np.where(zero, 1.0, var), np.where(zero | (mom <= 0), 1.0, mom)
+    sv0 = np.where(zero | (var_n0 <= 0), 1.0, var_n0)
     a_bar = np.sqrt(var)
-    n0 = np.sqrt(mom / sv) / (2.0 * math.pi)
+    n0 = np.sqrt(mom / sv0) / (2.0 * math.pi)      # Rice's rate of the band N0 is counted in (to the cut-off, if any)
     trunc_a = np.where(zero, 0.0, 0.5 * (low_a + high_a) / sv)     # relative error of sqrt: half the integral's
-    trunc_m = np.where(zero, 0.0, 0.5 * ((low_m + high_m) / sm + (low_a + high_a) / sv))
+    high_a0 = high_a if f_max is None else 0.0
+    trunc_m = np.where(zero, 0.0, 0.5 * ((low_m + high_m) / sm + (low_a + high_a0) / sv0))
     quad_a = np.where(zero, 0.0, 0.5 * err_a)
     quad_m = np.where(zero, 0.0, 0.5 * (err_m + err_a))
     plotO = np.geomspace(max(lo, 1e-3 / (1.339 * L)), min(hi, 10.0 * max(scale, 1.0) / c), 600)
@@ -434,6 +440,7 @@ def _from_data(frf, point, outputs, L, f_max, moment_axes, moment_reference):
     Om_m = Om[keep]
     mom_int = np.abs(G[:, keep]) ** 2 * (Om_m * U) ** 2 * Phi[keep]
     mom = np.trapezoid(mom_int, Om_m, axis=-1)
+    var_n0 = np.trapezoid(np.abs(G[:, keep]) ** 2 * Phi[keep], Om_m, axis=-1)   # N0's band
     var = np.diag(cross).copy()
     # Richardson-type estimate: the same rule on every second point
     var2 = np.trapezoid(np.abs(G[:, ::2]) ** 2 * Phi[::2], Om[::2], axis=-1)
@@ -450,10 +457,12 @@ def _from_data(frf, point, outputs, L, f_max, moment_axes, moment_reference):
     zero = _unreached(var, names)
     var, mom = np.where(zero, 0.0, var), np.where(zero, 0.0, mom)
     sv, sm = np.where(zero, 1.0, var), np.where(zero | (mom <= 0), 1.0, mom)
+    sv0 = np.where(zero | (var_n0 <= 0), 1.0, var_n0)
     a_bar = np.sqrt(var)
-    n0 = np.sqrt(mom / sv) / (2.0 * math.pi)
+    n0 = np.sqrt(mom / sv0) / (2.0 * math.pi)      # Rice's rate of the band N0 is counted in (to the cut-off, if any)
     trunc_a = np.where(zero, 0.0, 0.5 * (low_a + high_a) / sv)
-    trunc_m = np.where(zero, 0.0, 0.5 * ((low_m + high_m) / sm + (low_a + high_a) / sv))
+    high_a0 = high_a if f_max is None else 0.0
+    trunc_m = np.where(zero, 0.0, 0.5 * ((low_m + high_m) / sm + (low_a + high_a0) / sv0))
     quad_a = np.where(zero, 0.0, quad_a)
     quad_m = np.where(zero, 0.0, quad_m)
     q, cc = point.q, point.chord_m

@@ -131,6 +131,8 @@ def history_errors(t, model: Mapping[str, Any], reference: Mapping[str, Any],
                                 "in common: nothing to compare")
     else:
         names = list(outputs)
+        if not names:
+            raise TimeDataError("outputs is empty: name at least one output to compare")
         missing = [n for n in names if n not in model or n not in reference]
         if missing:
             raise TimeDataError(f"outputs {missing} are not in both histories (model: {list(model)}, reference: "

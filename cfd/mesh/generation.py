@@ -92,10 +92,11 @@ def _check_smoothing(max_iter, tol, n_layers, march_distance, farfield):
     if not (real(tol) and tol > 0.0):
         raise MeshError(f"tol must be a positive finite number (the smoother's node-move tolerance, default 1e-3); "
                         f"got {tol!r}")
-    if not (real(march_distance) and 0.0 < march_distance < farfield):
-        # 0 marched two layers and folded coarse grids of any section; beyond the reach of every i-line (100 with the
-        # far field at 25) it fell back to two layers too; both failed as "folds around strongly cambered sections"
-        raise MeshError(f"march_distance must be a number of chords with 0 < march_distance < farfield = {farfield:g} "
+    if not (real(march_distance) and 0.0 <= march_distance < farfield):
+        # beyond the reach of every i-line (100 with the far field at 25) it fell back to two layers and failed as a
+        # fold "around strongly cambered sections"; 0 marches the least, two layers (valid at the default size; a
+        # coarse grid may fold, and the fold's message names march_distance)
+        raise MeshError(f"march_distance must be a number of chords with 0 <= march_distance < farfield = {farfield:g} "
                         f"(the thickness of the marched near-wall block, default 0.3; at most nj // 2 layers are "
                         f"marched, so a larger value adds nothing); got {march_distance!r}")
 
@@ -313,7 +314,7 @@ def c_grid(
         j-lines above the marched block blended towards its last marching direction.
     march_distance : float
         Thickness (chords) of the marched near-wall block, at least 2 and at most ``nj // 2`` layers;
-        ``0 < march_distance < farfield``.
+        ``0 <= march_distance < farfield`` (0: the least, two layers).
 
     Returns
     -------

@@ -76,6 +76,13 @@ def test_history_fields_totals_and_snapshots(coarse):
         u.cl[0] = 1.0  # as the LTD's
 
 
+def test_a_snapshot_at_the_marchs_last_step_past_t_end_is_kept(coarse):
+    # t_end = 0.97 with dt = 0.1 marches 10 steps, to 1.0: a snapshot there is the march's last state (it was refused
+    # once times past t_end were)
+    u = unsteady_response(coarse, gust(0.5), 0.1, 0.97, snapshot_times=(1.0,), max_phase_error=1.0)
+    assert u.t[-1] == pytest.approx(1.0) and sorted(u.snapshots) == [pytest.approx(1.0)]
+
+
 def test_zero_gust_stays_steady_and_progress_is_called(coarse):
     calls = []
     u = unsteady_response(coarse, gust(1e-9), 0.1, 0.5, progress=lambda *a: calls.append(a), max_phase_error=1.0)
@@ -171,8 +178,8 @@ def test_non_converged_steady_solution_is_refused(coarse):
     (dict(snapshot_times=5), "snapshot_times must be a sequence of finite convective times"),
     (dict(snapshot_times=[1.0, np.nan]), "snapshot_times must be a sequence"),
     # a time past t_end stored the state of t_end (under t_end's key): the asked-for state was silently missing
-    (dict(snapshot_times=(0.5, 100.0)), r"snapshot_times must lie in the march, 0 <= s <= t_end = 1; got 100.0"),
-    (dict(snapshot_times=(-1.0,)), r"snapshot_times must lie in the march, 0 <= s <= t_end = 1; got -1.0"),
+    (dict(snapshot_times=(0.5, 100.0)), r"snapshot_times must lie in the march, 0 <= s <= 1 \(its last step\); got 100.0"),
+    (dict(snapshot_times=(-1.0,)), r"snapshot_times must lie in the march, 0 <= s <= 1 \(its last step\); got -1.0"),
 ])
 def test_bad_arguments(coarse, kwargs, match):
     args = dict(gust=gust(0.1), dt=0.1, t_end=1.0)

@@ -77,21 +77,30 @@ def test_search_matches_brute_force():
     assert h.shape == (2, tg.times["Cl"].size) and np.abs(h[0]).max() <= tg.peak["Cl"] * (1 + 1e-9)
 
 
-@pytest.mark.parametrize("w", [15.0, 60.0])
-def test_fast_lightly_damped_mode_of_an_acceleration_is_resolved(w):
-    # x'' + 2 zeta w x' + w^2 x = w^2 u, output the acceleration x'': the jumps of the 1-cosine gust's curvature
-    # start free oscillations of amplitude ~ w (pi / H)^2 / 2, which grow with w; at w = 60 (87 times the
-    # frequency pi / H of the shortest gust) a grid of H / 16 sampled 0.73 of the peak. Against a dense
-    # sampling (400 001 points over 2 H + 60 chords: 2.4 ms of period / 0.0003 chords spacing, the peak to ~2e-6)
-    zeta = 0.02
-    sys = control.ss([[0.0, 1.0], [-w * w, -2 * zeta * w]], [[0.0], [w * w]], [[-w * w, -2 * zeta * w]], [[w * w]],
-                     inputs=["gust"], outputs=["acc"])
+def _acceleration(poles):
+    """x'' of x'' - (p1 + p2) x' + p1 p2 x = p1 p2 u (static gain 1), as the output ``acc``."""
+    k1, k0 = -float(np.real(sum(poles))), float(np.real(np.prod(poles)))
+    return control.ss([[0.0, 1.0], [-k0, -k1]], [[0.0], [k0]], [[-k0, -k1]], [[k0]], inputs=["gust"], outputs=["acc"])
+
+
+def _zeta(w, zeta):
+    return [w * (-zeta + 1j * np.sqrt(1 - zeta**2)), w * (-zeta - 1j * np.sqrt(1 - zeta**2))]
+
+
+@pytest.mark.parametrize("poles", [_zeta(15.0, 0.02), _zeta(60.0, 0.02), _zeta(60.0, 0.71), _zeta(60.0, 0.8),
+                                   [-60.0, -90.0]],
+                         ids=["w15-zeta0.02", "w60-zeta0.02", "w60-zeta0.71", "w60-zeta0.8", "real-60-90"])
+def test_fast_modes_of_an_acceleration_are_resolved(poles):
+    # the acceleration's free responses after the 1-cosine gust's two ends have amplitude ~ |lambda| (pi / H)^2 / 2,
+    # growing with the mode's speed; at 60 (87 times the frequency pi / H of the shortest gust) a grid of H / 16
+    # sampled 0.73 of the peak (zeta 0.02) and 0.96 / 0.986 / 0.9998 of it (zeta 0.71, 0.8, real poles). Against a
+    # dense sampling (800 001 points over 2 H + 60 chords, spacing 9e-5 chords: the peak to ~1e-7)
     H = 30 * FT
-    tg = loads.tuned_gust(sys, PT, H_range=(H, H))
-    s = np.linspace(0.0, 2 * H / PT.chord_m + 60.0, 400001)
+    tg = loads.tuned_gust(_acceleration(poles), PT, H_range=(H, H))
+    s = np.linspace(0.0, 2 * H / PT.chord_m + 60.0, 800001)
     dense = np.abs(outputs_at(tg.system, np.full(s.size, H / PT.chord_m), s)[:, 0]).max() * PT.gust_angle(H)
     assert tg.peak["acc"] >= dense * (1 - 1e-9)
-    assert tg.peak["acc"] <= dense * (1 + 1e-5)
+    assert tg.peak["acc"] <= dense * (1 + 1e-4)   # (the 1e-4 the resolution rule promises)
 
 
 def test_discrete_and_continuous_forms_agree():

@@ -64,16 +64,18 @@ def test_model_integrals_against_quadrature():
     Om_max = 2 * math.pi * f_max / U
     H = lambda Om: 2 * np.pi * (1 - np.sum(G * 1j * Om * c / (1j * Om * c + 2 * g))) / U
     # scipy's adaptive quadrature in ln Omega, written here (not the package's Gauss panels): A_bar to infinity
-    # (the rule's integral; with this feedthrough |H|^2 Phi ~ Omega^(-5/3)), N0's integral to the cut-off
+    # (the rule's integral; with this feedthrough |H|^2 Phi ~ Omega^(-5/3)), N0's two moments over the band to the
+    # cut-off (Rice's rate of the process the cut-off defines; its second moment diverges without one)
     quad = lambda f, top: integrate.quad(lambda x: f(math.exp(x)) * math.exp(x), math.log(1e-12), math.log(top),
                                          limit=800, epsabs=0, epsrel=1e-11)[0]
     var = quad(lambda Om: abs(H(Om)) ** 2 * von_karman(Om), 1e12)
+    var_band = quad(lambda Om: abs(H(Om)) ** 2 * von_karman(Om), Om_max)
     mom = quad(lambda Om: (Om * U) ** 2 * abs(H(Om)) ** 2 * von_karman(Om), Om_max)
     ct = loads.continuous_turbulence(sys, PT, f_max_hz=f_max)
     # both integrate to rtol 1e-8 .. 1e-11; the package's lower truncation at 1e-10 / (1.339 L) is 1e-11 relative,
     # its upper one at 1e6 / (1.339 L) 3.7e-8 (estimated and reported: the spectrum's tail times |d|^2)
     assert ct.a_bar["Cl"] == pytest.approx(math.sqrt(var), rel=1e-7)
-    assert ct.n0["Cl"] == pytest.approx(math.sqrt(mom / ct.a_bar["Cl"] ** 2) / (2 * math.pi), rel=1e-7)
+    assert ct.n0["Cl"] == pytest.approx(math.sqrt(mom / var_band) / (2 * math.pi), rel=1e-7)
     assert ct.quadrature_error["Cl"] < 1e-7 and ct.truncation_error["Cl"] < 1e-7
     assert ct.truncation_error["Cl"] == pytest.approx(1 - ct.a_bar["Cl"] / math.sqrt(var), rel=0.05)
     assert ct.design["Cl"] == pytest.approx(ct.a_bar["Cl"] * PT.turbulence_intensity())

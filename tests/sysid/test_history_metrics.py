@@ -29,6 +29,7 @@ def test_known_values():
     # an output asked for but missing, or no output in common: {} before (a comparison of nothing)
     (lambda: history_errors([0, 1, 2], {"Cl": [1, 2, 3]}, {"Cl": [1, 2, 3]}, outputs=["X"]), r"outputs \['X'\] are not"),
     (lambda: history_errors([0, 1, 2], {"Cl": [1, 2, 3]}, {"Cm": [1, 2, 3]}), "have none in common"),
+    (lambda: history_errors([0, 1, 2], {"Cl": [1, 2, 3]}, {"Cl": [1, 2, 3]}, outputs=[]), "outputs is empty"),
 ])
 def test_bad_histories_are_refused(call, match):
     with pytest.raises(sysid.TimeDataError, match=match):

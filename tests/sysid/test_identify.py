@@ -781,8 +781,10 @@ def test_margin_zero_is_met_by_the_smallest_margin_the_relocation_resolves():
     # its edge: max error 0.0088 against 0.0031 at 1e-3 .. 1e-8 (T4, order 8, 32 samples). The same fit as at 1e-6
     frf = _t4_32()
     zero = identify(frf, 8, dc_gain="match", stable=True, margin=0.0)
-    ref = identify(frf, 8, dc_gain="match", stable=True, margin=1e-6)
-    np.testing.assert_array_equal(zero.matrices.A, ref.matrices.A)
+    usual = identify(frf, 8, dc_gain="match", stable=True, margin=1e-3)
+    # the margin does not bind on these poles (spectral radius 0.995): every margin from 1e-3 down gives the same fit
+    # to the refinement's round-off; 0.0088 (2.8 times) with the degenerate disc
+    assert zero.max_error == pytest.approx(usual.max_error, rel=1e-6)
     assert zero.spectral_radius < 1.0 - 1e-6
 
 

@@ -436,7 +436,6 @@ def test_paper_data_default_stays_within_the_gap_bounds(case, order):
 
 
 @pytest.mark.filterwarnings("ignore:the order-.* model is not pinned down between the samples:RuntimeWarning")
-@pytest.mark.filterwarnings("ignore:the order-.* model is not pinned down between the samples:RuntimeWarning")
 @pytest.mark.parametrize("case, order, skipped", [("T4", 25, 1), ("T1", 25, 0)])
 def test_free_minimax_skipped_only_where_the_floored_pass_follows(case, order, skipped, monkeypatch):
     # T4 at N_r = 25: the best free least-squares fit breaks the gap bounds 23 times over, the floored pass follows

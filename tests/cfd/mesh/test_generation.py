@@ -138,15 +138,14 @@ def test_small_and_large_grids_keep_the_far_field_and_cut(ni, nj, n_surface, far
         (dict(farfield="far"), "finite number of chords"),
         (dict(wall_spacing="a"), "wall_spacing must be a number of chords; got 'a'"),
         (dict(te_spacing=None), "te_spacing must be a number of chords; got None"),
-        (dict(march_distance=float("nan")), r"march_distance must be a number of chords with 0 < march_distance < "
+        (dict(march_distance=float("nan")), r"march_distance must be a number of chords with 0 <= march_distance < "
                                              r"farfield = 25 .*got nan"),
-        (dict(march_distance=-1.0), r"march_distance must be a number of chords with 0 < march_distance"),
-        (dict(march_distance="a"), r"march_distance must be a number of chords with 0 < march_distance"),
+        (dict(march_distance=-1.0), r"march_distance must be a number of chords with 0 <= march_distance"),
+        (dict(march_distance="a"), r"march_distance must be a number of chords with 0 <= march_distance"),
         # 0 and a distance past the far field both marched 2 layers and failed as a fold "around strongly cambered
         # sections" (here on a NACA0012)
-        (dict(march_distance=0.0), r"march_distance must be a number of chords with 0 < march_distance"),
-        (dict(march_distance=100.0), r"0 < march_distance < farfield = 25 .*got 100.0"),
-        (dict(march_distance=5.0, farfield=5.0), r"0 < march_distance < farfield = 5 "),
+        (dict(march_distance=100.0), r"0 <= march_distance < farfield = 25 .*got 100.0"),
+        (dict(march_distance=5.0, farfield=5.0), r"0 <= march_distance < farfield = 5 "),
         (dict(tol=float("nan")), "tol must be a positive finite number"),
         (dict(tol=0.0), "tol must be a positive finite number"),
         (dict(max_iter=-1), "max_iter must be a whole number >= 0"),
@@ -203,6 +202,12 @@ def test_c_grid_refuses_absurd_settings_before_any_work(kwargs, match):
     args.update(kwargs)
     with pytest.raises(MeshError, match=match):
         c_grid(naca("0012"), **args)
+
+
+def test_march_distance_zero_marches_the_least_block():
+    # 0 marches two layers: a valid grid at the default size (refused for a while, as "0 < march_distance")
+    g = c_grid(naca("0012"), march_distance=0.0)
+    assert np.all(np.isfinite(g.x)) and g.x.shape == c_grid(naca("0012")).x.shape
 
 
 def test_a_fold_of_a_thin_marched_block_names_march_distance():
