@@ -350,9 +350,13 @@ def keyed_history_plot(t, reference, models, *, colour_key, style_key, title, **
 def method_heatmaps_plot(values, row_labels, col_labels, *, methods, output, vmin, vmax, title):
     """One :func:`studies.report.plots.heatmap_plot` panel per method (``values[i]`` is method ``i``'s) on a common
     colour scale, with one colour bar."""
+    from matplotlib.colors import LogNorm
+    from matplotlib.ticker import LogLocator
+
     plt = plots.pyplot()
     heights = [len(row_labels) + 1.5 for _ in methods]
-    fig, axes = plt.subplots(len(methods), 1, figsize=(0.95 * len(col_labels) + 4.2, 0.36 * sum(heights) + 0.8),
+    # (at least 3 in high: a one-row, one-method map left the colour bar's ticks and label no room)
+    fig, axes = plt.subplots(len(methods), 1, figsize=(0.95 * len(col_labels) + 4.2, max(0.36 * sum(heights) + 0.8, 3.0)),
                              squeeze=False, layout="constrained", gridspec_kw=dict(height_ratios=heights))
     for ax, method, panel in zip(axes[:, 0], methods, values):
         plots.heatmap_plot(panel, row_labels, col_labels, ax=ax, vmin=vmin, vmax=vmax, colorbar=False,
@@ -361,6 +365,9 @@ def method_heatmaps_plot(values, row_labels, col_labels, *, methods, output, vmi
     colour_bar = fig.colorbar(axes[0, 0].images[0], ax=list(axes[:, 0]), fraction=0.05, pad=0.02, shrink=0.8)
     colour_bar.set_label(f"peak error {output}", fontsize=9)
     colour_bar.formatter = plots.percent_formatter()
+    if isinstance(colour_bar.norm, LogNorm):   # minor ticks at 2 and 5 per decade, as percentages (not 2e-2)
+        colour_bar.ax.yaxis.set_minor_locator(LogLocator(subs=(2.0, 5.0)))
+        colour_bar.ax.yaxis.set_minor_formatter(plots.percent_formatter())
     return fig, axes
 
 
