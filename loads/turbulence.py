@@ -340,12 +340,35 @@ def _from_system(system: GustSystem, point, outputs, L, f_max, rtol):
                             "very near the imaginary axis (an undamped mode): add structural damping")
     cross, mom, var_n0 = prev
     var = np.diag(cross).copy()
-    K = _tail_coefficient(L)
-    low_a = H0**2 * (L / math.pi) * lo
-    low_m = H0**2 * (L / math.pi) * U**2 * lo**3 / 3.0
     Hhi = np.abs(system.frequency_response([hi * c])[rows, 0]) / U
-    high_a = Hhi**2 * K * 1.5 * hi ** (-2.0 / 3.0)
-    high_m = Hhi**2 * U**2 * hi**2 * K * 1.5 * hi ** (-2.0 / 3.0) if f_max is None else np.zeros(len(rows))
+    zero, a_bar, n0, trunc_a, trunc_m = _moments(var, mom, var_n0, names, H0, lo, Hhi, hi, L, U, f_max)
+    quad_a = np.where(zero, 0.0, 0.5 * err_a)
+    quad_m = np.where(zero, 0.0, 0.5 * (err_m + err_a))
+    plotO = np.geomspace(max(lo, 1e-3 / (1.339 * L)), min(hi, 10.0 * max(scale, 1.0) / c), 600)
+    psd = np.abs(system.frequency_response(plotO * c)[rows] / U) ** 2 * _phi(plotO, L)
+    return _result(names, rows, system.scale, system.units, a_bar, n0, cross, quad_a, trunc_a, quad_m, trunc_m,
+                   plotO, psd, "model", f_max, point)
+
+
+def _moments(var, mom, var_n0, names, H_lo, Om_lo, H_hi, Om_hi, L, U, f_max):
+    """``A_bar``, ``N0`` and their truncation estimates from the integrals (both paths), per output.
+
+    ``var`` (the integral of ``|H|^2 Phi`` to infinity), ``mom`` and ``var_n0`` (the two moments of ``N0`` over its
+    band, to the cut-off if any), ``|H|`` at the lowest and highest frequency integrated (``Om_lo``, ``Om_hi``, rad/m):
+    the truncation below is ``|H(0)|^2 Phi(0) Omega_lo`` (and ``Omega^2`` times it for ``N0``), above the spectrum's
+    ``Omega^(-5/3)`` tail times ``|H(Omega_hi)|^2`` (none for ``N0`` with a cut-off, which ends its band).
+
+    Returns
+    -------
+    zero, a_bar, n0, trunc_a, trunc_m : ndarray, shape (p,)
+        Outputs the gust does not reach (:func:`_unreached`; their values 0), ``A_bar``, ``N0`` (Rice's rate of its
+        band) and the relative truncation errors of ``A_bar`` and ``N0``.
+    """
+    K = _tail_coefficient(L)
+    low_a = H_lo**2 * (L / math.pi) * Om_lo
+    low_m = H_lo**2 * (L / math.pi) * U**2 * Om_lo**3 / 3.0
+    high_a = H_hi**2 * K * 1.5 * Om_hi ** (-2.0 / 3.0)
+    high_m = H_hi**2 * U**2 * Om_hi**2 * K * 1.5 * Om_hi ** (-2.0 / 3.0) if f_max is None else np.zeros(len(names))
     zero = _unreached(var, names)
     var, mom = np.where(zero, 0.0, var), np.where(zero, 0.0, mom)
     sv, sm = np.where(zero, 1.0, var), np.where(zero | (mom <= 0), 1.0, mom)
@@ -355,12 +378,7 @@ def _from_system(system: GustSystem, point, outputs, L, f_max, rtol):
     trunc_a = np.where(zero, 0.0, 0.5 * (low_a + high_a) / sv)     # relative error of sqrt: half the integral's
     high_a0 = high_a if f_max is None else 0.0
     trunc_m = np.where(zero, 0.0, 0.5 * ((low_m + high_m) / sm + (low_a + high_a0) / sv0))
-    quad_a = np.where(zero, 0.0, 0.5 * err_a)
-    quad_m = np.where(zero, 0.0, 0.5 * (err_m + err_a))
-    plotO = np.geomspace(max(lo, 1e-3 / (1.339 * L)), min(hi, 10.0 * max(scale, 1.0) / c), 600)
-    psd = np.abs(system.frequency_response(plotO * c)[rows] / U) ** 2 * _phi(plotO, L)
-    return _result(names, rows, system.scale, system.units, a_bar, n0, cross, quad_a, trunc_a, quad_m, trunc_m,
-                   plotO, psd, "model", f_max, point)
+    return zero, a_bar, n0, trunc_a, trunc_m
 
 
 def _unreached(var: np.ndarray, names) -> np.ndarray:
@@ -371,7 +389,7 @@ def _unreached(var: np.ndarray, names) -> np.ndarray:
     if np.any(zero):
         warnings.warn(f"output(s) {[n for n, z in zip(names, zero) if z]} are not reached by the gust (zero "
                       "response): A_bar = 0, and N0 and the correlations with them, undefined, are set to 0",
-                      RuntimeWarning, stacklevel=4)
+                      RuntimeWarning, stacklevel=5)
     return zero
 
 
@@ -448,21 +466,8 @@ def _from_data(frf, point, outputs, L, f_max, moment_axes, moment_reference):
     with np.errstate(divide="ignore", invalid="ignore"):
         quad_a = 0.5 * np.abs(var - var2) / 3.0 / var
         quad_m = 0.5 * (np.abs(mom - mom2) / 3.0 / mom + np.abs(var - var2) / 3.0 / var)
-    K = _tail_coefficient(L)
-    low_a = np.abs(G[:, 0]) ** 2 * (L / math.pi) * Om[0]
-    low_m = np.abs(G[:, 0]) ** 2 * (L / math.pi) * U**2 * Om[0] ** 3 / 3.0
-    high_a = np.abs(G[:, -1]) ** 2 * K * 1.5 * Om[-1] ** (-2.0 / 3.0)
-    high_m = (np.abs(G[:, -1]) ** 2 * U**2 * Om[-1] ** 2 * K * 1.5 * Om[-1] ** (-2.0 / 3.0) if f_max is None
-              else np.zeros(len(rows)))
-    zero = _unreached(var, names)
-    var, mom = np.where(zero, 0.0, var), np.where(zero, 0.0, mom)
-    sv, sm = np.where(zero, 1.0, var), np.where(zero | (mom <= 0), 1.0, mom)
-    sv0 = np.where(zero | (var_n0 <= 0), 1.0, var_n0)
-    a_bar = np.sqrt(var)
-    n0 = np.sqrt(mom / sv0) / (2.0 * math.pi)      # Rice's rate of the band N0 is counted in (to the cut-off, if any)
-    trunc_a = np.where(zero, 0.0, 0.5 * (low_a + high_a) / sv)
-    high_a0 = high_a if f_max is None else 0.0
-    trunc_m = np.where(zero, 0.0, 0.5 * ((low_m + high_m) / sm + (low_a + high_a0) / sv0))
+    zero, a_bar, n0, trunc_a, trunc_m = _moments(var, mom, var_n0, names, np.abs(G[:, 0]), Om[0], np.abs(G[:, -1]),
+                                                 Om[-1], L, U, f_max)
     quad_a = np.where(zero, 0.0, quad_a)
     quad_m = np.where(zero, 0.0, quad_m)
     q, cc = point.q, point.chord_m
