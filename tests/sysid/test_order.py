@@ -103,9 +103,12 @@ def test_default_max_order():
 
 
 def test_the_sweep_reports_the_error_between_the_samples_and_suggests_a_pinned_order():
-    # the true order of a noisy 12-state system (tests/sysid/test_identify.py): the subspace models of orders 9-20
-    # are estimated more than BETWEEN_RATIO times farther off between the samples than on them; the suggestion is
-    # none of those (the rule skips them; here the hold-out minimum, order 8, is pinned as well)
+    # a noisy 12-state system (tests/sysid/test_identify.py): the subspace models below order 6 miss some of its
+    # resonances (true max error between the samples 0.6 - 1.1 of the peak for identify's models of those orders)
+    # and are estimated 0.30 - 0.96 off; from order 8 on they follow it (truth 0.01 - 0.04 for identify's) and are
+    # estimated 0.005 - 0.03 off (the cubic readings alone said 0.044 for every one of them: the resonances narrower
+    # than the spacing defeated them, sysid.between); the suggestion is an order whose estimate is not far above
+    # its error on the samples
     from sysid.between import BETWEEN_MIN_ERROR, BETWEEN_RATIO
 
     wd, w = mckelvey_grid(64, 1.0)
@@ -113,19 +116,37 @@ def test_the_sweep_reports_the_error_between_the_samples_and_suggests_a_pinned_o
     sw = order_sweep(frf, 20)
     far = (sw.between_error > BETWEEN_RATIO * sw.max_error) & (sw.between_error > BETWEEN_MIN_ERROR)
     assert sw.between_error.shape == sw.orders.shape and np.all(np.isfinite(sw.between_error))
-    assert far.sum() >= 5 and not far[sw.suggested - 1]
+    assert np.all(sw.between_error[:5] > 0.25) and np.all(sw.between_error[7:] < 0.05)
+    assert not far[sw.suggested - 1]
     assert "between" in sw.table().splitlines()[0]
 
 
 def test_the_sweep_warns_when_no_order_is_pinned_down_by_sparse_samples():
-    # a 12-state system (seed 11) with a resonance narrower than the spacing of McKelvey's M = 64 grid: every order
-    # from 6 up is estimated about 1.1 of the peak off between the samples, so the pass-over rule falls back on
-    # order 2, whose hold-out error (0.89) is six times that of order 12 (0.15): the sweep says so
+    # the noisy 12-state system on McKelvey's M = 16 grid (17 samples for six resonances): the orders that follow the
+    # held-out samples (7: 0.18) are estimated 0.71 of the peak off between the samples, the pass-over falls back on
+    # order 4 (hold-out 0.63), and the sweep says the samples are too sparse (identify's order-7 model is 0.11 off
+    # between the samples against the truth, its order-4 model 0.71: no order is right there)
+    wd, w = mckelvey_grid(16, 1.0)
+    frf = FrequencyResponse(noisy_resonant_system(w, w[:1], seed=13)[0], wd, 1.0)
+    with pytest.warns(RuntimeWarning, match=r"suggests order \d+ .* too sparse for this response"):
+        sw = order_sweep(frf, 8)
+    assert sw.holdout_error[sw.suggested - 1] > 2 * np.nanmin(sw.holdout_error)
+
+
+def test_resonances_the_samples_pin_down_are_not_passed_over():
+    # a 12-state system (seed 11) whose resonances are narrower than the spacing of McKelvey's M = 64 grid but whose
+    # tails on the neighbouring samples pin them down: the cubic readings alone estimated every order from 6 up about
+    # 1.1 of the peak off between the samples, and the sweep fell back on order 2 (hold-out error 0.89; identify's
+    # order-2 model 2.2 off between the samples against the truth) with a warning. The local rational readings
+    # (sysid.between) estimate orders 12 - 20 at 0.038 (identify's models: 0.021 - 0.032 against the truth): the
+    # sweep suggests the hold-out order, 12, without a warning
     wd, w = mckelvey_grid(64, 1.0)
     frf = FrequencyResponse(noisy_resonant_system(w, w[:1], seed=11)[0], wd, 1.0)
-    with pytest.warns(RuntimeWarning, match=r"suggests order \d+ .* too sparse for this response"):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
         sw = order_sweep(frf, 20)
-    assert sw.holdout_error[sw.suggested - 1] > 2 * np.nanmin(sw.holdout_error)
+    assert sw.suggested == sw.order_holdout == 12
+    assert np.all(sw.between_error[11:] < 0.05)
 
 
 @pytest.mark.parametrize("seed", range(2))
