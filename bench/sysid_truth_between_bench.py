@@ -4,7 +4,8 @@ fitting side by side on data whose true function is known.
 Run: ``python bench/sysid_truth_between_bench.py`` (about a minute on the 2-core machine). Prints one Markdown table.
 ``--seeds 1,2,3,4,5``: the noisy rows over those noise realisations instead (the 12-state systems drawn with
 ``10 + seed``), one line per fit and the median ratio per row, of the max errors between the samples and of the
-RMS errors over the dense points.
+RMS errors over the dense points. ``--estimate``: the default fits of the 12-state rows of seeds 1 - 21 at orders
+8, 12 and 16, the estimate of their error between the samples against the truth (a few minutes).
 
 Data (McKelvey's grid, M = 64 intervals, T = 1, so 65 samples with omega = 0 and inf; the truth on 7999 points of
 ``omega_d`` strictly between 0 and pi, i.e. about 125 per interval):
@@ -129,11 +130,41 @@ def over_seeds(seeds):
               f"default closer at {sum(x < 1 for x in q)} of {len(q)}")
 
 
+def estimate_against_truth(seeds, orders=(8, 12, 16)):
+    """The estimate of the error between the samples (``result.between_error``, no truth used) against the true
+    max error between them, for the default fits of the noisy 12-state rows at ``orders``: one line per realisation
+    and the counts of fits whose estimate is within a factor 2 of the truth, more than 2 times above it and more
+    than 2 times below it."""
+    log_ratios = []
+    for seed in seeds:
+        for name, G, truth in cases(seed):
+            if not name.startswith("12 states"):
+                continue
+            frf = sysid.FrequencyResponse(G, WD, 1.0, outputs=["y"], inputs=["u"])
+            peak = np.abs(G).max()
+            cells = []
+            for n in orders:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    res = sysid.identify(frf, n, dc_gain="match", stable=True)
+                true = np.abs(res.evaluate(DENSE)[0, 0] - truth).max() / peak
+                log_ratios.append(np.log(max(res.between_error, 1e-12) / true))
+                cells.append(f"order {n}: estimate {res.between_error:.4f}, truth {true:.4f}")
+            print(f"seed {seed} | {name} | " + " | ".join(cells), flush=True)
+    r = np.array(log_ratios)
+    print(f"{r.size} fits: estimate within a factor 2 of the truth at {int(np.sum(np.abs(r) < np.log(2)))}, more than "
+          f"2 times above at {int(np.sum(r > np.log(2)))}, more than 2 times below at {int(np.sum(r < -np.log(2)))}; "
+          f"geometric mean estimate / truth {np.exp(r.mean()):.2f}")
+
+
 def main():
     from sysid_peers_bench import run_vf
 
     if "--seeds" in sys.argv:
         over_seeds([int(x) for x in sys.argv[sys.argv.index("--seeds") + 1].split(",")])
+        return
+    if "--estimate" in sys.argv:
+        estimate_against_truth(range(1, 22))
         return
 
     rows = ["| data | order (sweep) | default: samples | default: between (truth) | default: estimate | "

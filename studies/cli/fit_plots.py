@@ -148,29 +148,40 @@ def bode_figure(out):
 
 
 def error_figure(out):
-    """``|model - data| / max |data|`` per channel against ``k`` (log-log)."""
+    """``|model - data| / max |data|`` per channel against frequency (log-log): at the samples (dots) and, between
+    them, the estimate of :func:`sysid.between.between_deviation` (crosses: the model's departure from local readings
+    of the samples beyond their spread, at every interval's midpoint and the model's resonance peaks)."""
+    from sysid.between import between_deviation
+
     plt = _plt()
     frf, res = out.data, out.result
     keep, w = _finite_positive(frf)
     H = np.asarray(frf.H)
     Hm = res.evaluate(frf.omega_d)
     label, scale = _axis(frf)
+    m = res.matrices
+    pts, dev = between_deviation(m.A, m.B, m.C, m.D, frf.omega_d, H)
+    inside = pts < np.pi
+    w_between = 2.0 / frf.T * np.tan(pts[inside] / 2.0)
     fig, ax = plt.subplots(figsize=(6.4, 4.0))
     floor = np.finfo(float).eps
     for c, (i, j) in enumerate(_channels(frf)):
         peak = np.abs(H[i]).max()
         e = np.abs(Hm[i, j] - H[i, j]) / peak
         ax.loglog(w[keep] * scale, np.maximum(e[keep], floor), marker="o", ms=3, lw=1.0, color=f"C{c}",
-                  label=f"{_label(frf, i, j)} (max {e.max():.2g})")
+                  label=f"{_label(frf, i, j)} at the samples (max {e.max():.2g})")
+        d = dev[i, j, inside] / peak
+        ax.loglog(w_between * scale, np.maximum(d, floor), ls="none", marker="x", ms=4, mew=0.9, color=f"C{c}",
+                  alpha=0.8, label=f"{_label(frf, i, j)} between them, estimate (max {d.max(initial=0.0):.2g})")
     lo, hi = ax.get_ylim()
-    if hi / lo < 100:  # at least two decades, so that round-off-level errors read as such
-        ax.set_ylim(hi / 100, hi * 1.2)
+    lo = max(lo, hi * 1e-6)   # estimates of exactly zero (the floor) would stretch the axis over decades of nothing
+    ax.set_ylim(min(lo, hi / 100), hi * 1.2)   # at least two decades, so that round-off-level errors read as such
     ax.set_xlabel(label)
-    ax.set_ylabel("|ROM - data| / peak |data|  (floor 2.2e-16)")
+    ax.set_ylabel("|ROM - data| / peak |data|")
     _plain_log_axis(ax, "x")
     ax.grid(True, which="major", alpha=0.3)
-    ax.legend(fontsize=8, loc="best")
-    ax.set_title(f"error of the order-{res.order} ROM at the data frequencies", fontsize=10)
+    ax.legend(fontsize=7, loc="best")
+    ax.set_title(f"error of the order-{res.order} ROM at the samples and between them (sysid.between)", fontsize=10)
     fig.tight_layout()
     return fig
 
