@@ -120,15 +120,16 @@ def main(argv=None):
     from sysid_peers_bench import run_vf
 
     default_fit = relocation.fit_relocated
-    print("case N_r method | samples Cl/Cm | between, k < 2 | 2 <= k < 7 | k >= 7 | between, all | estimate "
-          "(max error, % of peak; estimate: result.between_error_per_output, no truth used)")
+    print("case N_r method | samples Cl/Cm | between, k < 2 | 2 <= k < 7 | k >= 7 | between, all | estimate | left open "
+          "(max error, % of peak; estimate and left open: result.between_error_per_output and "
+          "between_uncertainty_per_output, no truth used)")
     for case in args.cases.split(","):
         dense = sysid.FrequencyResponse.load(DENSE / f"frf-{case}-M2048.npz")
         frf = dense.subsample(256)
         wd = np.asarray(dense.omega_d)
         for name, Hi in interpolants(frf, dense):
             b = band_errors(Hi, dense)
-            print(f"| {case} | - | {name} | 0 / 0 | " + " | ".join(f"{x[0]:.3g} / {x[1]:.3g}" for x in b) + " | | |",
+            print(f"| {case} | - | {name} | 0 / 0 | " + " | ".join(f"{x[0]:.3g} / {x[1]:.3g}" for x in b) + " | | | |",
                   flush=True)
         for n in map(int, args.orders.split(",")):
             rows = []
@@ -143,7 +144,7 @@ def main(argv=None):
                     relocation.fit_relocated = default_fit
                 Hm = res.evaluate(wd)
                 rows.append(("default" if r is None else f"resolution {r:g}", 100 * res.errors.max_rel_per_output, Hm,
-                             100 * res.between_error_per_output))
+                             (100 * res.between_error_per_output, 100 * res.between_uncertainty_per_output)))
                 if r is None and args.figure == f"{case}:{n}":
                     figure(case, n, dense, frf, Hm, args.figure_path)
             vf = run_vf(frf, n)
@@ -155,7 +156,8 @@ def main(argv=None):
                     / np.abs(np.asarray(dense.H)).max(axis=(1, 2))
                 print(f"| {case} | {n} | {name} | {e[0]:.3g} / {e[1]:.3g} | " +
                       " | ".join(f"{x[0]:.3g} / {x[1]:.3g}" for x in b) + f" | {between[0]:.3g} / {between[1]:.3g} | " +
-                      ("-" if est is None else f"{est[0]:.3g} / {est[1]:.3g}") + " |", flush=True)
+                      ("- | -" if est is None else f"{est[0][0]:.3g} / {est[0][1]:.3g} | {est[1][0]:.3g} / {est[1][1]:.3g}")
+                      + " |", flush=True)
     if args.figure:
         print(f"wrote {args.figure_path}")
 

@@ -121,7 +121,8 @@ def over_seeds(seeds):
             d_rms, v_rms = rms_between(frf, res, H_vf, truth)
             ratios.setdefault(name, []).append(d / v)
             rms_ratios.setdefault(name, []).append(d_rms / v_rms)
-            print(f"seed {seed} | {name} | order {n} | {res.relocation.residues} residues | default {100 * d:.3g} % | "
+            how = "subspace (fallback)" if res.relocation is None else f"{res.relocation.residues} residues"
+            print(f"seed {seed} | {name} | order {n} | {how} | default {100 * d:.3g} % | "
                   f"VF {100 * v:.3g} % | ratio {d / v:.2f} | rms ratio {d_rms / v_rms:.2f}", flush=True)
     for name, r in ratios.items():
         q = rms_ratios[name]

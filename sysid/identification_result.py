@@ -238,27 +238,47 @@ class IdentificationResult:
             object.__setattr__(self, "_diagnostics", cached)
         return cached
 
+    def _between(self) -> tuple[np.ndarray, np.ndarray]:
+        """(:attr:`between_error_per_output`, :attr:`between_uncertainty_per_output`), computed together on first use."""
+        cached = self.__dict__.get("_between_cache")
+        if cached is None:
+            from .between import between_estimate
+
+            m = self.matrices
+            if self.data is not None:
+                cached = tuple(read_only(x) for x in between_estimate(m.A, m.B, m.C, m.D, self.data.omega_d,
+                                                                      self.data.H))
+            else:
+                cached = (read_only(np.full(len(m.output_labels), np.nan)),) * 2
+            object.__setattr__(self, "_between_cache", cached)
+        return cached
+
     @property
     def between_error_per_output(self) -> np.ndarray:
         """Estimated error per output between the data's samples (fraction of each output's data peak;
-        :func:`sysid.between.between_error`: the model against smooth interpolants of the samples at every
-        interval's midpoint and at its own resonances; computed on first use). Compare with
-        ``errors.max_rel_per_output``, the error on the samples: far above it, the samples do not pin the model
-        down between them."""
-        cached = self.__dict__.get("_between")
-        if cached is None:
-            from .between import between_error
-
-            m = self.matrices
-            cached = read_only(between_error(m.A, m.B, m.C, m.D, self.data.omega_d, self.data.H)) \
-                if self.data is not None else read_only(np.full(len(m.output_labels), np.nan))
-            object.__setattr__(self, "_between", cached)
-        return cached
+        :func:`sysid.between.between_error`: the model against local readings of the samples at every interval's
+        midpoint and at its own resonances; computed on first use). Compare with ``errors.max_rel_per_output``, the
+        error on the samples: far above it, the samples do not pin the model down between them. Where
+        :attr:`between_uncertainty_per_output` is larger, it is a lower bound."""
+        return self._between()[0]
 
     @property
     def between_error(self) -> float:
         """The largest of :attr:`between_error_per_output`."""
         return float(np.max(self.between_error_per_output))
+
+    @property
+    def between_uncertainty_per_output(self) -> np.ndarray:
+        """How far the samples leave each output open between them (fraction of its data peak;
+        :func:`sysid.between.between_uncertainty`: the largest disagreement of their local readings). Far above the
+        error on the samples and the estimate between them, the samples cannot say how far off the model is there
+        (e.g. Cm above k = 2 on the paper's grid: 0.58 of the peak for T5, whose fits are 0.36 - 0.77 off there)."""
+        return self._between()[1]
+
+    @property
+    def between_uncertainty(self) -> float:
+        """The largest of :attr:`between_uncertainty_per_output`."""
+        return float(np.max(self.between_uncertainty_per_output))
 
     def summary(self) -> str:
         """Plain-text summary: order, method, errors, constraints, stability, and one line on the data's
@@ -279,7 +299,9 @@ class IdentificationResult:
             + (f", DC {self.dc_error:.3e}" if self.dc_error is not None else ""),
             f"max error per output: {per}",
             "between the samples (estimate, sysid.between): " + ", ".join(
-                f"{name} {e:.3e}" for name, e in zip(self.matrices.output_labels, self.between_error_per_output)),
+                f"{name} {e:.3e}" for name, e in zip(self.matrices.output_labels, self.between_error_per_output))
+            + "; left open by the samples (their readings disagree by): " + ", ".join(
+                f"{name} {u:.2e}" for name, u in zip(self.matrices.output_labels, self.between_uncertainty_per_output)),
             f"enforced: {enf}; spectral radius {self.spectral_radius:.6f}",
         ]
         st = self.stabilisation

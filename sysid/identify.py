@@ -568,7 +568,9 @@ def _reported(res: IdentificationResult, refit_at=None) -> IdentificationResult:
     narrow = unresolved_resonances(res.matrices, res.data, width=2 * UNRESOLVED_WIDTH)
     between = res.between_error_per_output
     on = np.asarray(res.errors.max_rel_per_output)
-    far = bool(np.any((between > BETWEEN_RATIO * on) & (between > BETWEEN_MIN_ERROR)))
+    far_per_output = (between > BETWEEN_RATIO * on) & (between > BETWEEN_MIN_ERROR)
+    far = bool(np.any(far_per_output))
+    _warn_open(res, on, between, skip=far_per_output)   # outputs whose estimate itself is low but says little
     if not far:   # a narrow resonance that the estimate does not see between the samples is no cause for alarm
         return res
     i = int(np.argmax(between / np.maximum(on, np.finfo(float).tiny)))
@@ -595,6 +597,30 @@ def _reported(res: IdentificationResult, refit_at=None) -> IdentificationResult:
                       f"{where:.4g}; with the bilinear grid a smaller T puts more samples at high omega)",
                       RuntimeWarning, stacklevel=3)
     return res
+
+
+def _warn_open(res: IdentificationResult, on: np.ndarray, between: np.ndarray, skip: np.ndarray) -> None:
+    """Warn where the samples leave an output open between them (:attr:`IdentificationResult.between_uncertainty_per_output`)
+    by more than :data:`BETWEEN_RATIO` times both the error on them and the estimate between them, and by more than
+    :data:`sysid.between.READING_FLOOR` of the peak: the estimate is then a lower bound that says little. Outputs
+    in ``skip`` (their estimate already warns) are left out."""
+    from .between import READING_FLOOR, between_deviation, sample_readings
+
+    open_ = res.between_uncertainty_per_output
+    wide = (open_ > BETWEEN_RATIO * np.maximum(on, between)) & (open_ > READING_FLOOR) & ~np.asarray(skip)
+    if not np.any(wide):
+        return
+    i = int(np.argmax(np.where(wide, open_ / np.maximum(np.maximum(on, between), np.finfo(float).tiny), -np.inf)))
+    m = res.matrices
+    pts, _ = between_deviation(m.A, m.B, m.C, m.D, res.data.omega_d, res.data.H)
+    _, spread, _ = sample_readings(res.data.omega_d, res.data.H, pts)
+    wd = pts[int(np.argmax(spread[i].max(axis=0)))]
+    warnings.warn(
+        f"the samples leave {list(res.data.outputs)[i]} open between them: local readings of them disagree by up to "
+        f"{open_[i]:.2g} of the peak (worst at omega = {2.0 / res.T * np.tan(wd / 2.0):.4g}), against an error of "
+        f"{on[i]:.2g} on them and an estimated {between[i]:.2g} between them (sysid.between), so the order-{res.order} "
+        "model may be that far off there and no fit of these samples can tell. Sample more densely there (with the "
+        "bilinear grid a smaller T puts more samples at high omega)", RuntimeWarning, stacklevel=4)
 
 
 def _ignored(category: type[Warning], text: str) -> bool:
