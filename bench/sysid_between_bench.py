@@ -3,7 +3,7 @@
 The identification sees the 257 samples of McKelvey's grid (M = 256, T = 70 / (2 pi)); only 8 of them lie above
 k = 2. This benchmark asks what the fitted models do between them, against the truth: the same LFD on the grid
 with M = 2048 (every 8th point is a sample of the M = 256 grid), computed by ``--compute`` from the paper
-study's cases (``cfd.lfd_response``'s fast sweep, about 35 min per case on the 2-core machine, two cases at
+study's cases (``cfd.lfd_response``'s fast sweep, about 7 min per case on the 2-core machine on 2026-12-04, two cases at
 once) into ``results/dense/frf-<case>-M2048.npz`` (outside git).
 
 For each case and order it fits ``sysid.identify(frf, n, dc_gain="match", stable=True)`` (the default) and
