@@ -174,7 +174,7 @@ def error_figure(out):
         ax.loglog(w_between * scale, np.maximum(d, floor), ls="none", marker="x", ms=4, mew=0.9, color=f"C{c}",
                   alpha=0.8, label=f"{_label(frf, i, j)} between them, estimate (max {d.max(initial=0.0):.2g})")
     lo, hi = ax.get_ylim()
-    lo = max(lo, hi * 1e-6)   # estimates of exactly zero (the floor) would stretch the axis over decades of nothing
+    lo = max(lo, hi * 1e-8)   # estimates of exactly zero (the floor) would stretch the axis over decades of nothing
     ax.set_ylim(min(lo, hi / 100), hi * 1.2)   # at least two decades, so that round-off-level errors read as such
     ax.set_xlabel(label)
     ax.set_ylabel("|ROM - data| / peak |data|")
