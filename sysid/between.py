@@ -240,6 +240,39 @@ def _rational_fits(w: np.ndarray, H: np.ndarray, k: np.ndarray, poles: int, shif
     return num, den, centre, width, scale, np.where(np.isfinite(misfit), misfit, np.inf)
 
 
+def _pair_fits(w: np.ndarray, rows: np.ndarray, pairs: np.ndarray, poles: int, cache: dict | None):
+    """:func:`_rational_fits` of the (row, interval) ``pairs`` (2, N) for every window shift of :data:`_SHIFTS`: the
+    fit's arrays with leading axes (len(_SHIFTS), N). With ``cache`` (a dict the caller keeps across calls on the
+    same ``w`` and ``rows``, e.g. :func:`sysid.order_sweep` over its orders) each pair is fitted once."""
+    n_shifts, N = len(_SHIFTS), pairs.shape[1]
+
+    def fit(p):
+        f = _rational_fits(w, np.tile(rows[p[0]], (n_shifts, 1)), np.tile(p[1], n_shifts), poles,
+                           np.repeat(np.array(_SHIFTS), p.shape[1]))
+        return tuple(a.reshape((n_shifts, p.shape[1]) + a.shape[1:]) for a in f)
+
+    if cache is None:
+        return fit(pairs)
+    key = (w.tobytes(), rows.tobytes())
+    if cache.get("data") != key:   # another data set: start afresh
+        cache.clear()
+        cache["data"] = key
+    store = cache.get(poles)
+    if store is None:
+        shape = (n_shifts,) + rows.shape[:1] + (w.size - 1,)
+        store = cache[poles] = {"done": np.zeros(shape[1:], dtype=bool), "fit": None, "shape": shape}
+    missing = ~store["done"][pairs[0], pairs[1]]
+    if missing.any():
+        new_pairs = np.unique(pairs[:, missing], axis=1)
+        new = fit(new_pairs)
+        if store["fit"] is None:
+            store["fit"] = tuple(np.full(store["shape"] + a.shape[2:], np.nan, dtype=a.dtype) for a in new)
+        for full, a in zip(store["fit"], new):
+            full[:, new_pairs[0], new_pairs[1]] = a
+        store["done"][new_pairs[0], new_pairs[1]] = True
+    return tuple(full[:, pairs[0], pairs[1]] for full in store["fit"])
+
+
 def _rational_values(fit, at: np.ndarray) -> np.ndarray:
     """The readings of :func:`_rational_fits` at the points ``at`` (any shape ``S`` that the fit's leading axes,
     ``S`` too, broadcast with)."""
@@ -293,7 +326,8 @@ def rational_interpolant(omega_d: np.ndarray, H: np.ndarray, at: np.ndarray, pol
     return values.reshape(p, m, at.size), fit[-1].reshape(p, m, at.size)
 
 
-def sample_readings(omega_d: np.ndarray, H: np.ndarray, at: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def sample_readings(omega_d: np.ndarray, H: np.ndarray, at: np.ndarray,
+                    cache: dict | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Readings of the samples at the points ``at`` and their spread: per output, input and point, the simplest
     family of the module docstring that explains the samples around the point's interval.
 
@@ -302,6 +336,9 @@ def sample_readings(omega_d: np.ndarray, H: np.ndarray, at: np.ndarray) -> tuple
     omega_d : ndarray, shape (K,), K >= 4, distinct (rad/sample)
     H : ndarray, shape (p, m, K), complex
     at : ndarray, shape (J,), within ``[min omega_d, max omega_d]``
+    cache : dict, optional
+        Kept by the caller across calls on the same data (any points): the local rational fits are then made once
+        per output, input, interval and window (:func:`sysid.order_sweep` estimates every order on one data set).
 
     Returns
     -------
@@ -335,12 +372,10 @@ def sample_readings(omega_d: np.ndarray, H: np.ndarray, at: np.ndarray) -> tuple
         ch, pt = np.nonzero(todo.reshape(rows.shape[0], at.size))    # the (output x input, point) pairs to read
         # one fit per (output x input, interval) and window shift, all in one batch
         pairs, inverse = np.unique(np.stack([ch, k[pt]]), axis=1, return_inverse=True)
-        n_pairs = pairs.shape[1]
-        fit = _rational_fits(w, np.tile(rows[pairs[0]], (len(_SHIFTS), 1)), np.tile(pairs[1], len(_SHIFTS)), poles,
-                             np.repeat(np.array(_SHIFTS), n_pairs))
-        rows_of = inverse.reshape(-1)[None, :] + n_pairs * np.arange(len(_SHIFTS))[:, None]   # (3, pairs to read)
-        R = _rational_values(tuple(f[rows_of] for f in fit), at[pt][None, :])               # (3, pairs to read)
-        miss = fit[-1][rows_of[0]]
+        fit = _pair_fits(w, rows, pairs, poles, cache)                  # (3, pairs, ...)
+        inverse = inverse.reshape(-1)
+        R = _rational_values(tuple(f[:, inverse] for f in fit), at[pt][None, :])             # (3, pairs to read)
+        miss = fit[-1][0, inverse]
         ok = np.all(np.isfinite(R), axis=0) & (misfit.reshape(-1, at.size)[ch, pt] > READING_GAIN * miss)
         if not ok.any():
             continue
@@ -354,7 +389,7 @@ def sample_readings(omega_d: np.ndarray, H: np.ndarray, at: np.ndarray) -> tuple
     return readings, spread, family
 
 
-def _deviation_and_spread(A, B, C, D, omega_d, H):
+def _deviation_and_spread(A, B, C, D, omega_d, H, cache=None):
     """:func:`between_deviation`'s points and departures, and the readings' spread there (p, m, J)."""
     H = np.asarray(H)
     wd = np.asarray(omega_d, dtype=float)
@@ -364,7 +399,7 @@ def _deviation_and_spread(A, B, C, D, omega_d, H):
         Gm = evaluate_ss(A, B, C, D, np.exp(1j * pts))
     # where the readings disagree the samples do not pin the response down (a fast phase, an uncertain local
     # resonance), and the model is charged only with its departure beyond that spread
-    readings, spread, _ = sample_readings(wd, H, pts)
+    readings, spread, _ = sample_readings(wd, H, pts, cache)
     dev = np.maximum(np.min(np.abs(Gm[None] - readings), axis=0) - spread, 0.0)
     return pts, np.where(np.isfinite(dev), dev, np.inf), spread
 
@@ -384,13 +419,14 @@ def between_deviation(A, B, C, D, omega_d, H) -> tuple[np.ndarray, np.ndarray]:
     return pts, dev
 
 
-def between_estimate(A, B, C, D, omega_d, H) -> tuple[np.ndarray, np.ndarray]:
+def between_estimate(A, B, C, D, omega_d, H, cache: dict | None = None) -> tuple[np.ndarray, np.ndarray]:
     """:func:`between_error` and :func:`between_uncertainty` from one set of readings: ``(error (p,), uncertainty
-    (p,))``, fractions of each output's data peak (NaN with fewer than four distinct frequencies)."""
+    (p,))``, fractions of each output's data peak (NaN with fewer than four distinct frequencies). ``cache``: see
+    :func:`sample_readings`."""
     H = np.asarray(H)
     if np.unique(np.asarray(omega_d, dtype=float)).size < 4:
         return np.full(H.shape[0], np.nan), np.full(H.shape[0], np.nan)
-    _, dev, spread = _deviation_and_spread(A, B, C, D, omega_d, H)
+    _, dev, spread = _deviation_and_spread(A, B, C, D, omega_d, H, cache)
     peak = np.maximum(np.abs(H).max(axis=(1, 2)), np.finfo(float).tiny)
     return dev.max(axis=(1, 2)) / peak, spread.max(axis=(1, 2)) / peak
 
@@ -410,7 +446,7 @@ def between_uncertainty(A, B, C, D, omega_d, H) -> np.ndarray:
     return between_estimate(A, B, C, D, omega_d, H)[1]
 
 
-def between_error(A, B, C, D, omega_d, H) -> np.ndarray:
+def between_error(A, B, C, D, omega_d, H, cache: dict | None = None) -> np.ndarray:
     """Estimated error per output of the discrete model ``(A, B, C, D)`` between the samples ``H`` at
     ``omega_d``: ``max_j d_j / max_k |H_k|`` over the :func:`between_points` ``z_j`` (interval midpoints and the
     model's resonance peaks inside intervals), where ``d_j`` is the model's distance from the nearest local reading
@@ -423,6 +459,8 @@ def between_error(A, B, C, D, omega_d, H) -> np.ndarray:
     omega_d : ndarray, shape (K,)
         Data frequencies in ``[0, pi]`` (rad/sample).
     H : ndarray, shape (p, m, K), complex
+    cache : dict, optional
+        See :func:`sample_readings` (estimates of several models of the same data).
 
     Returns
     -------
@@ -430,4 +468,4 @@ def between_error(A, B, C, D, omega_d, H) -> np.ndarray:
         Fractions of each output's data peak (over inputs and samples); NaN when the data have fewer than four
         distinct frequencies (no cubic through them), inf when the model is not finite there.
     """
-    return between_estimate(A, B, C, D, omega_d, H)[0]
+    return between_estimate(A, B, C, D, omega_d, H, cache)[0]

@@ -118,6 +118,7 @@ def _sweep_errors(svd: HankelSVD, orders: np.ndarray, z_fit: np.ndarray, G_fit: 
     mx = np.full(orders.size, np.nan)
     rho = np.full(orders.size, np.nan)
     between = np.full(orders.size, np.nan)
+    readings = {}   # the samples' local readings, made once for all orders (sysid.between.sample_readings)
     Nmax = min(N, svd.max_order)
     Q, R = np.linalg.qr(svd.U[:-p, :Nmax])
     QtU2 = Q.T @ svd.U[p:, :Nmax]
@@ -141,7 +142,7 @@ def _sweep_errors(svd: HankelSVD, orders: np.ndarray, z_fit: np.ndarray, G_fit: 
             mx[i] = np.max(np.abs(dH).max(axis=(1, 2)) / peak)
             rho[i] = np.max(np.abs(lam))
             if z_val is None and with_between:
-                between[i] = np.max(between_error(A, B, C, D, np.abs(np.angle(z_fit)), G_fit))
+                between[i] = np.max(between_error(A, B, C, D, np.abs(np.angle(z_fit)), G_fit, cache=readings))
     rms[~np.isfinite(rms)] = np.nan
     mx[~np.isfinite(mx)] = np.nan
     return mx, rms, rho, between

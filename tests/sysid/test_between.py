@@ -143,3 +143,23 @@ def test_the_uncertainty_is_the_readings_spread_and_zero_for_too_few_samples():
     assert np.array_equal(e, between_error(A, B, C, D, wd, H)) and np.array_equal(u, between_uncertainty(A, B, C, D, wd, H))
     assert u.shape == (2,) and np.all(u < 0.01)
     assert np.all(np.isnan(between_estimate(A, B, C, D, wd[:3], H[:, :, :3])))
+
+
+def test_a_cache_kept_across_models_gives_the_same_estimates():
+    # order_sweep estimates every order on one data set with one cache of the local rational fits: the estimates
+    # are those of separate calls to the last bit, and a cache handed other data starts afresh
+    from sysid_synth import noisy_resonant_system
+
+    from sysid import FrequencyResponse, identify
+
+    wd, w = mckelvey_grid(64, 1.0)
+    frf = FrequencyResponse(noisy_resonant_system(w, w[:1], seed=11)[0], wd, 1.0)
+    other = FrequencyResponse(noisy_resonant_system(w, w[:1], seed=13)[0], wd, 1.0)
+    cache = {}
+    for data in (frf, other, frf):
+        for n in (8, 12, 16):
+            m = identify(data, n).matrices
+            alone = between_error(m.A, m.B, m.C, m.D, data.omega_d, data.H)
+            shared = between_error(m.A, m.B, m.C, m.D, data.omega_d, data.H, cache=cache)
+            assert np.array_equal(alone, shared)
+    assert any(isinstance(k, int) for k in cache)   # rational fits were kept
