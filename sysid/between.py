@@ -30,11 +30,11 @@ Measured on 2026-12-04 (``bench/sysid_truth_between_bench.py --estimate``: the d
 12-state systems at orders 8, 12 and 16, estimate against the true max error between the samples): within a
 factor 2 of the truth at 98 of 126 fits (with the cubic readings alone: 62), more than 2 times above it at 3 (44),
 more than 2 times below at 25 (20); at the true order 12 the cubic readings alone overestimated up to 44 times
-(1.12 of the peak against a true 0.026). The estimate is a lower bound where the readings disagree;
-:func:`between_uncertainty` says how far they do (what the samples leave open between them). The Sears function and the 1 % noisy 4-state system (no resonance
+(1.12 of the peak against a true 0.026). The Sears function and the 1 % noisy 4-state system (no resonance
 narrower than the spacing) are read by the cubic family alone, as before: 1 % noisy order-4 data fitted at order 8
 0.193 / 0.203 (estimate / truth), at order 6 0.0176 / 0.0142; the Sears function with a delay at order 6
-0.0074 / 0.0123.
+0.0074 / 0.0123. The estimate is a lower bound where the readings disagree; :func:`between_uncertainty` says how far
+they do (what the samples leave open between them).
 """
 
 from __future__ import annotations
@@ -46,8 +46,9 @@ from .residues import resonance_points
 from .state_space import evaluate_ss
 
 __all__ = ["BETWEEN_RATIO", "BETWEEN_MIN_ERROR", "READING_GAIN", "READING_FLOOR", "CUBIC_NOISE_MULT",
-           "RATIONAL_NOISE_MULT", "between_error", "between_uncertainty", "between_estimate", "between_deviation", "between_points", "cubic_interpolant",
-           "polar_interpolant", "cubic_misfit", "rational_interpolant", "sample_readings"]
+           "RATIONAL_NOISE_MULT", "between_error", "between_uncertainty", "between_estimate", "between_deviation",
+           "between_points", "cubic_interpolant", "polar_interpolant", "cubic_misfit", "rational_interpolant",
+           "sample_readings"]
 
 
 BETWEEN_RATIO = 3.0
@@ -207,7 +208,8 @@ def cubic_misfit(omega_d: np.ndarray, H: np.ndarray, at: np.ndarray) -> np.ndarr
 
 def _rational_fits(w: np.ndarray, H: np.ndarray, k: np.ndarray, poles: int, shift):
     """Local rational fits (:func:`rational_interpolant`) of rows ``H`` (N, K) around their intervals ``k`` (N,) of the
-    sorted grid ``w``, each window moved by ``shift`` (an integer, or one per row): ``(num (N, poles + 2), den (N, poles), centre (N,), width (N,), scale (N,), misfit (N,))``, the
+    sorted grid ``w``, each window moved by ``shift`` (an integer, or one per row): ``(num (N, poles + 2),
+    den (N, poles), centre (N,), width (N,), scale (N,), misfit (N,))``, the
     coefficients in the local variable and for the data divided by ``scale``."""
     K = w.size
     L = 2 * poles + 4

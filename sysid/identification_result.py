@@ -239,7 +239,8 @@ class IdentificationResult:
         return cached
 
     def _between(self) -> tuple[np.ndarray, np.ndarray]:
-        """(:attr:`between_error_per_output`, :attr:`between_uncertainty_per_output`), computed together on first use."""
+        """(:attr:`between_error_per_output`, :attr:`between_uncertainty_per_output`), computed together on first
+        use."""
         cached = self.__dict__.get("_between_cache")
         if cached is None:
             from .between import between_estimate

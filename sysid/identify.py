@@ -600,8 +600,8 @@ def _reported(res: IdentificationResult, refit_at=None) -> IdentificationResult:
 
 
 def _warn_open(res: IdentificationResult, on: np.ndarray, between: np.ndarray, skip: np.ndarray) -> None:
-    """Warn where the samples leave an output open between them (:attr:`IdentificationResult.between_uncertainty_per_output`)
-    by more than :data:`BETWEEN_RATIO` times both the error on them and the estimate between them, and by more than
+    """Warn where the samples leave an output open between them
+    (:attr:`IdentificationResult.between_uncertainty_per_output`) by more than :data:`BETWEEN_RATIO` times both the error on them and the estimate between them, and by more than
     :data:`sysid.between.READING_FLOOR` of the peak: the estimate is then a lower bound that says little. Outputs
     in ``skip`` (their estimate already warns) are left out."""
     from .between import READING_FLOOR, between_deviation, sample_readings

@@ -140,7 +140,8 @@ def test_the_uncertainty_is_the_readings_spread_and_zero_for_too_few_samples():
     wd, _ = mckelvey_grid(64, 1.0)
     H = freqresp(A, B, C, D, np.exp(1j * wd))
     e, u = between_estimate(A, B, C, D, wd, H)
-    assert np.array_equal(e, between_error(A, B, C, D, wd, H)) and np.array_equal(u, between_uncertainty(A, B, C, D, wd, H))
+    assert np.array_equal(e, between_error(A, B, C, D, wd, H))
+    assert np.array_equal(u, between_uncertainty(A, B, C, D, wd, H))
     assert u.shape == (2,) and np.all(u < 0.01)
     assert np.all(np.isnan(between_estimate(A, B, C, D, wd[:3], H[:, :, :3])))
 
