@@ -87,6 +87,9 @@ are at most a few deviations)."""
 _SHIFTS = (0, -1, 1)
 #: Sanathanan-Koerner reweightings of a local rational least-squares fit.
 _SK_ITERATIONS = 4
+#: Largest magnitude of a rational reading, in units of the largest sample of its window (a resonance between two
+#: samples peaks at (spacing / half-width) times its tails; a reading beyond 100 sits on its own pole).
+_MAX_READING = 100.0
 
 
 def between_points(omega_d: np.ndarray, lam: np.ndarray | None = None) -> np.ndarray:
@@ -206,18 +209,18 @@ def cubic_misfit(omega_d: np.ndarray, H: np.ndarray, at: np.ndarray) -> np.ndarr
     return out
 
 
-def _rational_fits(w: np.ndarray, H: np.ndarray, k: np.ndarray, poles: int, shift):
-    """Local rational fits (:func:`rational_interpolant`) of rows ``H`` (N, K) around their intervals ``k`` (N,) of the
-    sorted grid ``w``, each window moved by ``shift`` (an integer, or one per row): ``(num (N, poles + 2),
-    den (N, poles), centre (N,), width (N,), scale (N,), misfit (N,))``, the
-    coefficients in the local variable and for the data divided by ``scale``."""
+def _rational_fits(w: np.ndarray, H: np.ndarray, row: np.ndarray, k: np.ndarray, poles: int, shift):
+    """Local rational fits (:func:`rational_interpolant`) of the rows ``row`` (N,) of ``H`` (R, K) around the intervals
+    ``k`` (N,) of the sorted grid ``w``, each window moved by ``shift`` (an integer, or one per fit):
+    ``(num (N, poles + 2), den (N, poles), centre (N,), width (N,), scale (N,), misfit (N,))``, the coefficients in
+    the local variable and for the data divided by ``scale`` (the largest magnitude in the window)."""
     K = w.size
     L = 2 * poles + 4
     centre, width = 0.5 * (w[k] + w[k + 1]), w[k + 1] - w[k]
     first = np.clip(np.clip(k - (L // 2 - 1), 0, K - L) + shift, 0, K - L)
     idx = first[:, None] + np.arange(L)[None, :]                       # (N, L)
     t = ((w[idx] - centre[:, None]) / width[:, None]).astype(complex)
-    Hw = np.take_along_axis(H, idx, axis=1)
+    Hw = H[row[:, None], idx]                                          # (N, L): only the windows are gathered
     scale = np.maximum(np.abs(Hw).max(axis=1), np.finfo(float).tiny)
     Hs = Hw / scale[:, None]
     powers = [t ** j for j in range(poles + 2)]
@@ -249,7 +252,7 @@ def _pair_fits(w: np.ndarray, rows: np.ndarray, pairs: np.ndarray, poles: int, c
     n_shifts, N = len(_SHIFTS), pairs.shape[1]
 
     def fit(p):
-        f = _rational_fits(w, np.tile(rows[p[0]], (n_shifts, 1)), np.tile(p[1], n_shifts), poles,
+        f = _rational_fits(w, rows, np.tile(p[0], n_shifts), np.tile(p[1], n_shifts), poles,
                            np.repeat(np.array(_SHIFTS), p.shape[1]))
         return tuple(a.reshape((n_shifts, p.shape[1]) + a.shape[1:]) for a in f)
 
@@ -322,8 +325,8 @@ def rational_interpolant(omega_d: np.ndarray, H: np.ndarray, at: np.ndarray, pol
         nan = np.full((p, m, at.size), np.nan)
         return nan + 0j, nan
     k, _, _ = _intervals(w, at)
-    rows = np.repeat(H.reshape(p * m, K), at.size, axis=0)          # (p m J, K)
-    fit = _rational_fits(w, rows, np.tile(k, p * m), poles, shift)
+    fit = _rational_fits(w, H.reshape(p * m, K), np.repeat(np.arange(p * m), at.size), np.tile(k, p * m), poles,
+                         shift)
     values = _rational_values(fit, np.tile(at, p * m))
     return values.reshape(p, m, at.size), fit[-1].reshape(p, m, at.size)
 
@@ -360,10 +363,11 @@ def sample_readings(omega_d: np.ndarray, H: np.ndarray, at: np.ndarray,
     family = np.zeros(I0.shape, dtype=int)
     misfit = cubic_misfit(wd, H, at)
     peak = np.abs(H).max(axis=(1, 2))[:, None, None]
-    sigma = noise_level(H, np.where(wd >= np.pi, np.inf, wd))[:, None, None] * peak
-    floor = np.broadcast_to(np.maximum(CUBIC_NOISE_MULT * sigma, READING_FLOOR * peak), misfit.shape).copy()
     order = np.argsort(wd)
-    w, rows = wd[order], H[:, :, order].reshape(-1, wd.size)          # (p m, K)
+    w, Hs = wd[order], H[:, :, order]
+    rows = Hs.reshape(-1, wd.size)                                    # (p m, K)
+    sigma = noise_level(Hs, np.where(w >= np.pi, np.inf, w))[:, None, None] * peak   # (along the sorted grid)
+    floor = np.broadcast_to(np.maximum(CUBIC_NOISE_MULT * sigma, READING_FLOOR * peak), misfit.shape).copy()
     k, _, _ = _intervals(w, at)
     for poles in (1, 2):
         if w.size < 2 * poles + 6:   # a window and a sample either side to shift it to
@@ -378,7 +382,10 @@ def sample_readings(omega_d: np.ndarray, H: np.ndarray, at: np.ndarray,
         inverse = inverse.reshape(-1)
         R = _rational_values(tuple(f[:, inverse] for f in fit), at[pt][None, :])             # (3, pairs to read)
         miss = fit[-1][0, inverse]
-        ok = np.all(np.isfinite(R), axis=0) & (misfit.reshape(-1, at.size)[ch, pt] > READING_GAIN * miss)
+        # a reading on (or next to) its own pole - a jump in the samples, or a pole-zero pair that nearly cancels
+        # in a window of lower type - is no reading of the samples: at most _MAX_READING times their largest value
+        bounded = np.abs(R).max(axis=0) <= _MAX_READING * fit[4][:, inverse].max(axis=0)
+        ok = bounded & np.all(np.isfinite(R), axis=0) & (misfit.reshape(-1, at.size)[ch, pt] > READING_GAIN * miss)
         if not ok.any():
             continue
         ch, pt, R, miss = ch[ok], pt[ok], R[:, ok], miss[ok]
@@ -415,8 +422,13 @@ def between_deviation(A, B, C, D, omega_d, H) -> tuple[np.ndarray, np.ndarray]:
     pts : ndarray, shape (J,)
         :func:`between_points` (``omega_d``, rad/sample).
     dev : ndarray, shape (p, m, J)
-        Absolute departure (units of ``H``); inf where the model is not finite.
+        Absolute departure (units of ``H``); inf where the model is not finite; NaN when the data have fewer than
+        four distinct frequencies.
     """
+    wd = np.asarray(omega_d, dtype=float)
+    if np.unique(wd).size < 4:   # no cubic through the samples: nothing to read between them
+        pts = between_points(wd)
+        return pts, np.full(np.shape(H)[:2] + pts.shape, np.nan)
     pts, dev, _ = _deviation_and_spread(A, B, C, D, omega_d, H)
     return pts, dev
 
@@ -438,7 +450,7 @@ def between_uncertainty(A, B, C, D, omega_d, H) -> np.ndarray:
     readings of the samples (:func:`sample_readings`) at the points :func:`between_error` looks at, as a fraction of
     the output's data peak. Where it is larger than :func:`between_error`, that estimate is a lower bound: the
     samples do not say which of their readings the truth follows. On the paper's LFD data (McKelvey's grid, M = 256,
-    eight samples above k = 2) it is 0.58 - 0.68 of the peak for Cm of T4 and T5 at every order, where the fits are
+    eight samples above k = 2) it is 0.54 - 0.68 of the peak for Cm of T4 and T5 at every order, where the fits are
     0.36 - 0.77 off between the samples against an LFD eight times denser (bench/sysid_between_bench.py; their
     estimates 0.007 - 0.57); on the 12-state systems with 0.3 % - 1 % noise about 0.02, on the Sears function
     0.01 (measured 2026-12-04).

@@ -573,7 +573,7 @@ def _reported(res: IdentificationResult, refit_at=None) -> IdentificationResult:
     _warn_open(res, on, between, skip=far_per_output)   # outputs whose estimate itself is low but says little
     if not far:   # a narrow resonance that the estimate does not see between the samples is no cause for alarm
         return res
-    i = int(np.argmax(between / np.maximum(on, np.finfo(float).tiny)))
+    i = int(np.argmax(np.where(far_per_output, between / np.maximum(on, np.finfo(float).tiny), -np.inf)))
     est = (f"its error between the samples is estimated at {between[i]:.2g} of the peak against {on[i]:.2g} on them "
            f"({list(res.data.outputs)[i]}, sysid.between)")
     if narrow.size:

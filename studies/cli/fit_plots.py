@@ -171,8 +171,10 @@ def error_figure(out):
         ax.loglog(w[keep] * scale, np.maximum(e[keep], floor), marker="o", ms=3, lw=1.0, color=f"C{c}",
                   label=f"{_label(frf, i, j)} at the samples (max {e.max():.2g})")
         d = dev[i, j, inside] / peak
+        if not np.any(np.isfinite(d)):   # fewer than four distinct frequencies: no estimate between the samples
+            continue
         ax.loglog(w_between * scale, np.maximum(d, floor), ls="none", marker="x", ms=4, mew=0.9, color=f"C{c}",
-                  alpha=0.8, label=f"{_label(frf, i, j)} between them, estimate (max {d.max(initial=0.0):.2g})")
+                  alpha=0.8, label=f"{_label(frf, i, j)} between them, estimate (max {np.nanmax(d):.2g})")
     lo, hi = ax.get_ylim()
     lo = max(lo, hi * 1e-8)   # estimates of exactly zero (the floor) would stretch the axis over decades of nothing
     ax.set_ylim(min(lo, hi / 100), hi * 1.2)   # at least two decades, so that round-off-level errors read as such

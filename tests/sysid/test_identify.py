@@ -737,6 +737,33 @@ def test_samples_that_leave_an_output_open_between_them_are_named():
     assert res.between_uncertainty < 0.05
 
 
+def test_each_warning_names_its_own_output():
+    # output 0 estimated far off between the samples (4 times its error on them), output 1 with a low estimate but
+    # samples that leave it open (readings 0.2 of the peak apart): the "not pinned down" warning names output 0
+    # (it named the largest ratio over all outputs, here output 1's 1e4) and the "open" warning output 1 only
+    import dataclasses
+
+    from sysid.identify import _reported
+
+    wd, w = mckelvey_grid(40, 1.0)
+    A, B, C, D, _ = random_system(4, 2, 1, 3, rho=0.8)
+    frf = FrequencyResponse(freqresp(A, B, C, D, np.exp(1j * wd)), wd, 1.0, outputs=["Cl", "Cm"])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = identify(frf, 2)
+    on, between, open_ = np.array([0.005, 1e-8]), np.array([0.02, 1e-4]), np.array([0.01, 0.2])
+    object.__setattr__(res, "errors", dataclasses.replace(res.errors, max_rel_per_output=on))
+    object.__setattr__(res, "max_error", 0.005)
+    object.__setattr__(res, "_between_cache", (between, open_))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        _reported(res)
+    msgs = [str(w.message) for w in caught]
+    assert sum("leave Cm open between them" in m for m in msgs) == 1
+    assert sum("not pinned down" in m and "(Cl, sysid.between)" in m for m in msgs) == 1
+    assert not any("Cl open" in m or "(Cm, sysid.between)" in m for m in msgs)
+
+
 def test_the_resonance_warning_advises_a_lower_order_only_when_it_helps():
     from sysid.between import BETWEEN_RATIO
 
