@@ -543,7 +543,8 @@ def summary_markdown(out: FitOutcome, data_path, command: str | None = None) -> 
               f"- continuous poles (s in rad per {_time_unit(frf).split(' (')[0]}, by the inverse bilinear map s = "
               f"(2/T)(z - 1)/(z + 1)): "
               f"{_continuous_poles(res)}",
-              "", "| output | max error / peak | RMS error / RMS | DC error |", "| --- | --- | --- | --- |"]
+              "", "| output | max error / peak | RMS error / RMS | DC error | between the samples (estimate) / peak "
+              "| left open by the samples / peak |", "| --- | --- | --- | --- | --- | --- |"]
     dcm = _model_dc(res)
     import warnings
 
@@ -561,9 +562,12 @@ def summary_markdown(out: FitOutcome, data_path, command: str | None = None) -> 
         else:
             dce = "no omega = 0 sample"
         lines.append(f"| {o} | {res.errors.max_rel_per_output[i]:.3e} | {res.errors.rms_rel_per_output[i]:.3e} "
-                     f"| {dce} |")
+                     f"| {dce} | {res.between_error_per_output[i]:.2e} | {res.between_uncertainty_per_output[i]:.2e} |")
     lines += ["", "Errors are over all data frequencies: max |model - data| over the output's peak |data|, RMS "
-              "error over the RMS of the data (`sysid.metrics`); DC error relative to |H(0)|.", ""]
+              "error over the RMS of the data (`sysid.metrics`); DC error relative to |H(0)|. Between the samples "
+              "(`sysid.between`, no truth used): the model's largest departure from local readings of the samples, "
+              "beyond their spread, at every interval's midpoint and the model's resonances; left open: how far "
+              "those readings disagree - where it is larger than the estimate, the estimate is a lower bound.", ""]
     if out.warnings:
         lines += ["**Warnings of the fit** (`sysid.identify`):", ""] + [f"- {note}" for note in out.warnings] + [""]
     lines += ["## Files", "",
@@ -639,6 +643,9 @@ def print_summary(out: FitOutcome, file=None) -> None:
     else:
         dc = f"DC error {res.dc_error:.1e}" if res.dc_error is not None else "no omega = 0 sample (DC not checked)"
     print(f"max error / peak: {per}; {dc}; spectral radius {res.spectral_radius:.6f}", file=file)
+    between = ", ".join(f"{o} {e:.2e} (left open {u:.2e})" for o, e, u in
+                        zip(out.data.outputs, res.between_error_per_output, res.between_uncertainty_per_output))
+    print(f"between the samples (estimate / peak, sysid.between): {between}", file=file)
     for note in out.warnings + tuple(result_warnings(out)):
         print(f"warning: {note}", file=file)
 
