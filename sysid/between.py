@@ -141,14 +141,17 @@ def cubic_interpolant(omega_d: np.ndarray, H: np.ndarray, at: np.ndarray, shift:
     at = np.asarray(at, dtype=float)
     i = np.clip(np.searchsorted(w, at) - 2 + shift, 0, w.size - 4)   # first of the four nodes
     nodes = i[:, None] + np.arange(4)[None, :]                 # (J, 4)
-    x = w[nodes]
-    # Lagrange weights of the four nodes at each point, (J, 4)
+    return np.einsum("pmjk,jk->pmj", H[:, :, nodes], _lagrange_weights(w[nodes], at))
+
+
+def _lagrange_weights(x: np.ndarray, at: np.ndarray) -> np.ndarray:
+    """Lagrange weights of the four nodes ``x`` (J, 4) at the points ``at`` (J,): shape (J, 4)."""
     L = np.ones_like(x)
     for a in range(4):
         for b in range(4):
             if a != b:
                 L[:, a] *= (at - x[:, b]) / (x[:, a] - x[:, b])
-    return np.einsum("pmjk,jk->pmj", H[:, :, nodes], L)
+    return L
 
 
 def polar_interpolant(omega_d: np.ndarray, H: np.ndarray, at: np.ndarray) -> np.ndarray:
@@ -198,13 +201,7 @@ def cubic_misfit(omega_d: np.ndarray, H: np.ndarray, at: np.ndarray) -> np.ndarr
     for o in (first - 1, first + 4):
         inside = (o >= 0) & (o < K)
         oc = np.clip(o, 0, K - 1)
-        x = w[nodes]
-        L = np.ones_like(x)
-        for a in range(4):
-            for b in range(4):
-                if a != b:
-                    L[:, a] *= (w[oc] - x[:, b]) / (x[:, a] - x[:, b])
-        pred = np.einsum("pmjk,jk->pmj", H[:, :, nodes], L)
+        pred = np.einsum("pmjk,jk->pmj", H[:, :, nodes], _lagrange_weights(w[nodes], w[oc]))
         out = np.maximum(out, np.where(inside, np.abs(pred - H[:, :, oc]), 0.0))
     return out
 

@@ -610,15 +610,14 @@ def _warn_open(res: IdentificationResult, on: np.ndarray, between: np.ndarray, s
     (:attr:`IdentificationResult.between_uncertainty_per_output`) by more than :data:`BETWEEN_RATIO` times both the error on them and the estimate between them, and by more than
     :data:`sysid.between.READING_FLOOR` of the peak: the estimate is then a lower bound that says little. Outputs
     in ``skip`` (their estimate already warns) are left out."""
-    from .between import READING_FLOOR, between_deviation, sample_readings
+    from .between import READING_FLOOR, between_points, sample_readings
 
     open_ = res.between_uncertainty_per_output
     wide = (open_ > BETWEEN_RATIO * np.maximum(on, between)) & (open_ > READING_FLOOR) & ~np.asarray(skip)
     if not np.any(wide):
         return
     i = int(np.argmax(np.where(wide, open_ / np.maximum(np.maximum(on, between), np.finfo(float).tiny), -np.inf)))
-    m = res.matrices
-    pts, _ = between_deviation(m.A, m.B, m.C, m.D, res.data.omega_d, res.data.H)
+    pts = between_points(res.data.omega_d, np.linalg.eigvals(res.matrices.A))   # where the uncertainty was taken
     _, spread, _ = sample_readings(res.data.omega_d, res.data.H, pts)
     wd = pts[int(np.argmax(spread[i].max(axis=0)))]
     warnings.warn(
