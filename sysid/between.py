@@ -41,6 +41,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .errors import OptionError
 from .noise import noise_level
 from .residues import resonance_points
 from .state_space import evaluate_ss
@@ -306,6 +307,11 @@ def rational_interpolant(omega_d: np.ndarray, H: np.ndarray, at: np.ndarray, pol
     shift : int
         Moves the window by ``shift`` samples, within the data.
 
+    Raises
+    ------
+    OptionError
+        ``poles`` not a whole number >= 1, ``shift`` not a whole number.
+
     Returns
     -------
     values : ndarray, shape (p, m, J), complex
@@ -313,6 +319,9 @@ def rational_interpolant(omega_d: np.ndarray, H: np.ndarray, at: np.ndarray, pol
     misfit : ndarray, shape (p, m, J)
         Largest absolute residual over the window's samples.
     """
+    for name, v in (("poles", poles), ("shift", shift)):
+        if isinstance(v, (bool, np.bool_)) or not isinstance(v, (int, np.integer)) or (name == "poles" and v < 1):
+            raise OptionError(f"{name} must be a whole number{' >= 1' if name == 'poles' else ''}; got {v!r}")
     order = np.argsort(omega_d)
     w = np.asarray(omega_d, dtype=float)[order]
     H = np.asarray(H, dtype=complex)[:, :, order]

@@ -208,3 +208,13 @@ def test_too_few_samples_give_nan_departures_without_numpy_warnings():
         warnings.simplefilter("error")
         pts, dev = between_deviation(A, B, C, D, wd, freqresp(A, B, C, D, np.exp(1j * wd)))
     assert pts.shape == (2,) and dev.shape == (1, 1, 2) and np.all(np.isnan(dev))
+
+
+@pytest.mark.parametrize("poles, shift, what", [(0, 0, "poles"), (1.5, 0, "poles"), (True, 0, "poles"),
+                                                (1, 0.5, "shift")])
+def test_the_rational_reading_refuses_a_bad_option(poles, shift, what):
+    from sysid.errors import OptionError
+
+    w = np.linspace(0.0, np.pi, 12)
+    with pytest.raises(OptionError, match=f"{what} must be a whole number"):
+        rational_interpolant(w, np.ones((1, 1, 12), dtype=complex), between_points(w), poles, shift)
