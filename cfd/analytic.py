@@ -45,7 +45,7 @@ _REFERENCES = ("midchord", "leading_edge")
 
 
 def _omega(omega):
-    w = None if isinstance(omega, (str, bytes)) else real_array(omega)
+    w = real_array(omega)   # (None for text: its dtype is not numeric)
     if w is None:   # a complex omega was cast to its real part (ComplexWarning), "1" parsed
         raise AnalyticError(f"omega must be a real number or an array of real numbers (U/c units); got "
                             f"{kind_of(omega)} {omega!r:.80}")
@@ -168,7 +168,7 @@ def sears_compressible(omega, mach, reference="midchord"):
 
 
 def _time(s, unit):
-    v = None if isinstance(s, (str, bytes)) else real_array(s)
+    v = real_array(s)
     if v is None:   # None became NaN and was refused as "time contains NaN"; "1" was parsed
         raise AnalyticError(f"s must be a real number or an array of real times (convective s = U t / c, or U t / b "
                             f"with unit='semichord'); got {kind_of(s)} {s!r:.80}")

@@ -23,7 +23,7 @@ first solve); split a genuine larger sweep into calls."""
 def _real_frequencies(name, value):
     """``value`` as a float array if it holds real numbers, else :class:`LinearError` naming ``name``: a complex
     frequency was cast to its real part with only a ``ComplexWarning``, a string such as ``"1.0"`` parsed."""
-    v = None if isinstance(value, (str, bytes)) else real_array(value)
+    v = real_array(value)   # (None for text: its dtype is not numeric)
     if v is None:
         raise LinearError(f"{name} must be an array of real frequencies (U/c units); got {kind_of(value)} "
                           f"{value!r:.80}")

@@ -162,7 +162,7 @@ class _Gust:
         GustError
             ``s`` not real numbers (a string, None, complex) or holding NaN (whose input was 0).
         """
-        t = None if isinstance(s, (str, bytes)) else real_array(s)
+        t = real_array(s)   # (None for text)
         if t is None or np.any(np.isnan(t)):
             raise GustError(f"s must be a real number or an array of real convective times (s = U t / c), without "
                             f"NaN; got {kind_of(s)} {s!r:.80}")

@@ -353,7 +353,7 @@ def unsteady_response(sol, gust, dt, t_end, method="svm", x_ref=0.0, *, rtol=1e-
             f"scale (limit {100 * max_phase_error:.2g} %); reduce dt by {math.sqrt(err / max_phase_error):.2g}x",
             RuntimeWarning, stacklevel=2)
     grid, qbar, flow, scheme, R0, r_free, drop = _steady_state(sol, steady_tol)
-    snap_steps = {int(round(min(max(s, 0.0), max(t_end, round(t_end / dt) * dt)) / dt)) for s in snapshot_times}
+    snap_steps = {int(round(s / dt)) for s in snapshot_times}   # (_check_settings keeps them within the march)
     if len(snap_steps) * qbar.nbytes > MAX_SNAPSHOT_BYTES:
         raise UnsteadyError(f"snapshot_times asks for {len(snap_steps)} full states of {qbar.nbytes / 2**20:.3g} MiB, "
                             f"{len(snap_steps) * qbar.nbytes / 2**30:.3g} GiB, more than MAX_SNAPSHOT_BYTES = "
@@ -528,7 +528,7 @@ class _March:
             return F, float(np.linalg.norm(F))
 
         x = 2.0 * q - q_prev
-        if not _physical(x, self.flow.gamma):
+        if not is_physical(x, self.flow.gamma):
             x = q
         F, r = evaluate(x)
         norms = [r]
@@ -543,7 +543,7 @@ class _March:
                 self._fail(UnsteadyStepError, k, s, norms, f"no convergence in {self.max_iter} iterations")
             iters += 1
             x_new = x + self._correction(x, F, fun)
-            ok = _physical(x_new, self.flow.gamma)
+            ok = is_physical(x_new, self.flow.gamma)
             if ok:
                 F_new, r_new = evaluate(x_new)
                 ok = math.isfinite(r_new)
@@ -580,6 +580,3 @@ class _March:
             f"max({self.rtol:.0e} x first, {self.floor:.2e})). The history up to step {k - 1} is in .partial",
             history=np.array(norms))
 
-
-def _physical(q, gamma):
-    return is_physical(q, gamma)

@@ -320,7 +320,8 @@ def _from_system(system: GustSystem, point, outputs, L, f_max, rtol):
         cross = (G[:, None, :] * G[None, :, :].conj()).real @ wt         # (p, p)
         if hi_n0 != hi:
             Om, wt, G = panels(n_panels, hi_n0)
-        return cross, (np.abs(G) ** 2 * (Om * U) ** 2) @ wt, np.abs(G) ** 2 @ wt
+        G2 = np.abs(G) ** 2
+        return cross, (G2 * (Om * U) ** 2) @ wt, G2 @ wt
 
     n = 64
     prev = integrals(n)
@@ -456,9 +457,10 @@ def _from_data(frf, point, outputs, L, f_max, moment_axes, moment_reference):
     cross_int = (G[:, None, :] * G[None, :, :].conj()).real * Phi
     cross = np.trapezoid(cross_int, Om, axis=-1)
     Om_m = Om[keep]
-    mom_int = np.abs(G[:, keep]) ** 2 * (Om_m * U) ** 2 * Phi[keep]
+    G2 = np.abs(G[:, keep]) ** 2
+    mom_int = G2 * (Om_m * U) ** 2 * Phi[keep]
     mom = np.trapezoid(mom_int, Om_m, axis=-1)
-    var_n0 = np.trapezoid(np.abs(G[:, keep]) ** 2 * Phi[keep], Om_m, axis=-1)   # N0's band
+    var_n0 = np.trapezoid(G2 * Phi[keep], Om_m, axis=-1)   # N0's band
     var = np.diag(cross).copy()
     # Richardson-type estimate: the same rule on every second point
     var2 = np.trapezoid(np.abs(G[:, ::2]) ** 2 * Phi[::2], Om[::2], axis=-1)

@@ -70,7 +70,7 @@ def noise_level(H, omega) -> np.ndarray:
     if H.ndim != 3 or omega.shape != (H.shape[-1],):
         raise FrequencyDataError(f"noise_level needs H of shape (p, K) or (p, m, K) and omega of shape (K,); got H "
                                  f"{H.shape}, omega {omega.shape}")
-    if not (np.all(np.isfinite(H)) and not np.any(np.isnan(omega))):
+    if not np.all(np.isfinite(H)) or np.any(np.isnan(omega)):
         raise FrequencyDataError("noise_level: H contains NaN or inf, or omega NaN; a noise estimate of them would be "
                                  "meaningless: remove those samples")
     fin = np.isfinite(omega)

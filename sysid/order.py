@@ -33,6 +33,7 @@ import scipy.linalg
 
 from .arrays import freeze_array_fields
 from .between import BETWEEN_MIN_ERROR, BETWEEN_RATIO, between_error
+from .data_checks import check_flag
 from .errors import OptionError, OrderError
 from .state_space import lstsq_bd_phi, modal_form, resolvent_C
 from .subspace import HankelSVD, hankel_svd
@@ -232,11 +233,10 @@ def order_sweep(
         ``holdout`` not a bool, ``holdout_tol`` / ``holdout_atol`` negative or not finite.
     """
     t0 = time.perf_counter()
-    if not isinstance(holdout, (bool, np.bool_)):
-        raise OptionError(f"holdout must be True or False, got {holdout!r}")
-    for name, v, least in (("holdout_tol", holdout_tol, 0.0), ("holdout_atol", holdout_atol, 0.0)):
+    check_flag(holdout, "holdout")
+    for name, v in (("holdout_tol", holdout_tol), ("holdout_atol", holdout_atol)):
         if isinstance(v, (bool, np.bool_)) or np.ndim(v) != 0 or np.asarray(v).dtype.kind not in "iuf" \
-                or not (np.isfinite(v) and float(v) >= least):
+                or not (np.isfinite(v) and float(v) >= 0.0):
             raise OptionError(f"{name} must be a finite number >= 0 (a tolerance of the hold-out rule), got {v!r}")
     if max_order is None:
         max_order = min(40, hankel_svd(frf, method=method, q=q, r=r).max_order)

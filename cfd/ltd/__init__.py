@@ -479,22 +479,20 @@ def _march(lin, gusts, dt, t_end, method, x_ref, initial, motion=None, progress=
     # core while SuperLU back-substitutes (measured on the 2-core machine: Radau's complex solve 55 ms instead
     # of 25 ms on a 91 x 30 grid)
     with threadpool_limits(limits=1, user_api="blas"):
-        if scheme == "bdf2":
-            moves = [] if motion is None else _motions(lin, t, *motion)
-            try:
+        try:
+            if scheme == "bdf2":
+                moves = [] if motion is None else _motions(lin, t, *motion)
                 Y, q = _bdf2(lin, gusts, t, method, initial, moves, clock)
-            except _Stopped as e:                              # interrupted: the history so far, then re-raise
-                stopped, Y, q = e, e.Y, e.q
+            else:
+                m = radau_substeps(dt, step)
+                stage_times = _stage_times(t, m)
+                moves = [] if motion is None else _radau_motions(lin, t, *motion, stage_times)
+                Y, q = _radau(lin, gusts, t, method, initial, moves, m, stage_times, clock)
+        except _Stopped as e:                                  # interrupted: the history so far, then re-raise
+            stopped, Y, q = e, e.Y, e.q
+        if scheme == "bdf2":
             for f, x, _ in moves:
                 Y += np.multiply.outer(x[:Y.shape[0]], f.d)[:, :, None]   # the explicit load term d x
-        else:
-            m = radau_substeps(dt, step)
-            stage_times = _stage_times(t, m)
-            moves = [] if motion is None else _radau_motions(lin, t, *motion, stage_times)
-            try:
-                Y, q = _radau(lin, gusts, t, method, initial, moves, m, stage_times, clock)
-            except _Stopped as e:
-                stopped, Y, q = e, e.Y, e.q
     if stopped is not None:
         n = stopped.k
         t = t[:n + 1]
