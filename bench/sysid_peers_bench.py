@@ -133,18 +133,20 @@ def run_vf(frf, n):
             G0[i, 0] = np.real(vf.get_model_response(i, 0, np.array([0.0]))[0]) * peak[i]
         e = max_relative_error(Hm, frf.H, per_output=True)
         if best is None or e.max() < best[0].max():
-            poles = np.concatenate([vf.poles, np.conj(vf.poles[vf.poles.imag != 0])])
-            zp = (1 + poles * frf.T / 2) / (1 - poles * frf.T / 2)
-            wd = dense_omega_d(frf)
-            fd = (2.0 / frf.T) * np.tan(wd[:-1] / 2) / (2 * np.pi)
-            Hd = np.zeros((p, 1, wd.size), dtype=complex)
-            for i in range(p):
-                Hd[i, 0, :-1] = vf.get_model_response(i, 0, fd) * peak[i]
-                Hd[i, 0, -1] = vf.constant_coeff[i * p] * peak[i]
-            best = (e, Hm, G0, float(np.abs(zp).max()), spacing, Hd)
-    t = time.perf_counter() - t0
+            best = (e, Hm, G0, vf, spacing)
+    t = time.perf_counter() - t0   # the fits and the pick of the better start; the dense check below is not VF's
     if best is None:
         raise RuntimeError("no stable VF fit from either start")
+    vf = best[3]
+    poles = np.concatenate([vf.poles, np.conj(vf.poles[vf.poles.imag != 0])])
+    zp = (1 + poles * frf.T / 2) / (1 - poles * frf.T / 2)
+    wd = dense_omega_d(frf)
+    fd = (2.0 / frf.T) * np.tan(wd[:-1] / 2) / (2 * np.pi)
+    Hd = np.zeros((p, 1, wd.size), dtype=complex)
+    for i in range(p):
+        Hd[i, 0, :-1] = vf.get_model_response(i, 0, fd) * peak[i]
+        Hd[i, 0, -1] = vf.constant_coeff[i * p] * peak[i]
+    best = (best[0], best[1], best[2], float(np.abs(zp).max()), best[4], Hd)
     return dict(H=best[1], rho=best[3], dc=dc_rel(best[2], frf.H), time=t, note=f"{best[4]} start",
                 gain=gain_between(best[5], frf), H_dense=best[5])
 
