@@ -354,8 +354,8 @@ class FrequencyResponse:
         FrequencyDataError
             When a sampled point is a pole of the model (an infinite response).
         FrequencyGridError
-            A continuous model without ``T``, ``T <= 0`` or not finite, ``omega_d`` not 1-D, NaN or outside
-            ``[0, pi]``.
+            A continuous model without ``T``, ``T <= 0`` or not finite, a discrete model with a ``T`` other than its
+            ``dt``, ``omega_d`` not 1-D, NaN or outside ``[0, pi]``.
         """
         import control
 
@@ -369,6 +369,12 @@ class FrequencyResponse:
                 raise FrequencyGridError("a continuous model needs T to map omega_d to omega; pass T")
             T = model.dt
         T = check_period(T)
+        if discrete and not np.isclose(T, float(model.dt), rtol=1e-12, atol=0.0):
+            raise FrequencyGridError(
+                f"T = {T!r} contradicts the discrete model's own sampling period dt = {model.dt!r}: its samples at "
+                "omega_d would be labelled with frequencies omega of another period; leave T out (it defaults to "
+                "model.dt) or resample the model (control.sample_system) at the period you want"
+            )
         if discrete:
             pts = np.exp(1j * wd)
             finite = np.ones(wd.size, dtype=bool)

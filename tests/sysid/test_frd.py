@@ -314,6 +314,17 @@ def test_from_model_discrete_and_continuous():
         FrequencyResponse.from_model(sysc, wd)
 
 
+def test_from_model_refuses_a_period_other_than_the_discrete_models():
+    import control
+
+    # the samples at omega_d are the model's whatever T says; another T would only relabel their omega
+    wd, _ = mckelvey_grid(8, 1.0)
+    model = control.ss([[0.5]], [[1.0]], [[1.0]], [[0.0]], 1.0)
+    assert FrequencyResponse.from_model(model, wd, 1.0).T == 1.0
+    with pytest.raises(FrequencyGridError, match="contradicts the discrete model's own sampling period dt = 1.0"):
+        FrequencyResponse.from_model(model, wd, 2.0)
+
+
 def test_from_model_with_a_pole_on_the_sampled_axis_names_the_frequency():
     import control
 
