@@ -11,10 +11,10 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from .errors import ConstraintError, FrequencyDataError, OptionError
+from .errors import ArgumentTypeError, ConstraintError, FrequencyDataError, FrequencyGridError, OptionError
 
 __all__ = ["check_weights", "check_constraint", "check_nonzero_outputs", "check_flag", "check_data_scale",
-           "MAX_DATA_SCALE"]
+           "check_fit_data", "MAX_DATA_SCALE"]
 
 MAX_DATA_SCALE = 1e150
 """Largest peak magnitude of an output (and ``1 / MAX_DATA_SCALE`` the smallest nonzero one) that the
@@ -143,3 +143,41 @@ def check_nonzero_outputs(G: Any, outputs: Sequence[str] | None = None, *, per_i
         raise FrequencyDataError(f"the response of {label(i)} to input {j} is zero at every frequency; the pole "
                                  "relocation fits each input column on its own: drop that pair or use "
                                  "algorithm='subspace'")
+
+
+def check_fit_data(frf: Any, who: str) -> None:
+    """The checks every fit of a :class:`sysid.FrequencyResponse` makes before any work (:func:`sysid.identify`,
+    :func:`sysid.order_sweep`): its type, a period ``T`` that resolves the data's frequencies, distinct
+    frequencies, no output zero everywhere, every output's magnitude within :data:`MAX_DATA_SCALE`.
+
+    Parameters
+    ----------
+    frf : sysid.FrequencyResponse
+    who : str
+        The calling function's name, for the messages (``"identify"``).
+
+    Raises
+    ------
+    ArgumentTypeError
+        ``frf`` is not a :class:`sysid.FrequencyResponse`.
+    FrequencyGridError
+        No ``T``, a ``T`` that does not resolve the frequencies, or a frequency given twice.
+    FrequencyDataError
+        An output zero at every frequency, or one whose peak is outside ``1 / MAX_DATA_SCALE .. MAX_DATA_SCALE``.
+    """
+    from .frd import FrequencyResponse
+    from .grids import check_distinct, check_period_resolves
+
+    if not isinstance(frf, FrequencyResponse):
+        raise ArgumentTypeError(f"{who}() expects a sysid.FrequencyResponse, got {type(frf).__name__}")
+    if frf.T is None or frf.omega_d is None:
+        raise FrequencyGridError(
+            f"{who}() needs the sampling period T to place the data on the unit circle "
+            "(omega_d = 2 arctan(omega T / 2)); build the data with a T, e.g. "
+            "FrequencyResponse.from_continuous(H, omega, T) or frf.with_T(T)"
+        )
+    if frf.omega is not None:   # before the distinct check: T = 1e300 sends every sample to omega_d = pi
+        check_period_resolves(frf.T, frf.omega)   # T = 1e-300 sent every sample to z = 1
+    check_distinct(frf.omega_d, "omega_d")
+    check_nonzero_outputs(frf.H, frf.outputs)
+    check_data_scale(frf.H, frf.outputs)

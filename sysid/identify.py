@@ -44,11 +44,10 @@ from typing import Any
 
 import numpy as np
 
-from .data_checks import check_data_scale, check_flag, check_nonzero_outputs, check_weights
-from .errors import ArgumentTypeError, ConstraintError, FrequencyDataError, FrequencyGridError, OptionError
+from .data_checks import check_fit_data, check_flag, check_weights
+from .errors import ConstraintError, FrequencyDataError, OptionError
 from .frd import FrequencyResponse
 from .between import BETWEEN_MIN_ERROR, BETWEEN_RATIO
-from .grids import check_distinct, check_period_resolves
 from .identification_result import IdentificationResult, ModelMatrices, StabilisationReport
 from .metrics import dc_error, frf_errors, spectral_radius
 from .residues import resonance_points
@@ -235,22 +234,10 @@ def identify(
         algorithm = "subspace"  # not a FrequencyResponse: rejected below
     if not (isinstance(refit_c, (bool, np.bool_)) or (isinstance(refit_c, str) and refit_c == "auto")):
         raise OptionError(f"refit_c must be 'auto', True or False; got {refit_c!r}")
-    if not isinstance(frf, FrequencyResponse):
-        raise ArgumentTypeError(f"identify() expects a sysid.FrequencyResponse, got {type(frf).__name__}")
-    if frf.T is None or frf.omega_d is None:
-        raise FrequencyGridError(
-            "identify() needs the sampling period T to place the data on the unit circle "
-            "(omega_d = 2 arctan(omega T / 2)); build the data with a T, e.g. "
-            "FrequencyResponse.from_continuous(H, omega, T) or frf.with_T(T)"
-        )
+    check_fit_data(frf, "identify")
     if isinstance(margin, (bool, np.bool_)) or np.ndim(margin) != 0 \
             or np.asarray(margin).dtype.kind not in "iuf" or not (0.0 <= float(margin) < 1.0):
         raise OptionError(f"margin must be a number in [0, 1), got {margin!r}")
-    if frf.omega is not None:   # before the distinct check: T = 1e300 sends every sample to omega_d = pi
-        check_period_resolves(frf.T, frf.omega)   # T = 1e-300 sent every sample to z = 1
-    check_distinct(frf.omega_d, "omega_d")
-    check_nonzero_outputs(frf.H, frf.outputs)
-    check_data_scale(frf.H, frf.outputs)
     weights = check_weights(weights, *frf.shape, outputs=frf.outputs)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")

@@ -33,7 +33,7 @@ import scipy.linalg
 
 from .arrays import freeze_array_fields
 from .between import BETWEEN_MIN_ERROR, BETWEEN_RATIO, between_error
-from .data_checks import check_flag
+from .data_checks import check_fit_data, check_flag
 from .errors import OptionError, OrderError
 from .state_space import lstsq_bd_phi, modal_form, resolvent_C
 from .subspace import HankelSVD, hankel_svd
@@ -227,12 +227,16 @@ def order_sweep(
 
     Raises
     ------
+    ArgumentTypeError, FrequencyGridError, FrequencyDataError
+        Data :func:`sysid.identify` refuses (:func:`sysid.data_checks.check_fit_data`): not a
+        :class:`FrequencyResponse`, no ``T``, an output zero everywhere or of a magnitude whose squares overflow.
     OrderError
         ``max_order`` beyond what the data support.
     OptionError
         ``holdout`` not a bool, ``holdout_tol`` / ``holdout_atol`` negative or not finite.
     """
     t0 = time.perf_counter()
+    check_fit_data(frf, "order_sweep")   # identify's checks: the sweep's errors were NaN where identify refuses
     check_flag(holdout, "holdout")
     for name, v in (("holdout_tol", holdout_tol), ("holdout_atol", holdout_atol)):
         if isinstance(v, (bool, np.bool_)) or np.ndim(v) != 0 or np.asarray(v).dtype.kind not in "iuf" \

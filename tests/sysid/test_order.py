@@ -93,6 +93,18 @@ def test_bad_holdout_options(kw, match):
         order_sweep(frf_of(3, 1, M=32), 6, **kw)
 
 
+@pytest.mark.parametrize("make, error, match", [
+    (lambda f: f.replace(H=f.H * 1e200), sysid.FrequencyDataError, "peak .H. of 8.7e.199"),   # NaN errors before
+    (lambda f: f.replace(H=0 * f.H), sysid.FrequencyDataError, "zero"),               # suggested order 1 before
+    (lambda f: f.H, sysid.ArgumentTypeError, "expects a sysid.FrequencyResponse, got ndarray"),  # AttributeError
+    (lambda f: None, sysid.ArgumentTypeError, "got NoneType"),
+    (lambda f: FrequencyResponse.from_continuous(f.H, f.omega), sysid.FrequencyGridError, "needs the sampling period"),
+])
+def test_data_identify_refuses_are_refused_by_the_sweep_too(make, error, match):
+    with pytest.raises(error, match=match):
+        order_sweep(make(frf_of(3, 1, M=32)), 3)
+
+
 def test_default_max_order():
     sw = order_sweep(frf_of(3, 1, M=16))
     assert sw.orders[-1] == 15  # min(40, M - 1)
