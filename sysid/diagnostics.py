@@ -119,13 +119,18 @@ def default_T(omega: np.ndarray) -> float:
     Raises
     ------
     FrequencyGridError
-        No positive finite frequency.
+        No positive finite frequency, or frequencies so small (subnormal) that ``T`` would overflow.
     """
     w = np.asarray(omega, dtype=float)
     w = w[np.isfinite(w) & (w > 0)]
     if w.size == 0:
         raise FrequencyGridError("no positive finite frequency to choose T from; give T explicitly")
-    return 2.0 / math.sqrt(float(w.min()) * float(w.max()))
+    T = 2.0 / (math.sqrt(float(w.min())) * math.sqrt(float(w.max())))   # a product of two roots: no underflow
+    if not math.isfinite(T):
+        raise FrequencyGridError(
+            f"the frequencies ({float(w.min()):.3g} .. {float(w.max()):.3g}) are too small to choose a sampling period "
+            "from (T would overflow); express them in other units (e.g. rad/s or U_inf / c) or give T explicitly")
+    return T
 
 
 def negative_time_energy(H: np.ndarray) -> np.ndarray:

@@ -123,6 +123,18 @@ def test_dc_imaginary_part_and_missing_samples_are_reported():
     assert not d.has_dc and not d.has_inf and d.feedthrough is None and d.negative_time_energy is None
 
 
+@pytest.mark.parametrize("scale", [1e-150, 1e-300, 1.0, 1e150, 1e300])
+def test_default_T_of_tiny_and_huge_frequencies(scale):
+    # 2 / sqrt(lo hi): the product underflowed to 0 at 1e-300 (ZeroDivisionError); T scales as 1 / scale
+    # (a product of two roots, each exact to half an ulp)
+    assert default_T(scale * np.array([0.0, 1.0, 4.0])) == pytest.approx(1.0 / scale, rel=4e-16)
+
+
+def test_default_T_of_subnormal_frequencies_says_to_rescale():
+    with pytest.raises(FrequencyGridError, match="too small to choose a sampling period"):
+        default_T([0.0, 1e-320, 2e-320])
+
+
 def test_bad_input():
     with pytest.raises(TypeError, match="FrequencyResponse"):
         diagnose(np.ones(3))
