@@ -121,9 +121,13 @@ def history_errors(t, model: Mapping[str, Any], reference: Mapping[str, Any],
     Raises
     ------
     TimeDataError
-        A reference history that is not finite, a history of another length than ``t``, an output of
+        ``model`` or ``reference`` not a mapping, a reference history that is not finite, a history of another length than ``t``, an output of
         ``outputs`` missing from either mapping, or (``outputs`` not given) no output in common.
     """
+    for what, value in (("model", model), ("reference", reference)):
+        if not isinstance(value, Mapping):
+            raise TimeDataError(f"{what} must be a mapping of output names to histories (e.g. {{'Cl': array}}), got "
+                                f"{type(value).__name__}")
     if outputs is None:
         names = [n for n in model if n in reference]
         if not names:

@@ -266,6 +266,8 @@ def stabilise(A, *, method: str = "lmi", margin: float = 1e-3, gamma1=None, gamm
             raise OptionError(f"{name} must be True or False; got {flag!r}.")
     if (gamma1 is None) != (gamma2 is None):
         raise OptionError("give both gamma1 and gamma2, or neither.")
+    if method not in ("lmi", "reflect"):   # before the early return for a stable A, which passed any method
+        raise OptionError(f"method must be 'lmi' or 'reflect'; got {method!r}.")
     if mode not in ("mirror", "circle"):
         raise OptionError(f"mode must be 'mirror' or 'circle'; got {mode!r}.")
     if solver_opts is not None and not isinstance(solver_opts, Mapping):
@@ -282,12 +284,10 @@ def stabilise(A, *, method: str = "lmi", margin: float = 1e-3, gamma1=None, gamm
     if method == "reflect":
         A_new = _reflect(A, rho, mode)
         status = "reflected"
-    elif method == "lmi":
+    else:
         opts = {"tol_gap_abs": 1e-9, "tol_gap_rel": 1e-9, "tol_feas": 1e-9}
         opts.update(solver_opts or {})
         A_new, status = _lmi(A, rho, gamma1, gamma2, delta, opts, subspace)
-    else:
-        raise OptionError(f"method must be 'lmi' or 'reflect'; got {method!r}.")
     r1 = spectral_radius(A_new)
     if r1 >= rho:  # round-off at the boundary: shrink radially, by as little as possible
         A_new = A_new * (rho * (1.0 - 1e-9) / r1)

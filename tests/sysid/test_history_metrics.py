@@ -30,6 +30,8 @@ def test_known_values():
     (lambda: history_errors([0, 1, 2], {"Cl": [1, 2, 3]}, {"Cl": [1, 2, 3]}, outputs=["X"]), r"outputs \['X'\] are not"),
     (lambda: history_errors([0, 1, 2], {"Cl": [1, 2, 3]}, {"Cm": [1, 2, 3]}), "have none in common"),
     (lambda: history_errors([0, 1, 2], {"Cl": [1, 2, 3]}, {"Cl": [1, 2, 3]}, outputs=[]), "outputs is empty"),
+    (lambda: history_errors([0, 1, 2], [1, 2, 3], {"Cl": [1, 2, 3]}), "model must be a mapping"),  # IndexError before
+    (lambda: history_errors([0, 1, 2], {"Cl": [1, 2, 3]}, np.ones(3)), "reference must be a mapping .* got ndarray"),
 ])
 def test_bad_histories_are_refused(call, match):
     with pytest.raises(sysid.TimeDataError, match=match):

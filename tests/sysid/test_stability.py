@@ -173,6 +173,8 @@ def test_already_stable_is_returned_unchanged_and_errors():
     assert rf.spectral_radius_after < 1 - 1e-3
     with pytest.raises(sysid.OptionError, match="method"):
         stabilise(2 * A + np.eye(2), method="magic")
+    with pytest.raises(sysid.OptionError, match="method must be 'lmi' or 'reflect'; got 'bogus'"):
+        stabilise(A, method="bogus")   # a stable A returned method='none' before
     with pytest.raises(FrequencyDataError, match=r"A must be a non-empty square matrix; got shape \(2, 3\)"):
         stabilise(np.ones((2, 3)))
     with pytest.raises(sysid.OptionError, match="margin"):
