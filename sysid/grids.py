@@ -14,7 +14,7 @@ import numpy as np
 
 from .errors import FrequencyGridError
 
-__all__ = ["check_period", "check_discrete_frequencies", "check_continuous_frequencies", "check_distinct",
+__all__ = ["check_period", "real_frequencies", "check_discrete_frequencies", "check_continuous_frequencies", "check_distinct",
            "discrete_to_continuous", "continuous_to_discrete", "mckelvey_grid", "GRID_RTOL", "MAX_GRID_M",
            "period_factor", "period_range", "check_period_resolves", "PERIOD_WARN_FACTOR", "PERIOD_MAX_FACTOR"]
 
@@ -55,10 +55,27 @@ def check_period(T: Any) -> float:
     return Tf
 
 
+def real_frequencies(freq: Any, name: str, *, allow_nan: bool = False) -> np.ndarray:
+    """``freq`` as a 1-D float array, or :class:`FrequencyGridError` naming ``name`` when it is not an array of
+    real numbers (text, None, complex values: NumPy dropped their imaginary part with only a warning) or holds NaN
+    (unless ``allow_nan``: the caller reports it). ``inf`` is left to the caller."""
+    if freq is None or isinstance(freq, (str, bytes)) or np.iscomplexobj(freq):
+        raise FrequencyGridError(f"{name} must be real frequencies (an array of real numbers), got {freq!r}: pass "
+                                 "the frequencies themselves, not s = i omega or z = exp(i omega_d)")
+    try:
+        w = np.asarray(freq, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise FrequencyGridError(f"{name} must be an array of real frequencies, got {freq!r}") from None
+    if not allow_nan and np.isnan(w).any():
+        raise FrequencyGridError(f"{name}[{int(np.flatnonzero(np.isnan(w))[0])}] = nan; frequencies must be numbers: "
+                                 "repair or drop that sample")
+    return w
+
+
 def check_discrete_frequencies(omega_d: Any) -> np.ndarray:
     """Return ``omega_d`` as a 1-D float array, or raise :class:`FrequencyGridError` naming the first index
-    that is NaN, inf or outside ``[0, pi]`` (to ``GRID_RTOL * pi``)."""
-    wd = np.asarray(omega_d, dtype=float).reshape(-1)
+    that is NaN, inf or outside ``[0, pi]`` (to ``GRID_RTOL * pi``), or when it is not real numbers."""
+    wd = real_frequencies(omega_d, "omega_d", allow_nan=True)
     tol = GRID_RTOL * np.pi
     bad = np.flatnonzero(~np.isfinite(wd) | (wd < -tol) | (wd > np.pi + tol))
     if bad.size:
@@ -69,8 +86,8 @@ def check_discrete_frequencies(omega_d: Any) -> np.ndarray:
 
 def check_continuous_frequencies(omega: Any) -> np.ndarray:
     """Return ``omega`` as a 1-D float array, or raise :class:`FrequencyGridError` naming the first index that
-    is NaN or negative (``inf``, the feedthrough sample, is allowed)."""
-    w = np.asarray(omega, dtype=float).reshape(-1)
+    is NaN or negative (``inf``, the feedthrough sample, is allowed), or when it is not real numbers."""
+    w = real_frequencies(omega, "omega", allow_nan=True)
     bad = np.flatnonzero(np.isnan(w) | (w < 0))
     if bad.size:
         raise FrequencyGridError(f"omega[{int(bad[0])}] = {float(w[bad[0]])!r}; continuous frequencies must be >= 0 "

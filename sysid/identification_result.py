@@ -11,6 +11,8 @@ import numpy as np
 
 from .arrays import freeze_array_fields, read_only
 from .frd import FrequencyResponse
+from .errors import FrequencyGridError
+from .grids import real_frequencies
 from .metrics import FitErrors
 from .state_space import evaluate_ss
 from .subspace import SubspaceResult
@@ -206,8 +208,13 @@ class IdentificationResult:
         return self.__dict__["_model_matrices"]
 
     def evaluate(self, omega_d: Any) -> np.ndarray:
-        """Model response ``G(exp(1j omega_d))``, shape (p, m, K), for discrete frequencies (rad/sample)."""
-        z = np.exp(1j * np.asarray(omega_d, dtype=float).reshape(-1))
+        """Model response ``G(exp(1j omega_d))``, shape (p, m, K), for discrete frequencies (rad/sample, finite;
+        a :class:`FrequencyGridError` for text, complex values, NaN or inf)."""
+        wd = real_frequencies(omega_d, "omega_d")
+        if not np.all(np.isfinite(wd)):
+            raise FrequencyGridError(f"omega_d[{int(np.flatnonzero(~np.isfinite(wd))[0])}] is infinite; discrete "
+                                     "frequencies are finite (omega = inf is omega_d = pi)")
+        z = np.exp(1j * wd)
         m = self.matrices
         return evaluate_ss(m.A, m.B, m.C, m.D, z)
 
@@ -220,7 +227,7 @@ class IdentificationResult:
         """
         from .frd import continuous_to_discrete
 
-        w = np.asarray(omega, dtype=float).reshape(-1)
+        w = real_frequencies(omega, "omega")
         G = self.evaluate(continuous_to_discrete(np.abs(w), self.T))
         return np.where(w < 0, np.conj(G), G)
 
@@ -317,7 +324,7 @@ class IdentificationResult:
 
     def frequency_response(self, omega_d: Any = None) -> FrequencyResponse:
         """Model response as a :class:`FrequencyResponse` on the data grid (or on ``omega_d``)."""
-        wd = self.data.omega_d if omega_d is None else np.asarray(omega_d, dtype=float)
+        wd = self.data.omega_d if omega_d is None else real_frequencies(omega_d, "omega_d")
         return FrequencyResponse(
             self.evaluate(wd), wd, self.T, inputs=list(self.matrices.input_labels),
             outputs=list(self.matrices.output_labels), metadata={"source": "sysid.identify", "order": self.order},
