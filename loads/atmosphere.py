@@ -238,18 +238,32 @@ class FlightPoint:
         Parameters
         ----------
         H_m : array_like, shape (...)
-            Gust gradients (m), > 0.
+            Gust gradients (m), finite and > 0. Gradients outside the rule's 30 .. 350 ft (:data:`H_RANGE_FT`) are
+            evaluated by the same formula; :func:`loads.tuned_gust` keeps its search within the rule's range unless
+            ``outside_rule=True``.
 
         Returns
         -------
         ndarray, shape (...)
+
+        Raises
+        ------
+        GustError
+            ``H_m`` not real numbers (a string, a complex number), or a gradient that is not finite and > 0 (a
+            negative one gave NaN); a flight point above 60 000 ft.
         """
-        H = np.asarray(H_m, dtype=float)
+        H = _gradients(H_m)
         u_eas = self.reference_gust_velocity() * self.F_g * (H / (350.0 * FT)) ** (1.0 / 6.0)
         return u_eas * math.sqrt(RHO0 / self._rho)
 
     def gust_angle(self, H_m: Any) -> np.ndarray:
-        """Peak gust angle ``U_ds / U`` (rad, both TAS) of the design gust of gradient ``H_m`` (m), shape of ``H_m``."""
+        """Peak gust angle ``U_ds / U`` (rad, both TAS) of the design gust of gradient ``H_m`` (m), shape of ``H_m``.
+
+        Raises
+        ------
+        GustError
+            As :meth:`design_gust_velocity`: ``H_m`` not real, finite gradients > 0; a point above 60 000 ft.
+        """
         return self.design_gust_velocity(H_m) / self.tas
 
     def summary(self) -> str:
@@ -260,6 +274,26 @@ class FlightPoint:
 
 RHO0 = 1.225
 """Sea-level density of the ICAO atmosphere, kg/m^3 (the EAS reference)."""
+
+
+def _gradients(H_m: Any) -> np.ndarray:
+    """``H_m`` as a float array of gust gradients (m), each finite and > 0, else :class:`GustError`."""
+    try:
+        H = np.asarray(H_m)
+        bad = H.dtype.kind not in "iuf"
+    except (TypeError, ValueError):
+        bad = True
+    if bad:
+        raise GustError(f"the gust gradient H_m must be a real number of metres or an array of them, got {H_m!r}")
+    H = H.astype(float)
+    wrong = ~(np.isfinite(H) & (H > 0.0))
+    if wrong.any():
+        got = (repr(float(H)) if H.ndim == 0
+               else f"{float(H[wrong][0])!r} (the first of {np.count_nonzero(wrong)} bad values among {H.size})")
+        lo, hi = H_RANGE_FT
+        raise GustError(f"the gust gradient H_m must be finite and > 0 m (the rule's range is {lo:g} .. {hi:g} ft, "
+                        f"{lo * FT:.5g} .. {hi * FT:.5g} m), got {got}")
+    return H
 
 
 def _interp(h_m: float, table) -> float:

@@ -75,3 +75,30 @@ def test_above_the_rule_and_bad_alleviation_inputs():
         loads.alleviation_factor(0.0, 12000.0, 0.6, 0.95)
     with pytest.raises(loads.FlightPointError, match="mlw_over_mtow"):
         loads.alleviation_factor(0.0, 10000.0, 1.3, 0.6)
+
+
+@pytest.mark.parametrize("H, match", [
+    (-5.0, r"H_m must be finite and > 0 m \(the rule's range is 30 \.\. 350 ft, 9\.144 \.\. 106\.68 m\), got -5"),  # NaN
+    (0.0, r"finite and > 0 m .*got 0"),
+    (float("nan"), r"finite and > 0 m .*got nan"),
+    (np.inf, r"finite and > 0 m .*got inf"),
+    ([10.0, -5.0, 20.0], r"got -5\.0 \(the first of 1 bad values among 3\)"),                               # NaN
+    (10 + 1j, r"H_m must be a real number of metres .*got \(10\+1j\)"),                                      # TypeError
+    ("10", r"H_m must be a real number of metres .*got '10'"),                                               # parsed
+    (True, r"H_m must be a real number of metres"),
+])
+def test_bad_gust_gradients_are_refused(H, match):
+    pt = loads.FlightPoint(0.5, 3000.0, 2.0)
+    with pytest.raises(loads.GustError, match=match):
+        pt.design_gust_velocity(H)
+    with pytest.raises(loads.GustError, match=match):
+        pt.gust_angle(H)
+
+
+def test_gust_gradients_outside_the_rule_are_evaluated():
+    # tuned_gust(..., outside_rule=True) searches such gradients with the same formula
+    pt = loads.FlightPoint(0.5, 3000.0, 2.0)
+    H = np.array([1.0, 1000.0])
+    assert np.allclose(pt.design_gust_velocity(H), pt.design_gust_velocity(350 * FT) * (H / (350 * FT)) ** (1 / 6),
+                       rtol=1e-12)
+    assert pt.design_gust_velocity(np.int64(30)).shape == () and pt.design_gust_velocity([]).shape == (0,)
