@@ -15,7 +15,7 @@ class GustError(ValueError):
 
 class LoadsModelError(ValueError):
     """The model cannot give gust loads: no ``"gust"`` input, an unknown output, an unstable system, a type the
-    package does not take."""
+    package does not take; or it is asked for at frequencies that are not real and finite."""
 
 
 class SpectrumError(ArithmeticError):

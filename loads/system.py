@@ -73,8 +73,36 @@ class GustSystem:
     condition: float = 1.0
 
     def frequency_response(self, omega: Any) -> np.ndarray:
-        """``G(i omega)`` per unit gust angle, shape (p, K), at convective ``omega`` (rad per ``c / U``)."""
-        w = np.asarray(omega, dtype=float).reshape(-1)
+        """``G(i omega)`` per unit gust angle, shape (p, K), at convective ``omega`` (rad per ``c / U``).
+
+        Parameters
+        ----------
+        omega : array_like
+            Real, finite frequencies, any shape (read as K values in order; a negative one gives the conjugate).
+
+        Returns
+        -------
+        ndarray, complex, shape (p, K)
+
+        Raises
+        ------
+        LoadsModelError
+            ``omega`` not real numbers (a string gave a bare ValueError), or a NaN or inf among them (the response
+            was NaN; at ``omega = inf`` it is the feedthrough ``d``).
+        """
+        try:
+            w = np.asarray(omega)
+            bad = w.dtype.kind not in "iuf"
+        except (TypeError, ValueError):
+            bad = True
+        if bad:
+            raise LoadsModelError(f"omega must be real convective frequencies (rad per c/U: a number or an array of "
+                                  f"numbers), got {omega!r}")
+        w = w.astype(float).reshape(-1)
+        if not np.all(np.isfinite(w)):
+            raise LoadsModelError(f"omega must be finite (rad per c/U), got {np.count_nonzero(~np.isfinite(w))} NaN or "
+                                  f"inf value(s) (first {float(w[~np.isfinite(w)][0])!r}); the response at omega = inf "
+                                  "is the feedthrough d")
         R = self.b[None, :] / (1j * w[:, None] - self.lam[None, :])          # (K, n)
         return (R @ self.C.T).T + self.d[:, None]
 

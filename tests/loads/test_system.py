@@ -60,3 +60,26 @@ def test_a_model_with_non_finite_matrices_is_refused(name, mats, dt):
         loads.tuned_gust(m, PT)
     with pytest.raises(loads.LoadsModelError, match=match):      # blamed "a pole very near the imaginary axis"
         loads.continuous_turbulence(m, PT)
+
+
+@pytest.mark.parametrize("omega, match", [
+    ("a", r"omega must be real convective frequencies .*got 'a'"),                    # bare ValueError
+    ([NAN], r"omega must be finite \(rad per c/U\), got 1 NaN or inf value\(s\) \(first nan\)"),   # NaN response
+    ([0.3, np.inf, -np.inf], r"omega must be finite .*got 2 NaN or inf value\(s\) \(first inf\)"),
+    (1 + 1j, r"omega must be real convective frequencies"),
+    ([True], r"omega must be real convective frequencies"),
+    (None, r"omega must be real convective frequencies"),
+])
+def test_frequency_response_refuses_bad_frequencies(omega, match):
+    gs = loads.gust_system(_model(), PT)
+    with pytest.raises(loads.LoadsModelError, match=match):
+        gs.frequency_response(omega)
+
+
+def test_frequency_response_of_numbers_in_any_form():
+    m = _model()
+    gs = loads.gust_system(m, PT)
+    G = gs.frequency_response([-0.5, 0, 2])
+    exact = np.array([np.asarray(m(1j * w)).ravel() for w in (-0.5, 0.0, 2.0)]).T
+    assert np.allclose(G, exact, rtol=1e-12, atol=0) and np.allclose(G[:, 0], gs.frequency_response(0.5)[:, 0].conj())
+    assert np.allclose(gs.frequency_response(np.int64(2)), G[:, 2:], rtol=1e-14) and gs.frequency_response([]).shape == (2, 0)
