@@ -30,7 +30,8 @@ import numpy as np
 from .atmosphere import FlightPoint
 from .errors import FlightPointError, LoadsModelError
 
-__all__ = ["GustSystem", "gust_system", "moment_output_name", "check_moment_axes", "EIGENVECTOR_CONDITION_LIMIT"]
+__all__ = ["GustSystem", "gust_system", "moment_output_name", "moment_outputs", "check_moment_axes",
+           "check_distinct_outputs", "EIGENVECTOR_CONDITION_LIMIT"]
 
 EIGENVECTOR_CONDITION_LIMIT = 1e8
 """Condition number of the eigenvector matrix above which the modal form is refused (it would lose more than half
@@ -116,6 +117,42 @@ class GustSystem:
 def moment_output_name(axis: float) -> str:
     """Name of the moment coefficient about ``axis`` (chords from the leading edge), e.g. ``"Cm@0.400"``."""
     return f"Cm@{axis:.3f}"
+
+
+def _first_repeat(names: list[str]) -> str | None:
+    """The first name in ``names`` that an earlier one equals, else None."""
+    seen = set()
+    for n in names:
+        if n in seen:
+            return n
+        seen.add(n)
+    return None
+
+
+def check_distinct_outputs(names: list[str]) -> None:
+    """:class:`LoadsModelError` naming an output that ``names`` (the ``outputs`` asked for) repeats: the results are
+    keyed by output name (``outputs=["Cl", "Cl"]`` gave a result with outputs ``("Cl", "Cl")``)."""
+    dup = _first_repeat(names)
+    if dup is not None:
+        raise LoadsModelError(f"outputs names {dup!r} more than once ({names}); give each output once")
+
+
+def moment_outputs(axes: list[float], outputs: list[str]) -> list[str]:
+    """Names of the moment outputs about ``axes`` (:func:`moment_output_name`) to add to ``outputs``.
+
+    Raises
+    ------
+    LoadsModelError
+        Two axes, or an axis and an output already there, share a name: ``moment_axes=[0.5, 0.5]`` gave two outputs
+        ``Cm@0.500`` (names are rounded to 0.001 chord).
+    """
+    names = [moment_output_name(x) for x in axes]
+    dup = _first_repeat(list(outputs) + names)
+    if dup is not None:
+        raise LoadsModelError(f"moment_axes {axes} would give two outputs named {dup!r} (the model's outputs are "
+                              f"{list(outputs)}; an axis is named to 0.001 chord): give each axis once, at least "
+                              "0.001 chord apart")
+    return names
 
 
 def _position(name: str, v: Any) -> float:
@@ -224,7 +261,7 @@ def gust_system(model: Any, point: FlightPoint, *, moment_axes=(), moment_refere
     LoadsModelError
         An unsupported type, no ``"gust"`` input, a NaN or inf in the model's matrices, an unstable model, a
         defective state matrix, a moment axis without ``Cl`` and ``Cm`` outputs, a moment axis or
-        ``moment_reference`` that is not a finite number.
+        ``moment_reference`` that is not a finite number, two moment axes that would share an output name.
     FlightPointError
         ``point`` not a :class:`FlightPoint`.
     """
@@ -278,12 +315,12 @@ def _add_moment_axes(C, D, outputs, axes, x_ref):
     if "Cl" not in outputs or "Cm" not in outputs:
         raise LoadsModelError(f"moment_axes needs outputs 'Cl' and 'Cm'; the model's outputs are {outputs}")
     il, im = outputs.index("Cl"), outputs.index("Cm")
+    names = moment_outputs(axes, outputs)
     rowsC, rowsD = [C], [D]
     for x in axes:
         rowsC.append((C[im] + (x - x_ref) * C[il])[None, :])
         rowsD.append(np.atleast_1d(D[im] + (x - x_ref) * D[il]))
-        outputs.append(moment_output_name(x))
-    return np.vstack(rowsC), np.concatenate(rowsD), outputs
+    return np.vstack(rowsC), np.concatenate(rowsD), outputs + names
 
 
 def _modal(A, B, C):

@@ -31,7 +31,7 @@ import numpy as np
 from .atmosphere import FT, H_RANGE_FT, FlightPoint
 from .errors import GustError, LoadsModelError
 from .one_minus_cosine import outputs_at
-from .system import GustSystem, gust_system
+from .system import GustSystem, check_distinct_outputs, gust_system
 
 __all__ = ["TunedGustResult", "tuned_gust", "peak_over_time", "initial_tail", "GOLDEN_STEPS", "ILLINOIS_STEPS", "MAX_SAMPLES",
            "MAX_GRID"]
@@ -410,6 +410,7 @@ def _select(system: GustSystem, outputs) -> list[int]:
     rows = [system.index(o) for o in outputs]
     if not rows:
         raise LoadsModelError("outputs is empty; name at least one of " + str(list(system.outputs)))
+    check_distinct_outputs([system.outputs[r] for r in rows])
     return rows
 
 
@@ -450,8 +451,9 @@ def tuned_gust(model: Any, point: FlightPoint, *, outputs: Sequence[str] | None 
         ``H_range`` outside the rule's without ``outside_rule=True``, or not ``0 < H_min <= H_max``; ``n_grid``
         not an integer in 3 .. :data:`MAX_GRID`; a bad ``h_rtol``; a flight point above 60 000 ft.
     LoadsModelError
-        A model without a ``"gust"`` input, an unknown output, a NaN or inf in the model's matrices, an unstable
-        model, a moment axis or ``moment_reference`` that is not a finite number.
+        A model without a ``"gust"`` input, an unknown or repeated output, a NaN or inf in the model's matrices, an
+        unstable model, a moment axis or ``moment_reference`` that is not a finite number, two moment axes that would
+        share an output name.
     FlightPointError
         ``point`` not a :class:`FlightPoint`.
 

@@ -36,7 +36,7 @@ import numpy as np
 
 from .atmosphere import FT, FlightPoint
 from .errors import GustError, LoadsModelError, SpectrumError
-from .system import GustSystem, check_moment_axes, gust_system, moment_output_name
+from .system import GustSystem, check_distinct_outputs, check_moment_axes, gust_system, moment_outputs
 
 __all__ = ["TurbulenceResult", "continuous_turbulence", "von_karman", "SCALE_LENGTH", "WARN_ERROR"]
 
@@ -240,8 +240,9 @@ def continuous_turbulence(model_or_frf: Any, point: FlightPoint, *, outputs: Seq
     SpectrumError
         ``N0`` diverges (a feedthrough, no cut-off), or the quadrature did not reach ``rtol`` (model path).
     LoadsModelError
-        No ``"gust"`` input, unknown output, a NaN or inf in the model's matrices, unstable model, data without
-        continuous frequencies, a moment axis or ``moment_reference`` that is not a finite number.
+        No ``"gust"`` input, an unknown or repeated output, a NaN or inf in the model's matrices, unstable model,
+        data without continuous frequencies, a moment axis or ``moment_reference`` that is not a finite number, two
+        moment axes that would share an output name.
     GustError
         Bad ``f_max_hz``, ``rtol`` or ``L_m``; a point above 60 000 ft (no turbulence intensity there).
     """
@@ -271,6 +272,7 @@ def _rows(names_all, outputs):
         rows.append(list(names_all).index(o))
     if not rows:
         raise LoadsModelError("outputs is empty")
+    check_distinct_outputs([names_all[r] for r in rows])
     return rows
 
 
@@ -435,7 +437,7 @@ def _from_data(frf, point, outputs, L, f_max, moment_axes, moment_reference):
         il, im = names_all.index("Cl"), names_all.index("Cm")
         extra = [H[im] + (x - x_ref) * H[il] for x in axes]
         H = np.vstack([H] + [e[None] for e in extra])
-        names_all += [moment_output_name(x) for x in axes]
+        names_all += moment_outputs(axes, names_all)
     rows = _rows(names_all, outputs)
     names = [names_all[r] for r in rows]
     w = np.asarray(frf.omega, dtype=float)

@@ -83,3 +83,14 @@ def test_frequency_response_of_numbers_in_any_form():
     exact = np.array([np.asarray(m(1j * w)).ravel() for w in (-0.5, 0.0, 2.0)]).T
     assert np.allclose(G, exact, rtol=1e-12, atol=0) and np.allclose(G[:, 0], gs.frequency_response(0.5)[:, 0].conj())
     assert np.allclose(gs.frequency_response(np.int64(2)), G[:, 2:], rtol=1e-14) and gs.frequency_response([]).shape == (2, 0)
+
+
+@pytest.mark.parametrize("axes", [[0.5, 0.5], [0.5, 0.5004], np.array([0.4, 0.3, 0.4])])
+def test_moment_axes_sharing_a_name_are_refused(axes):
+    # [0.5, 0.5] gave two outputs 'Cm@0.500'
+    with pytest.raises(loads.LoadsModelError, match=r"moment_axes .* would give two outputs named 'Cm@0\.[45]00'.*give "
+                                                     "each axis once"):
+        loads.gust_system(_model(), PT, moment_axes=axes)
+    frf = sysid.FrequencyResponse.load("docs/data/frf-T4.npz")
+    with pytest.raises(loads.LoadsModelError, match=r"would give two outputs named 'Cm@0\.[45]00'"):
+        loads.continuous_turbulence(frf, PT, moment_axes=axes)

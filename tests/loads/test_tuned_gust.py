@@ -132,6 +132,10 @@ def test_moment_axes():
     (dict(n_grid=2001), loads.GustError, r"n_grid = 2001 is more than 2000"),
     (dict(h_rtol=0.0), loads.GustError, "h_rtol"),
     (dict(outputs=["Cz"]), loads.LoadsModelError, "no output 'Cz'"),
+    (dict(outputs=["Cl", "Cl"]), loads.LoadsModelError,                       # gave a result with outputs (Cl, Cl)
+     r"outputs names 'Cl' more than once \(\['Cl', 'Cl'\]\); give each output once"),
+    (dict(outputs=["Cl", "Cm@0.400", "Cm@0.400"], moment_axes=[0.4]), loads.LoadsModelError,
+     "outputs names 'Cm@0.400' more than once"),
 ])
 def test_bad_settings(kw, err, match):
     with pytest.raises(err, match=match):

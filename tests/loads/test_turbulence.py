@@ -156,6 +156,8 @@ def test_feedthrough_makes_n0_diverge():
     (dict(L_m=0.0), loads.GustError, "L_m"),
     (dict(L_m="762"), loads.GustError, "L_m must be a positive, finite turbulence scale"),
     (dict(outputs=["Cq"]), loads.LoadsModelError, "no output 'Cq'"),
+    (dict(outputs=["Cl", "Cl"]), loads.LoadsModelError,                       # gave a result with outputs (Cl, Cl)
+     r"outputs names 'Cl' more than once \(\['Cl', 'Cl'\]\); give each output once"),
 ])
 def test_bad_input(kw, err, match):
     sys, _, _ = _jones_sears_model()
