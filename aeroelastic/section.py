@@ -40,7 +40,9 @@ __all__ = ["TypicalSection", "check_section", "A_RANGE"]
 
 
 def _num(name: str, v, *, positive: bool = False) -> float:
-    if isinstance(v, bool):
+    """``v`` as a finite float (> 0 with ``positive``), else :class:`SectionError` naming ``name``; a bool or a string
+    is refused, not converted (as :class:`cfd.FlowCondition` does: ``mu="20"`` was parsed)."""
+    if isinstance(v, (bool, np.bool_, str, bytes)):
         raise SectionError(f"{name} must be a real number, got {v!r}")
     try:
         f = float(v)
@@ -79,9 +81,10 @@ class TypicalSection:
     Raises
     ------
     SectionError
-        A parameter is not a finite number, ``mu``, ``r_alpha2`` or ``omega_ratio`` is not positive,
-        ``r_alpha2 <= x_alpha^2``, the elastic axis lies outside ``-3 <= a <= 1`` (behind the trailing edge, or
-        more than a chord ahead of the leading edge), or a damping ratio outside ``[0, 1)``.
+        A parameter is not a finite real number (a string such as ``"20"`` or a bool is refused, not converted),
+        ``mu``, ``r_alpha2`` or ``omega_ratio`` is not positive, ``r_alpha2 <= x_alpha^2``, the elastic axis lies
+        outside ``-3 <= a <= 1`` (behind the trailing edge, or more than a chord ahead of the leading edge), or a
+        damping ratio outside ``[0, 1)``.
 
     Examples
     --------

@@ -46,7 +46,9 @@ _U_SIGMA = ((0.0, 90.0), (24000.0, 79.0))                       # ft, ft/s TAS, 
 
 
 def _real(name: str, v: Any) -> float:
-    if isinstance(v, (bool, np.bool_)):
+    """``v`` as a finite float, else :class:`FlightPointError` naming ``name``; a bool or a string is refused, not
+    converted (as :class:`cfd.FlowCondition` does: ``"0.5"`` was parsed)."""
+    if isinstance(v, (bool, np.bool_, str, bytes)):
         raise FlightPointError(f"{name} must be a real number, got {v!r}")
     try:
         f = float(v)
@@ -85,7 +87,8 @@ def alleviation_factor(altitude_m: float, z_mo_m: float, mlw_over_mtow: float, m
     Raises
     ------
     FlightPointError
-        A value not finite, ``Z_mo <= 0`` or above 250 000 ft, a ratio outside (0, 1], ``MZFW > MLW``.
+        A value not a finite real number (a string or bool is refused, not converted), ``Z_mo <= 0`` or above
+        250 000 ft, a ratio outside (0, 1], ``MZFW > MLW``.
     """
     h = _real("altitude_m", altitude_m)
     z = _real("z_mo_m", z_mo_m)
@@ -131,7 +134,8 @@ class FlightPoint:
     Raises
     ------
     FlightPointError
-        Mach, altitude, chord or F_g out of range or not a finite number; an unknown ``design_speed``.
+        Mach, altitude, chord or F_g out of range or not a finite real number (a string such as ``"0.5"`` or a bool
+        is refused, not converted); an unknown ``design_speed``.
 
     Examples
     --------

@@ -52,7 +52,8 @@ class FlexibleSection:
     Raises
     ------
     aeroelastic.SectionError
-        Section parameters out of range (checked by :class:`aeroelastic.TypicalSection`).
+        Section parameters out of range or not finite real numbers (a string or bool is refused, not converted;
+        checked by :class:`aeroelastic.TypicalSection`), ``mass``, ``omega_h`` or ``omega_alpha`` not > 0.
     LoadsModelError
         ``aero`` without a gust model.
     aeroelastic.AeroModelError
@@ -75,10 +76,10 @@ class FlexibleSection:
         for name in ("mass", "omega_h", "omega_alpha"):
             v = getattr(self, name)
             try:
-                f = float(v)
+                f = math.nan if isinstance(v, (bool, np.bool_, str, bytes)) else float(v)   # "100" was parsed
             except (TypeError, ValueError):
                 f = math.nan
-            if isinstance(v, bool) or not (math.isfinite(f) and f > 0):
+            if not (math.isfinite(f) and f > 0):
                 raise ae.SectionError(f"{name} must be a positive, finite number (SI units), got {v!r}")
             object.__setattr__(self, name, f)
         # checks a, x_alpha, r_alpha2, damping (mu and the ratio are placeholders here)

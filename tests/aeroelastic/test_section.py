@@ -19,6 +19,10 @@ HP = dict(mu=20, a=-0.2, x_alpha=0.1, r_alpha2=0.24, omega_ratio=0.4)
         (dict(omega_ratio=0.0), "omega_ratio must be > 0"),
         (dict(r_alpha2=0.01), "must exceed x_alpha"),
         (dict(r_alpha2=float("inf")), "r_alpha2 must be finite"),
+        # text is refused, not parsed (as cfd.FlowCondition refuses it); a numpy bool is not a number either
+        (dict(mu="20"), r"mu must be a real number, got '20'"),
+        (dict(omega_ratio=b"0.4"), "omega_ratio must be a real number"),
+        (dict(x_alpha=np.True_), "x_alpha must be a real number"),
     ],
 )
 def test_invalid_inputs_raise_typed_errors(change, match):
@@ -56,7 +60,9 @@ def test_elastic_axis_off_the_section_is_refused(a, match):
 
 
 @pytest.mark.parametrize("damping, match", [(-0.01, r"\[0, 1\)"), (1.0, r"\[0, 1\)"), ((0.1, 0.2, 0.3), "two"),
-                                            (float("nan"), "finite"), ("some", "real number")])
+                                            (float("nan"), "finite"), ("some", "real number"),
+                                            ("0.02", "damping must be a real number, got '0.02'"),
+                                            ((0.01, "0.02"), "damping must be a real number")])
 def test_bad_damping(damping, match):
     with pytest.raises(SectionError, match=match):
         TypicalSection(**HP, damping=damping)

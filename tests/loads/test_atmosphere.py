@@ -56,6 +56,10 @@ def test_alleviation_factor():
     (dict(altitude_m=-6000.0), "outside the ICAO"), (dict(altitude_m=90000.0), "outside the ICAO"),
     (dict(chord_m=-1.0), "chord_m must be > 0"), (dict(chord_m=float("nan")), "finite"),
     (dict(F_g=0.0), r"F_g .* \(0, 1\]"), (dict(F_g=1.5), r"\(0, 1\]"), (dict(design_speed="VB"), "design_speed"),
+    # text is refused, not parsed (as cfd.FlowCondition refuses it); a bool is not a number
+    (dict(mach="0.5"), r"mach must be a real number, got '0.5'"), (dict(altitude_m=b"0"), "altitude_m must be a real"),
+    (dict(chord_m="2"), "chord_m must be a real number"), (dict(F_g="1"), "F_g must be a real number"),
+    (dict(mach=np.True_), "mach must be a real number"),
 ])
 def test_bad_flight_points(kw, match):
     args = dict(mach=0.5, altitude_m=1000.0, chord_m=2.0) | kw
@@ -75,6 +79,13 @@ def test_above_the_rule_and_bad_alleviation_inputs():
         loads.alleviation_factor(0.0, 12000.0, 0.6, 0.95)
     with pytest.raises(loads.FlightPointError, match="mlw_over_mtow"):
         loads.alleviation_factor(0.0, 10000.0, 1.3, 0.6)
+    with pytest.raises(loads.FlightPointError, match="z_mo_m must be a real number, got '10000'"):
+        loads.alleviation_factor(0.0, "10000", 0.9, 0.6)
+
+
+def test_flight_point_of_numbers_in_any_form():
+    pt = loads.FlightPoint(np.float64(0.5), np.int64(3000), 2, F_g=np.float32(0.5))
+    assert pt == loads.FlightPoint(0.5, 3000.0, 2.0, F_g=0.5) and isinstance(pt.mach, float)
 
 
 @pytest.mark.parametrize("H, match", [

@@ -85,6 +85,12 @@ def test_bad_sections(jones_aero):
         loads.FlexibleSection(jones_aero, mass=-1.0, a=-0.5, x_alpha=0.0, r_alpha2=0.25, omega_h=1.0, omega_alpha=2.0)
     with pytest.raises(ae.SectionError, match="behind the trailing edge"):
         loads.FlexibleSection(jones_aero, mass=1.0, a=5.0, x_alpha=0.0, r_alpha2=0.25, omega_h=1.0, omega_alpha=2.0)
+    # text is refused, not parsed (as cfd.FlowCondition refuses it)
+    with pytest.raises(ae.SectionError, match=r"mass must be a positive, finite number \(SI units\), got '100'"):
+        loads.FlexibleSection(jones_aero, mass="100", a=-0.5, x_alpha=0.0, r_alpha2=0.25, omega_h=1.0, omega_alpha=2.0)
+    with pytest.raises(ae.SectionError, match="damping must be a real number, got '0.02'"):
+        loads.FlexibleSection(jones_aero, mass=1.0, a=-0.5, x_alpha=0.0, r_alpha2=0.25, omega_h=1.0, omega_alpha=2.0,
+                              damping="0.02")
     no_gust = dataclasses.replace(jones_aero, gust=None)
     with pytest.raises(loads.LoadsModelError, match="no gust input"):
         loads.FlexibleSection(no_gust, mass=1.0, a=-0.5, x_alpha=0.0, r_alpha2=0.25, omega_h=1.0, omega_alpha=2.0)
