@@ -28,7 +28,8 @@ import numpy as np
 
 from .errors import FlightPointError, GustError
 
-__all__ = ["FlightPoint", "alleviation_factor", "FT", "G0", "ALTITUDE_RANGE", "H_RANGE_FT", "RULE_MAX_ALTITUDE"]
+__all__ = ["FlightPoint", "alleviation_factor", "check_point", "FT", "G0", "ALTITUDE_RANGE", "H_RANGE_FT",
+           "RULE_MAX_ALTITUDE"]
 
 FT = 0.3048
 """One foot in metres (exact)."""
@@ -278,6 +279,15 @@ class FlightPoint:
 
 RHO0 = 1.225
 """Sea-level density of the ICAO atmosphere, kg/m^3 (the EAS reference)."""
+
+
+def check_point(point: Any) -> FlightPoint:
+    """``point`` itself if it is a :class:`FlightPoint`, else :class:`FlightPointError` naming what it got (the one
+    check of every loads entry point that takes a flight point)."""
+    if not isinstance(point, FlightPoint):
+        raise FlightPointError(f"point must be a loads.FlightPoint(mach, altitude_m, chord_m), got "
+                               f"{type(point).__name__}")
+    return point
 
 
 def _gradients(H_m: Any) -> np.ndarray:

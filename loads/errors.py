@@ -6,7 +6,8 @@ __all__ = ["FlightPointError", "GustError", "LoadsModelError", "SpectrumError"]
 
 
 class FlightPointError(ValueError):
-    """A flight point is outside what the atmosphere or the rule covers (Mach, altitude, chord, F_g)."""
+    """A flight point is outside what the atmosphere or the rule covers (Mach, altitude, chord, F_g), or a ``point``
+    argument is not a :class:`loads.FlightPoint`."""
 
 
 class GustError(ValueError):

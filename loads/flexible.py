@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from .atmosphere import G0, FlightPoint
+from .atmosphere import G0, FlightPoint, check_point
 from .errors import LoadsModelError
 
 __all__ = ["FlexibleSection"]
@@ -100,21 +100,39 @@ class FlexibleSection:
         return 0.5 * (1.0 + self.a)
 
     def typical_section(self, point: FlightPoint | None = None, *, mu: float | None = None):
-        """The :class:`aeroelastic.TypicalSection` at ``point`` (``mu = m / (pi rho b^2)``), or with ``mu`` given."""
+        """The :class:`aeroelastic.TypicalSection` at ``point`` (``mu = m / (pi rho b^2)``), or with ``mu`` given.
+
+        Raises
+        ------
+        loads.FlightPointError
+            No ``mu`` and ``point`` not a :class:`FlightPoint`.
+        """
         import aeroelastic as ae
 
         if mu is None:
-            b = 0.5 * point.chord_m
+            b = 0.5 * check_point(point).chord_m
             mu = self.mass / (math.pi * point.rho * b * b)
         return ae.TypicalSection(mu=mu, a=self.a, x_alpha=self.x_alpha, r_alpha2=self.r_alpha2,
                                  omega_ratio=self.omega_h / self.omega_alpha, damping=self.damping)
 
     def speed_index(self, point: FlightPoint) -> float:
-        """``V = U / (b omega_alpha)`` at ``point``."""
-        return point.tas / (0.5 * point.chord_m * self.omega_alpha)
+        """``V = U / (b omega_alpha)`` at ``point``.
+
+        Raises
+        ------
+        loads.FlightPointError
+            ``point`` not a :class:`FlightPoint`.
+        """
+        return check_point(point).tas / (0.5 * point.chord_m * self.omega_alpha)
 
     def state_space(self, point: FlightPoint):
-        """``(A, B, C, D, inputs, outputs, scales)`` in convective time at ``point`` (see the module notes)."""
+        """``(A, B, C, D, inputs, outputs, scales)`` in convective time at ``point`` (see the module notes).
+
+        Raises
+        ------
+        loads.FlightPointError
+            ``point`` not a :class:`FlightPoint`.
+        """
         import aeroelastic as ae
 
         sec = self.typical_section(point)

@@ -27,8 +27,8 @@ from typing import Any
 
 import numpy as np
 
-from .atmosphere import FlightPoint
-from .errors import FlightPointError, LoadsModelError
+from .atmosphere import FlightPoint, check_point
+from .errors import LoadsModelError
 
 __all__ = ["GustSystem", "gust_system", "moment_output_name", "moment_outputs", "check_moment_axes",
            "check_distinct_outputs", "EIGENVECTOR_CONDITION_LIMIT"]
@@ -265,9 +265,7 @@ def gust_system(model: Any, point: FlightPoint, *, moment_axes=(), moment_refere
     FlightPointError
         ``point`` not a :class:`FlightPoint`.
     """
-    if not isinstance(point, FlightPoint):
-        raise FlightPointError(f"point must be a loads.FlightPoint(mach, altitude_m, chord_m), got "
-                               f"{type(point).__name__}")
+    check_point(point)
     from .flexible import FlexibleSection
 
     moment_axes, moment_reference = check_moment_axes(moment_axes, moment_reference)

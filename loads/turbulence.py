@@ -34,7 +34,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from .atmosphere import FT, FlightPoint
+from .atmosphere import FT, FlightPoint, check_point
 from .errors import GustError, LoadsModelError, SpectrumError
 from .system import GustSystem, check_distinct_outputs, check_moment_axes, gust_system, moment_outputs
 
@@ -245,11 +245,12 @@ def continuous_turbulence(model_or_frf: Any, point: FlightPoint, *, outputs: Seq
         moment axes that would share an output name.
     GustError
         Bad ``f_max_hz``, ``rtol`` or ``L_m``; a point above 60 000 ft (no turbulence intensity there).
+    FlightPointError
+        ``point`` not a :class:`FlightPoint` (as for :func:`loads.gust_system`; it was a GustError).
     """
     import sysid
 
-    if not isinstance(point, FlightPoint):
-        raise GustError(f"point must be a loads.FlightPoint, got {type(point).__name__}")
+    check_point(point)
     point.turbulence_intensity()   # the rule's U_sigma exists at the point: checked before the integrals
     f_max = _check_fmax(f_max_hz)
     rtol = _check_rtol(rtol)

@@ -96,6 +96,14 @@ def test_bad_sections(jones_aero):
         loads.FlexibleSection(no_gust, mass=1.0, a=-0.5, x_alpha=0.0, r_alpha2=0.25, omega_h=1.0, omega_alpha=2.0)
 
 
+@pytest.mark.parametrize("method", ["state_space", "speed_index", "typical_section"])
+def test_a_point_that_is_not_a_flight_point_is_refused(jones_aero, method):
+    # an AttributeError ('NoneType' object has no attribute 'chord_m') before
+    sec = loads.FlexibleSection(jones_aero, mass=1.0, a=-0.5, x_alpha=0.0, r_alpha2=0.25, omega_h=1.0, omega_alpha=2.0)
+    with pytest.raises(loads.FlightPointError, match=r"point must be a loads.FlightPoint.*got NoneType"):
+        getattr(sec, method)(None)
+
+
 def test_above_flutter_is_refused(jones_aero):
     # speed index 8.2 at M 0.6, sea level; aeroelastic.flutter puts this section's flutter at 2.49
     sec = loads.FlexibleSection(jones_aero, mass=50.0, a=-0.5, x_alpha=0.2, r_alpha2=0.3, omega_h=10.0,

@@ -165,6 +165,17 @@ def test_bad_input(kw, err, match):
         loads.continuous_turbulence(sys, PT, **({"f_max_hz": 20.0} | kw))
 
 
+@pytest.mark.parametrize("point", [None, (0.5, 3000.0, 2.0)])
+def test_a_point_that_is_not_a_flight_point_is_refused_as_by_gust_system(point):
+    # it was a GustError here and a FlightPointError from gust_system (and tuned_gust)
+    sys, _, _ = _jones_sears_model()
+    with pytest.raises(loads.FlightPointError, match=r"point must be a loads.FlightPoint\(mach, altitude_m, chord_m\), "
+                                                     "got (NoneType|tuple)"):
+        loads.continuous_turbulence(sys, point, f_max_hz=20.0)
+    with pytest.raises(loads.FlightPointError, match="point must be a loads.FlightPoint"):
+        loads.continuous_turbulence(sysid.FrequencyResponse.load("docs/data/frf-T4.npz"), point)
+
+
 @pytest.mark.parametrize("x, y, match", [
     ("Cl", "X", r"y = 'X' is not an output of the turbulence result; its outputs are \['Cl'\]"),  # bare ValueError
     (0, "Cl", r"x = 0 is not an output"),
