@@ -18,6 +18,19 @@ Units and conventions (those of the project, docs/conventions.md)
   (``unit="semichord"`` for the classical ``s_b = U t / b = 2 s``). The Kussner function is the
   lift build-up after a sharp-edged gust's front passes the leading edge; it is the step response of
   the leading-edge-referenced Sears function.
+
+Large frequencies. The Bessel-function forms are evaluated with the exponentially scaled functions
+(``K_nu(i k) e^{i k}``, ``H_nu^(2)(k) e^{i k}``), whose factors ``e^{i k}`` cancel in Theodorsen's ratio and are
+put back exactly (``np.exp(1j k)``) in the Sears function. From ``k = K_ASYMPTOTIC`` on (SciPy's AMOS routines
+return NaN above ``k ~ 1e9`` for ``K_nu(i k)`` and ``k ~ 1e16`` for ``H_nu^(2)(k)``) the scaled functions are
+Hankel's expansion (DLMF 10.17.6; 10.40.2 with ``z = i k`` is the same series term by term)::
+
+    H_nu^(2)(k) e^{i k} = sqrt(2 / (pi k)) e^{i (nu pi / 2 + pi / 4)} sum_{m < 6} (-i)^m a_m(nu) / k^m
+
+For real ``k > 0`` and ``nu = 0, 1`` the remainder is at most the first neglected term (DLMF 10.17(iii)), a
+relative ``|a_6(nu)| / k^6 <= 6.8e-25`` at ``k >= 1e4``, far below round-off. So every function here is finite
+for every finite ``omega >= 0``. At large ``k``, ``S = e^{i (k - pi / 4)} / sqrt(2 pi k) (1 + O(1 / k))`` at
+mid-chord (``e^{-i pi / 4} / sqrt(2 pi k)`` at the leading edge) and ``C = 1 / 2 + O(1 / k)``.
 """
 
 import numpy as np
@@ -62,6 +75,49 @@ def _shift(S, k, reference):
     return S if reference == "midchord" else S * np.exp(-1j * k)
 
 
+K_ASYMPTOTIC = 1.0e4
+"""Reduced frequency ``k = omega / 2`` from which the scaled Bessel functions are Hankel's expansion (module
+docstring); its truncation error there is below 1e-24, relative."""
+
+_N_TERMS = 6
+
+
+def _hankel_series(nu, k):
+    """``sum_{m < 6} (-i)^m a_m(nu) / k^m`` (DLMF 10.17.1, 10.17.6) for ``k > 0``, by Horner's rule in ``1 / k``
+    (no overflow of ``k^m``)."""
+    a = [1.0]
+    for m in range(1, _N_TERMS):
+        a.append(a[-1] * (4.0 * nu * nu - (2 * m - 1) ** 2) / (8.0 * m))
+    u = 1.0 / k
+    total = np.zeros(np.shape(k), dtype=complex)
+    for m in range(_N_TERMS - 1, -1, -1):
+        total = total * u + (-1j) ** m * a[m]
+    return total
+
+
+def _scaled(nu, k, exact, prefactor):
+    """``exact(nu, k)`` below :data:`K_ASYMPTOTIC`, ``prefactor(k) * _hankel_series(nu, k)`` from there on
+    (``k > 0``, an array)."""
+    out = np.empty(k.shape, dtype=complex)
+    low = k < K_ASYMPTOTIC
+    out[low] = exact(nu, k[low])
+    out[~low] = prefactor(k[~low]) * _hankel_series(nu, k[~low])
+    return out
+
+
+def _kv_imaginary_scaled(nu, k):
+    """``K_nu(i k) e^{i k}`` for ``k > 0``: ``special.kve``, or DLMF 10.40.2, ``sqrt(pi / (2 i k))`` times the
+    Hankel series."""
+    return _scaled(nu, k, lambda n, x: special.kve(n, 1j * x),
+                   lambda x: np.sqrt(0.5 * np.pi / x) * np.exp(-0.25j * np.pi))
+
+
+def _hankel2_scaled(nu, k):
+    """``H_nu^(2)(k) e^{i k}`` for ``k > 0``: ``special.hankel2e``, or DLMF 10.17.6."""
+    phase = np.exp(1j * (0.5 * nu * np.pi + 0.25 * np.pi))
+    return _scaled(nu, k, special.hankel2e, lambda x: np.sqrt(2.0 / np.pi / x) * phase)
+
+
 def sears(omega, reference="midchord"):
     """Sears function, modified-Bessel form ``S = 1 / (i k (K0(i k) + K1(i k)))``, ``k = omega / 2``.
 
@@ -75,15 +131,24 @@ def sears(omega, reference="midchord"):
     Returns
     -------
     S : ndarray, complex, shape (...)
-        ``Cl / (2 pi w_ref / U)``.
+        ``Cl / (2 pi w_ref / U)``; finite for every finite ``omega`` (module docstring, "Large frequencies").
+
+    Raises
+    ------
+    AnalyticError
+        ``omega`` not real numbers (complex, text, None), negative or not finite; an unknown ``reference``.
     """
     w = _omega(omega)
     k = 0.5 * w
+    return _shift(_sears_midchord(k), k, reference)
+
+
+def _sears_midchord(k):
+    """:func:`sears` (mid-chord) at reduced frequencies ``k >= 0`` (finite), an array."""
     kk = np.where(k > 0.0, k, 1.0)
-    z = 1j * kk
-    S = 1.0 / (z * (special.kv(0, z) + special.kv(1, z)))
-    S = np.where(k > 0.0, S, 1.0 + 0j)
-    return _shift(S, k, reference)
+    # K_nu(i k) = e^{-i k} (K_nu(i k) e^{i k}): the scaled functions are finite at any k (module docstring)
+    S = np.exp(1j * kk) / (1j * kk * (_kv_imaginary_scaled(0, kk) + _kv_imaginary_scaled(1, kk)))
+    return np.where(k > 0.0, S, 1.0 + 0j)
 
 
 def sears_hankel(omega, reference="midchord"):
@@ -94,7 +159,7 @@ def sears_hankel(omega, reference="midchord"):
     w = _omega(omega)
     k = 0.5 * w
     kk = np.where(k > 0.0, k, 1.0)
-    S = 2.0 / (np.pi * kk * (special.hankel2(0, kk) - 1j * special.hankel2(1, kk)))
+    S = 2.0 * np.exp(1j * kk) / (np.pi * (kk * (_hankel2_scaled(0, kk) - 1j * _hankel2_scaled(1, kk))))
     S = np.where(k > 0.0, S, 1.0 + 0j)
     return _shift(S, k, reference)
 
@@ -114,7 +179,7 @@ def theodorsen(omega):
     w = _omega(omega)
     k = 0.5 * w
     kk = np.where(k > 0.0, k, 1.0)
-    h1, h0 = special.hankel2(1, kk), special.hankel2(0, kk)
+    h1, h0 = _hankel2_scaled(1, kk), _hankel2_scaled(0, kk)   # the factors e^{i k} cancel in the ratio
     return np.where(k > 0.0, h1 / (h1 + 1j * h0), 1.0 + 0j)
 
 
@@ -150,6 +215,11 @@ def sears_compressible(omega, mach, reference="midchord"):
     Returns
     -------
     ndarray, complex, shape (...)
+
+    Raises
+    ------
+    AnalyticError
+        As :func:`sears`; ``mach`` not a number in ``[0, 1)``; ``omega / (2 beta^2)`` beyond the largest float.
     """
     try:
         m = float(mach)
@@ -160,10 +230,15 @@ def sears_compressible(omega, mach, reference="midchord"):
     w = _omega(omega)
     k = 0.5 * w
     beta = np.sqrt(1.0 - m * m)
-    x = k / beta**2
+    with np.errstate(over="ignore"):
+        x = k / beta**2
+    if not np.all(np.isfinite(x)):
+        raise AnalyticError(f"omega / (2 beta^2) overflows at mach = {m!r} (beta = {beta:.3g}): the largest omega "
+                            f"is {np.finfo(float).max * beta**2:.3g}, and the function is a low-frequency one "
+                            "(valid for mach^2 omega / (2 beta^2) small)")
     f = (1.0 - beta) * np.log(m) + beta * np.log1p(beta) - np.log(2.0) if m > 0.0 else 0.0
     a = m * m * x
-    S = sears(2.0 * x) * (special.j0(a) - 1j * special.j1(a)) * np.exp(1j * x * f)
+    S = _sears_midchord(x) * (special.j0(a) - 1j * special.j1(a)) * np.exp(1j * x * f)
     return _shift(S, k, reference)
 
 
@@ -204,10 +279,11 @@ def kussner(s, approximation="jones", unit="chord"):
     ndarray, shape (...)
     """
     sb = _time(s, unit)
+    sp = np.maximum(sb, 0.0)   # psi = 0 for s < 0: exp(-c s_b) there would overflow at s_b ~ -300 / c
     if approximation == "jones":
-        psi = 1.0 - 0.236 * np.exp(-0.058 * sb) - 0.513 * np.exp(-0.364 * sb) - 0.171 * np.exp(-2.42 * sb)
+        psi = 1.0 - 0.236 * np.exp(-0.058 * sp) - 0.513 * np.exp(-0.364 * sp) - 0.171 * np.exp(-2.42 * sp)
     elif approximation == "sears-sparks":
-        psi = 1.0 - 0.5 * np.exp(-0.13 * sb) - 0.5 * np.exp(-sb)
+        psi = 1.0 - 0.5 * np.exp(-0.13 * sp) - 0.5 * np.exp(-sp)
     else:
         raise AnalyticError(f"approximation must be 'jones' or 'sears-sparks'; got {approximation!r}")
     return np.where(sb >= 0.0, psi, 0.0)
@@ -230,7 +306,8 @@ def wagner(s, unit="chord"):
     ndarray, shape (...)
     """
     sb = _time(s, unit)
-    phi = 1.0 - 0.165 * np.exp(-0.0455 * sb) - 0.335 * np.exp(-0.3 * sb)
+    sp = np.maximum(sb, 0.0)   # phi = 0 for s < 0 (no overflow of the exponentials there)
+    phi = 1.0 - 0.165 * np.exp(-0.0455 * sp) - 0.335 * np.exp(-0.3 * sp)
     return np.where(sb >= 0.0, phi, 0.0)
 
 
@@ -259,8 +336,17 @@ def step_response(transfer, s, omega_max=4000.0, n=400_001, high_value=0.0):
     Returns
     -------
     ndarray, shape (n_s,)
+
+    Raises
+    ------
+    AnalyticError
+        ``s`` not real numbers (a complex ``s`` was cast to its real part with only a ``ComplexWarning``).
     """
-    s = np.atleast_1d(np.asarray(s, dtype=float))
+    v = real_array(s)
+    if v is None:
+        raise AnalyticError(f"s must be a real number or an array of real convective times (> 0); got "
+                            f"{kind_of(s)} {s!r:.80}")
+    s = np.atleast_1d(v)
     r = np.linspace(0.0, np.sqrt(omega_max), n)[1:]
     w = r * r
     g = (np.real(transfer(w)) - high_value) * 2.0 * r / w  # d omega = 2 r dr

@@ -134,3 +134,81 @@ def test_bad_input():
 def test_non_numeric_input_is_an_analytic_error(call, match):
     with pytest.raises(AnalyticError, match=match):
         call()
+
+
+# Large frequencies: the scaled Bessel functions and, from K_ASYMPTOTIC on, Hankel's expansion (sears(1e10) was
+# NaN: SciPy's K_nu(i k) gives NaN above k ~ 1e9, H_nu^(2)(k) above k ~ 1e16).
+K_LARGE = [1.0, 30.0, 9.9e3, 1.0e4, 1.0e5, 1.0e8, 1.0e9, 5.0e9, 1.0e10, 1.0e12, 1.0e100, 8.0e307]
+
+
+@pytest.mark.filterwarnings("error")
+@pytest.mark.parametrize("k", K_LARGE)
+def test_sears_and_theodorsen_are_finite_and_agree_at_any_frequency(k):
+    w = 2.0 * k
+    S, Sh, C = sears(w), sears_hankel(w), theodorsen(w)
+    assert np.isfinite(S) and np.isfinite(Sh) and np.isfinite(C)
+    assert abs(S / Sh - 1.0) < 1e-13   # the two forms, evaluated independently below K_ASYMPTOTIC
+    # S = [J0 - i J1] C + i J1 (the classical decomposition), where Cephes' J0, J1 are accurate (their argument
+    # reduction loses ~ k * 1e-16 of phase)
+    if k <= 1e4:
+        from scipy.special import j0, j1
+
+        assert abs(S - ((j0(k) - 1j * j1(k)) * C + 1j * j1(k))) < 1e-12 * abs(S)
+
+
+@pytest.mark.filterwarnings("error")
+@pytest.mark.parametrize("k", [1.0e3, 1.0e4, 1.0e6, 1.0e9, 1.0e10, 1.0e12, 1.0e100])
+def test_large_frequency_asymptotics(k):
+    # From the definitions, with H_nu^(2)(k) ~ sqrt(2 / (pi k)) e^{-i (k - nu pi / 2 - pi / 4)} (1 - i a_1(nu) / k),
+    # a_1(0) = -1/8, a_1(1) = 3/8 (DLMF 10.17.6): S_le = e^{-i pi / 4} / sqrt(2 pi k) (1 + i / (8 k) + O(k^-2)),
+    # S_mid = S_le e^{i k}, C = 1/2 - i / (8 k) + O(k^-2).
+    w = 2.0 * k
+    lead = np.exp(-0.25j * np.pi) / np.sqrt(2.0 * np.pi * k)
+    assert abs(sears(w, "leading_edge") / lead - (1.0 + 1j / (8.0 * k))) < 1.0 / k**2 + 1e-15
+    assert abs(abs(sears(w)) * np.sqrt(2.0 * np.pi * k) - 1.0) < 1.0 / k**2 + 1e-15
+    assert abs(theodorsen(w) - (0.5 - 1j / (8.0 * k))) < 1.0 / k**2 + 1e-15
+
+
+def test_scaled_bessel_functions_match_scipy_across_the_switch():
+    from scipy import special
+
+    from cfd.analytic import K_ASYMPTOTIC, _hankel2_scaled, _kv_imaginary_scaled
+
+    k = np.array([0.5, 50.0, 0.999 * K_ASYMPTOTIC, K_ASYMPTOTIC, 1.001 * K_ASYMPTOTIC, 1e6, 1e8])
+    for nu in (0, 1):
+        np.testing.assert_allclose(_hankel2_scaled(nu, k), special.hankel2e(nu, k), rtol=1e-14)
+        np.testing.assert_allclose(_kv_imaginary_scaled(nu, k), special.kve(nu, 1j * k), rtol=1e-14)
+
+
+def test_moderate_frequencies_keep_the_unscaled_values():
+    from scipy import special
+
+    w = np.concatenate([[0.0], np.logspace(-6, 6, 301)])
+    k = np.where(w > 0, w / 2, 1.0)
+    old_sears = np.where(w > 0, 1.0 / (1j * k * (special.kv(0, 1j * k) + special.kv(1, 1j * k))), 1.0)
+    old_hankel = np.where(w > 0, 2.0 / (np.pi * k * (special.hankel2(0, k) - 1j * special.hankel2(1, k))), 1.0)
+    h1, h0 = special.hankel2(1, k), special.hankel2(0, k)
+    old_c = np.where(w > 0, h1 / (h1 + 1j * h0), 1.0)
+    np.testing.assert_allclose(sears(w), old_sears, rtol=2e-15)
+    np.testing.assert_allclose(sears_hankel(w), old_hankel, rtol=2e-15)
+    np.testing.assert_allclose(theodorsen(w), old_c, rtol=2e-15)
+
+
+@pytest.mark.filterwarnings("error")
+def test_compressible_sears_at_large_frequency():
+    w = np.array([1e10, 1e12])
+    assert np.all(np.isfinite(sears_compressible(w, 0.5)))
+    np.testing.assert_allclose(sears_compressible(w, 0.0), sears(w), rtol=1e-15)
+    with pytest.raises(AnalyticError, match=r"omega / \(2 beta\^2\) overflows at mach = 0.9"):
+        sears_compressible(1.7e308, 0.9)
+
+
+@pytest.mark.filterwarnings("error")
+@pytest.mark.parametrize("s", [-1e10, -1e300, -np.inf])
+def test_indicial_functions_are_zero_long_before_the_step_without_overflow(s):
+    assert kussner(s) == 0.0 and kussner(s, "sears-sparks") == 0.0 and wagner(s) == 0.0
+
+
+def test_step_response_refuses_complex_times():
+    with pytest.raises(AnalyticError, match=r"s must be a real number .*got list \[\(1\+1j\)\]"):
+        step_response(sears, [1.0 + 1.0j])
