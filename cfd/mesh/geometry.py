@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..checks import kind_of, real_array
 from ..errors import GeometryError
 
 __all__ = ["Aerofoil", "TabulatedAerofoil", "naca", "naca64a010", "MAX_PANELS", "MAX_CAMBER"]
@@ -59,6 +60,18 @@ def _real(name, value, what):
         if np.isfinite(value):
             return float(value)
     raise GeometryError(f"{name} must be a finite real number ({what}); got {value!r}")
+
+
+def _points(name, value, what):
+    """``value`` as a float array of real numbers without NaN, else :class:`GeometryError` (None and NaN gave
+    ``(nan, nan)``, a complex value lost its imaginary part, text failed in NumPy)."""
+    v = real_array(value)
+    if v is None:
+        raise GeometryError(f"{name} must be a real number or an array of real numbers ({what}); got "
+                            f"{kind_of(value)} {value!r:.80}")
+    if np.any(np.isnan(v)):
+        raise GeometryError(f"{name} contains NaN; give real numbers ({what})")
+    return v
 
 
 def _check_section(m, p, t):
@@ -187,8 +200,13 @@ class Aerofoil:
         -------
         x, y : ndarray, same shape as ``s``
             Surface coordinates in chords.
+
+        Raises
+        ------
+        GeometryError
+            ``s`` not real numbers (None, text, complex), NaN, or outside ``[0, 1]``.
         """
-        s = np.asarray(s, dtype=float)
+        s = _points("surface parameter s", s, "in [0, 1]: 0 lower TE, 0.5 LE, 1 upper TE")
         if np.any((s < 0.0) | (s > 1.0)):
             raise GeometryError("surface parameter s must lie in [0, 1] (0: lower TE, 0.5: LE, 1: upper TE)")
         phi = np.pi * (2.0 * s - 1.0)
@@ -245,9 +263,14 @@ class Aerofoil:
         -------
         x, y : ndarray, same shape as ``arc``
             Surface coordinates in chords.
+
+        Raises
+        ------
+        GeometryError
+            ``arc`` not real numbers (None, text, complex), NaN, or outside ``[0, perimeter]``.
         """
         s_tab, arc_tab = self._table
-        arc = np.asarray(arc, dtype=float)
+        arc = _points("arc", arc, f"arc lengths in [0, {arc_tab[-1]:.6f}] chords from the lower trailing edge")
         if np.any((arc < -1e-12) | (arc > arc_tab[-1] * (1 + 1e-12))):
             raise GeometryError(f"arc lengths must lie in [0, {arc_tab[-1]:.6f}] (the perimeter)")
         s = np.clip(np.interp(arc, arc_tab, s_tab), 0.0, 1.0)

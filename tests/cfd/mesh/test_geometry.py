@@ -129,6 +129,30 @@ def test_invalid_point_count_and_parameters():
         naca("0012").at_arc([10.0])
 
 
+# NaN and None gave (nan, nan), a complex value lost its imaginary part, text raised a bare ValueError
+@pytest.mark.parametrize("method", ["surface", "at_arc"])
+@pytest.mark.parametrize("value, match", [
+    (np.nan, r"contains NaN; give real numbers"),
+    ([0.2, np.nan], r"contains NaN; give real numbers"),
+    (None, r"must be a real number or an array of real numbers .*got NoneType None"),
+    ("x", r"must be a real number or an array of real numbers .*got str 'x'"),
+    (0.5 + 0j, r"must be a real number or an array of real numbers .*got complex"),
+    ([0.1, None], r"must be a real number or an array of real numbers .*got list"),
+])
+def test_surface_points_refuse_values_that_are_not_real_numbers(method, value, match):
+    foil = naca("0012")
+    with pytest.raises(GeometryError, match=match):
+        getattr(foil, method)(value)
+
+
+def test_surface_point_messages_say_what_they_take():
+    foil = naca("0012")
+    with pytest.raises(GeometryError, match=r"surface parameter s .*\(in \[0, 1\]: 0 lower TE"):
+        foil.surface(None)
+    with pytest.raises(GeometryError, match=r"arc .*arc lengths in \[0, 2\.0\d+\] chords"):
+        foil.at_arc(None)
+
+
 # ---------------------------------------------------------------- NACA 64A010 (tabulated)
 from cfd import TabulatedAerofoil, naca64a010  # noqa: E402
 
