@@ -24,7 +24,7 @@ from functools import lru_cache
 import numpy as np
 import scipy.sparse as sp
 
-from .checks import kind_of, whole_number
+from .checks import kind_of, real_array, whole_number
 from .errors import FlowConditionError, MeshError
 from .euler import DEFAULT_SCHEME, check_input, lift_coefficient, residual
 
@@ -202,10 +202,9 @@ def jacobian(grid, q, flow, *, face_velocity=None, source=None, scheme=None, chu
         raise FlowConditionError(f"chunk must be a whole number >= 1 (colours per batched residual, default 8); got "
                                  f"{chunk!r}")
     chunk = n
-    try:
-        q = np.asarray(q, dtype=float)
-    except (TypeError, ValueError):
-        raise FlowConditionError(f"q must be an array of real conserved states; got {kind_of(q)}") from None
+    q_given, q = q, real_array(q)   # None for text, and for complex (it lost its imaginary part, a ComplexWarning)
+    if q is None:
+        raise FlowConditionError(f"q must be an array of real conserved states; got {kind_of(q_given)}")
     check_input(grid, q, flow, scheme, face_velocity, None)   # residual's checks: the types and the shapes
     if q.shape != grid.cell_shape + (4,):   # a batch of states: residual takes it, the Jacobian is of one state
         raise MeshError(f"q has shape {q.shape}; the Jacobian is of one state: this grid needs "

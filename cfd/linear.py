@@ -42,7 +42,7 @@ import scipy.sparse as sp
 
 from .superlu import splu_nested, splu_pivoted
 from .boundary import wall_pressure
-from .checks import not_a_grid
+from .checks import kind_of, not_a_grid, real_array
 from .euler import Scheme, residual
 from .flow import NON_PHYSICAL, FlowCondition, is_physical, pressure
 from .gust import cell_x_gradient, svm_source
@@ -444,10 +444,9 @@ def linearise_state(grid, q, flow, scheme=None):
         raise LinearError(f"flow must be a cfd.FlowCondition; got {type(flow).__name__}")
     if scheme is not None and not isinstance(scheme, Scheme):
         raise LinearError(f"scheme must be a cfd.Scheme or None (the solution's or the default); got {scheme!r}")
-    try:
-        q = np.asarray(q, dtype=float)
-    except (TypeError, ValueError):
-        raise LinearError(f"the steady state q must be an array of real numbers; got {type(q).__name__}") from None
+    q_given, q = q, real_array(q)   # None for text, and for complex (it lost its imaginary part, a ComplexWarning)
+    if q is None:
+        raise LinearError(f"the steady state q must be an array of real numbers; got {kind_of(q_given)}")
     if q.shape != grid.cell_shape + (4,):
         raise LinearError(f"steady state has shape {q.shape}; this grid needs {grid.cell_shape + (4,)}")
     if not is_physical(q, flow.gamma):

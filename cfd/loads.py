@@ -11,7 +11,7 @@ moment is about ``(0.25, 0)``, nose-up positive. Reference: dynamic pressure ``0
 import numpy as np
 
 from .boundary import wall_pressure
-from .checks import not_a_grid
+from .checks import not_a_grid, real_array
 from .errors import FlowConditionError, MeshError
 from .euler import check_state
 from .flow import NON_PHYSICAL, FlowCondition, is_physical
@@ -96,15 +96,15 @@ def force_coefficients(grid, q, flow, x_ref=(0.25, 0.0)):
     Raises
     ------
     MeshError, FlowConditionError
-        As :func:`wall_cp`; ``x_ref`` not two finite numbers (FlowConditionError; ``(nan, 0)`` gave a NaN ``cm``
-        and a third coordinate was ignored).
+        As :func:`wall_cp`; ``x_ref`` not two finite real numbers (FlowConditionError; ``(nan, 0)`` gave a NaN
+        ``cm``, a third coordinate was ignored, a complex point lost its imaginary part).
     """
-    try:
-        ref = np.asarray(x_ref, dtype=float)
-    except (TypeError, ValueError):
+    ref = real_array(x_ref)   # None for text and complex (a complex point lost its imaginary part)
+    if ref is None:
         ref = np.zeros(0)
     if ref.shape != (2,) or not np.all(np.isfinite(ref)):
-        raise FlowConditionError(f"x_ref must be a finite point (x, y) in chords, e.g. (0.25, 0.0); got {x_ref!r}")
+        raise FlowConditionError(f"x_ref must be a finite point (x, y) in chords, e.g. (0.25, 0.0); got "
+                                 f"{x_ref!r}")
     x_ref = ref
     _, cp = wall_cp(grid, q, flow)
     s = grid.sj[:, grid.wall, 0]

@@ -47,7 +47,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from .checks import callback, flag, log_interval as check_log_interval, not_a_grid, whole_number
+from .checks import callback, flag, kind_of, log_interval as check_log_interval, not_a_grid, real_array, whole_number
 from .superlu import splu_nested, splu_pivoted
 from .errors import ConvergenceError, FlowConditionError, MeshError
 from .euler import DEFAULT_SCHEME, Scheme, residual as _euler_residual, spectral_radius_sum
@@ -305,7 +305,7 @@ def solve_steady(grid, mach, alpha_deg, *, gamma=1.4, tol=1e-10, scheme=None, q0
     ------
     FlowConditionError
         Mach out of [0.01, 1) (``cfd.flow.MIN_MACH``; a ``RuntimeWarning`` below 0.1), NaN or infinite input, or
-        a non-physical ``q0``; a bad setting: ``tol`` not in (0, 1), ``cfl0``, ``cfl_rk``, ``cfl_min``,
+        a ``q0`` not real (complex, text) or non-physical (NaN, inf, non-positive density or pressure); a bad setting: ``tol`` not in (0, 1), ``cfl0``, ``cfl_rk``, ``cfl_min``,
         ``max_change`` or ``max_rise`` not positive and finite, ``cfl_max`` not positive, ``growth`` below 1,
         ``chord_ratio`` not in [0, 1], ``n_rk``, ``max_newton`` or ``max_chord`` not a whole number >= 0,
         ``scheme`` not a ``cfd.Scheme`` with finite non-negative constants, an unknown ``strategy``, ``verbose``
@@ -351,7 +351,12 @@ def solve_steady(grid, mach, alpha_deg, *, gamma=1.4, tol=1e-10, scheme=None, q0
     if q0 is None:
         q = np.broadcast_to(flow.q, grid.cell_shape + (4,)).copy()
     else:
-        q = np.array(q0, dtype=float)
+        q = real_array(q0)   # a complex q0 lost its imaginary part with only a ComplexWarning
+        if q is None:
+            raise FlowConditionError(f"q0 must be an array of real conserved states (rho, rho u, rho v, rho E per "
+                                     f"cell); got {kind_of(q0)}: pass a converged solution's q (real), or q0=None "
+                                     "for the free stream")
+        q = q.copy()
         if q.shape != grid.cell_shape + (4,):
             raise MeshError(f"q0 has shape {q.shape}; this grid needs {grid.cell_shape + (4,)}")
         if not _positive(q, gamma):

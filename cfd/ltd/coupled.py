@@ -47,6 +47,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..checks import real_array
 from ..gust import face_gust
 from ..frequencies import check_pivot, check_x_ref
 from ..linear import LinearError, check_gust_method, check_linear_system
@@ -123,10 +124,9 @@ def _matrix(name, a, required=True):
             raise LinearError(f"{name} is required: a (2, 2) array for x = [h, alpha] (nondimensional, see "
                               "cfd.ltd.coupled)")
         return np.zeros((2, 2))
-    try:
-        m = np.array(a, dtype=float)
-    except (TypeError, ValueError):
-        raise LinearError(f"{name} must be a real (2, 2) array for x = [h, alpha]; got {a!r}") from None
+    m = real_array(a)   # None for text, and for complex (it lost its imaginary part with only a ComplexWarning)
+    if m is None:
+        raise LinearError(f"{name} must be a real (2, 2) array for x = [h, alpha]; got {a!r}")
     if m.shape != (2, 2):
         raise LinearError(f"{name} has shape {m.shape}; it must be (2, 2), rows and columns [h, alpha]")
     if not np.all(np.isfinite(m)):

@@ -90,6 +90,19 @@ def test_a_state_with_nan_is_refused(transonic):
         jacobian(grid, q, flow)
 
 
+@pytest.mark.parametrize("q", ["state", None, "complex"])
+def test_a_state_that_is_not_real_is_refused(q):
+    # a complex q lost its imaginary part with only a ComplexWarning
+    from cfd import FlowCondition, FlowConditionError
+
+    grid = parabolic_c_grid(thickness=0.1, n_surface=32, n_wake=8, nj=13)
+    flow = FlowCondition(0.5)
+    if q == "complex":
+        q = np.broadcast_to(flow.q, grid.cell_shape + (4,)) + 1e-3j
+    with pytest.raises(FlowConditionError, match=r"q must be an array of real conserved states; got "):
+        jacobian(grid, q, flow)
+
+
 @pytest.mark.parametrize("args, error, match", [
     # a state of the wrong shape raised NumPy's "operands could not be broadcast" from the colouring
     (lambda g, q, flow: (g, np.zeros((3, 3, 4)), flow), "MeshError", r"q has shape \(3, 3, 4\); this grid needs"),

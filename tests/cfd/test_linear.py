@@ -161,6 +161,9 @@ def test_linearise_state_checks_its_arguments(perturbed):
         linearise_state(None, q, flow)
     with pytest.raises(LinearError, match="flow must be a cfd.FlowCondition"):
         linearise_state(grid, q, 0.4)
+    # a complex state lost its imaginary part with only a ComplexWarning
+    with pytest.raises(LinearError, match=r"the steady state q must be an array of real numbers; got dtype complex"):
+        linearise_state(grid, q + 1e-3j, flow)
 
 
 @pytest.mark.parametrize("call", [

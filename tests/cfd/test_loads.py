@@ -78,7 +78,7 @@ def test_flow_and_grid_types_are_checked(load):
         load(None, q, flow)
 
 
-@pytest.mark.parametrize("x_ref", [(np.nan, 0.0), (0.25, 0.0, 0.0), (0.25,), "quarter"])
+@pytest.mark.parametrize("x_ref", [(np.nan, 0.0), (0.25, 0.0, 0.0), (0.25,), "quarter", (0.25 + 1j, 0.0)])
 def test_moment_reference_must_be_a_finite_point(x_ref):
     # (nan, 0) gave a NaN cm, (0.25, 0, 0) was taken as (0.25, 0)
     g = parabolic_c_grid(thickness=0.1, n_surface=32, n_wake=8, nj=13)

@@ -131,6 +131,19 @@ def test_nan_initial_state_is_refused(grid0012):
         cfd.solve_steady(grid0012, 0.5, 0.0, q0=q0)
 
 
+@pytest.mark.parametrize("make, match", [
+    # a complex q0 lost its imaginary part with only a ComplexWarning; text failed in NumPy
+    (lambda q: q + 0j, r"q0 must be an array of real conserved states .*got dtype complex128: pass a converged"),
+    (lambda q: q.astype(np.complex64), r"q0 must be an array of real conserved states .*got dtype complex64"),
+    (lambda q: "free stream", r"q0 must be an array of real conserved states .*got str"),
+])
+def test_initial_state_must_be_real(grid0012, make, match):
+    q = np.broadcast_to(cfd.FlowCondition(0.5).q, grid0012.cell_shape + (4,)).copy()
+    for strategy in ("classic", "chord"):
+        with pytest.raises(FlowConditionError, match=match):
+            cfd.solve_steady(grid0012, 0.5, 0.0, q0=make(q), strategy=strategy)
+
+
 def test_stall_raises_convergence_error_with_history(grid0012):
     with pytest.raises(ConvergenceError, match="no convergence in 1 Newton steps") as err:
         cfd.solve_steady(grid0012, 0.8, 1.25, n_rk=5, max_newton=1, strategy="classic")

@@ -149,6 +149,7 @@ def test_sine_gust_response_matches_the_frequency_domain_coupling(lin):
     (dict(mass=np.eye(3)), "shape"),
     (dict(stiffness=[[1.0, np.nan], [0.0, 1.0]]), "NaN"),
     (dict(load="none"), "real"),
+    (dict(mass=np.eye(2) + 0.1j), r"mass must be a real \(2, 2\) array"),   # lost its imaginary part
     (dict(mass=None), "required"),
     (dict(pivot=np.inf), "pivot"),
     # the step's structural rows cancel (15 = 1.5 / dt): a positive mass, yet no coupled step
