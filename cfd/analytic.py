@@ -36,7 +36,7 @@ mid-chord (``e^{-i pi / 4} / sqrt(2 pi k)`` at the leading edge) and ``C = 1 / 2
 import numpy as np
 from scipy import special
 
-from .checks import kind_of, real_array
+from .checks import kind_of, real_array, real_number
 
 __all__ = [
     "AnalyticError",
@@ -221,11 +221,8 @@ def sears_compressible(omega, mach, reference="midchord"):
     AnalyticError
         As :func:`sears`; ``mach`` not a number in ``[0, 1)``; ``omega / (2 beta^2)`` beyond the largest float.
     """
-    try:
-        m = float(mach)
-    except (TypeError, ValueError):
-        m = np.nan   # refused just below, with the value as given
-    if isinstance(mach, bool) or not (np.isfinite(m) and 0.0 <= m < 1.0):
+    m = real_number(mach)   # None for a bool, text, None: refused just below, with the value as given
+    if m is None or not (np.isfinite(m) and 0.0 <= m < 1.0):
         raise AnalyticError(f"mach = {mach!r} must be in [0, 1) for the subsonic compressible Sears function")
     w = _omega(omega)
     k = 0.5 * w

@@ -1,12 +1,34 @@
-"""Argument checks shared by the solvers: whole numbers given as ints, numpy integers or whole-valued floats;
-arrays of real numbers; the message for an argument that is not a grid; flags, progress callbacks and log intervals
+"""Argument checks shared by the solvers: real numbers (not bools or text); whole numbers given as ints, numpy
+integers or whole-valued floats; arrays of real numbers; the message for an argument that is not a grid; flags, progress callbacks and log intervals
 (each raising the caller's own error class)."""
 
 import math
 
 import numpy as np
 
-__all__ = ["whole_number", "real_array", "kind_of", "not_a_grid", "flag", "callback", "log_interval"]
+__all__ = ["real_number", "whole_number", "real_array", "kind_of", "not_a_grid", "flag", "callback", "log_interval"]
+
+
+def real_number(value):
+    """``value`` as a float if it is a real number (an int, float, numpy scalar or 0-d array of one; NaN and inf
+    included: the caller checks the range), else None: a bool (``True`` is not 1.0 here), text (``"0.5"`` would be
+    parsed by ``float``), None, a complex number (``float`` keeps a numpy complex's real part with only a
+    ``ComplexWarning``) or anything ``float`` refuses.
+
+    Parameters
+    ----------
+    value : object
+
+    Returns
+    -------
+    float or None
+    """
+    if isinstance(value, (bool, np.bool_, str, bytes)) or value is None or np.iscomplexobj(value):
+        return None
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        return None
 
 
 def whole_number(value, allow_inf=False):
@@ -23,11 +45,8 @@ def whole_number(value, allow_inf=False):
     -------
     int, float (inf) or None
     """
-    if isinstance(value, (bool, str, bytes)) or value is None:
-        return None
-    try:
-        f = float(value)
-    except (TypeError, ValueError):
+    f = real_number(value)
+    if f is None:
         return None
     if math.isinf(f) and f > 0 and allow_inf:
         return math.inf
@@ -83,13 +102,7 @@ def callback(name, value, error):
 def log_interval(value, error):
     """``log_interval`` (seconds between progress lines) as a float: a number >= 0 (0 logs every step, inf never),
     else ``error``."""
-    if isinstance(value, (bool, str, bytes)) or value is None:
-        v = math.nan
-    else:
-        try:
-            v = float(value)
-        except (TypeError, ValueError):
-            v = math.nan
-    if not v >= 0.0:
+    v = real_number(value)
+    if v is None or not v >= 0.0:
         raise error(f"log_interval must be a number of seconds >= 0 (default 60; inf: never log); got {value!r}")
     return v

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .checks import real_number
 from .errors import FlowConditionError, MeshError
 
 __all__ = ["FlowCondition", "conserved", "primitive", "pressure", "check_gamma", "is_physical", "NON_PHYSICAL",
@@ -58,15 +59,12 @@ class FlowCondition:
 
     def __post_init__(self):
         for name in ("mach", "alpha_deg", "gamma"):
-            value = getattr(self, name)
-            if isinstance(value, (bool, np.bool_, str, bytes)):   # "0.5" was parsed
-                raise FlowConditionError(f"{name} must be a real number; got {value!r}")
-            try:
-                value = float(value)
-            except (TypeError, ValueError):
-                raise FlowConditionError(f"{name} must be a real number; got {value!r}") from None
+            given = getattr(self, name)
+            value = real_number(given)   # None for a bool, text ("0.5" was parsed), a complex number
+            if value is None:
+                raise FlowConditionError(f"{name} must be a real number; got {given!r}")
             if not np.isfinite(value):
-                raise FlowConditionError(f"{name} must be finite; got {value!r}")
+                raise FlowConditionError(f"{name} must be finite; got {given!r}")
             object.__setattr__(self, name, value)
         if not 0.0 < self.mach < 1.0:
             raise FlowConditionError(

@@ -3,11 +3,9 @@
 Shared by the direct path (:mod:`cfd.lfd`) and the fast sweep (:mod:`cfd.sweep`), which accept the same forms.
 """
 
-import math
-
 import numpy as np
 
-from .checks import kind_of, real_array
+from .checks import kind_of, real_array, real_number
 from .linear import LinearError
 
 __all__ = ["frequencies", "frequency_grid", "check_position", "check_x_ref", "check_pivot",
@@ -73,10 +71,7 @@ def frequency_grid(omega, T):
     recovered from a McKelvey pair."""
     if T is not None:
         what = "T (sampling period of the data, convective time) must be"
-        try:
-            T_value = None if isinstance(T, (bool, str, bytes)) else float(T)   # T="1" was parsed
-        except (TypeError, ValueError):
-            T_value = None
+        T_value = real_number(T)   # None for a bool and for text (T="1" was parsed)
         if T_value is None:
             raise LinearError(f"{what} a number; got {T!r}")
         if not (np.isfinite(T_value) and T_value > 0):
@@ -136,10 +131,7 @@ def check_motion_frequencies(inputs, w):
 def check_tol(tol):
     """The relative error target of the fast sweep, a positive finite number (checked on every path of
     :func:`cfd.lfd_response`, also the direct one, which ignores it)."""
-    try:
-        t = math.nan if isinstance(tol, (bool, str, bytes)) else float(tol)
-    except (TypeError, ValueError):
-        t = math.nan
-    if not (np.isfinite(t) and t > 0.0):
+    t = real_number(tol)
+    if t is None or not (np.isfinite(t) and t > 0.0):
         raise LinearError(f"tol must be a positive finite number (relative output error, e.g. 1e-8); got {tol!r}")
     return t

@@ -47,7 +47,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from .checks import callback, flag, kind_of, log_interval as check_log_interval, not_a_grid, real_array, whole_number
+from .checks import (callback, flag, kind_of, log_interval as check_log_interval, not_a_grid, real_array,
+                     real_number, whole_number)
 from .superlu import splu_nested, splu_pivoted
 from .errors import ConvergenceError, FlowConditionError, MeshError
 from .euler import DEFAULT_SCHEME, Scheme, residual as _euler_residual, spectral_radius_sum
@@ -171,11 +172,8 @@ STRATEGIES = ("classic", "chord")
 
 def _positive_setting(name, value, hint, upper=None):
     """``value`` as a float, or :class:`FlowConditionError` unless it is a finite number in ``(0, upper)``."""
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        v = math.nan
-    if isinstance(value, (bool, str, bytes)) or not (math.isfinite(v) and v > 0.0 and (upper is None or v < upper)):
+    v = real_number(value)   # None for a bool and for text ("2.5" was parsed)
+    if v is None or not (math.isfinite(v) and v > 0.0 and (upper is None or v < upper)):
         span = "positive and finite" if upper is None else f"a number in (0, {upper:g})"
         raise FlowConditionError(f"{name} must be {span} ({hint}); got {value!r}")
     return v

@@ -48,7 +48,7 @@ from dataclasses import dataclass
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from ..checks import callback, kind_of, log_interval as check_log_interval, real_array
+from ..checks import callback, kind_of, log_interval as check_log_interval, real_array, real_number
 from ..errors import MarchInterrupted
 from ..gust import OneMinusCosine, SharpEdged, SineGust, check_gust_step, face_gust, warn_unseen
 from ..frequencies import check_pivot, check_x_ref
@@ -187,13 +187,9 @@ limit, ``studies.schema.MAX_STEPS``, is the same number (a test checks it)."""
 def check_times(dt, t_end, error=LinearError):
     """``(dt, t_end)`` as floats, checked for every time march (LTD, coupled, nonlinear) before any work: ``dt``
     positive and finite, ``t_end`` finite and at least ``dt``, at most :data:`MAX_STEPS` steps; else ``error``."""
-    try:
-        if isinstance(dt, (bool, str, bytes)) or isinstance(t_end, (bool, str, bytes)):   # dt="0.1" was parsed
-            raise TypeError
-        dt = float(dt)
-        t_end = float(t_end)
-    except (TypeError, ValueError):
-        raise error("dt and t_end must be real numbers (convective time)") from None
+    dt, t_end = real_number(dt), real_number(t_end)   # None for a bool and for text (dt="0.1" was parsed)
+    if dt is None or t_end is None:
+        raise error("dt and t_end must be real numbers (convective time)")
     if not (math.isfinite(dt) and dt > 0.0):
         raise error(f"dt = {dt} must be positive and finite (convective time, e.g. 0.02)")
     if not (math.isfinite(t_end) and t_end >= dt):
