@@ -45,7 +45,8 @@ Options and rules
   which puts the geometric mean of the band at ``omega_d = pi / 2``.
 - ``--order auto`` (hold-out selection, :func:`holdout_order`): the frequencies sorted by ``omega`` are split
   into even-indexed ones (fitted; the ``omega = 0`` and ``omega = inf`` samples always belong to them) and
-  odd-indexed ones (held out). Every order ``1..--max-order`` is fitted to the first set with the same
+  odd-indexed ones (held out). Every order ``1..--max-order`` (at most what the first set supports,
+  :func:`supported_order`; a larger ``--max-order`` is capped with a note) is fitted to the first set with the same
   options as the final fit; its hold-out error is the largest over outputs of the RMS error on the held-out
   frequencies relative to the RMS of the data there. The order chosen is the *smallest* whose hold-out error
   is at most ``1.1 x`` the best plus ``1e-6`` (differences below that are solver round-off). The final model
@@ -74,7 +75,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["FitInputError", "FitOutcome", "load_data", "holdout_order", "fit_data", "write_outputs",
+__all__ = ["FitInputError", "FitOutcome", "load_data", "holdout_order", "supported_order", "fit_data", "write_outputs",
            "add_parser", "cmd_fit", "FREQ_UNITS", "FIT_FILES", "fit_marker", "written_by_fit", "check_out_dir"]
 
 from .fit_data import FREQ_UNITS, FitInputError, load_data
@@ -85,6 +86,8 @@ from ..config.numbers import parse_number
 from sysid.grids import period_range
 
 HOLDOUT_RTOL, HOLDOUT_ATOL = 0.1, 1e-6
+DEFAULT_MAX_ORDER = 30
+"""``--max-order`` when not given: the largest order ``--order auto`` tries (fewer when the data support fewer)."""
 
 
 
@@ -95,12 +98,39 @@ HOLDOUT_RTOL, HOLDOUT_ATOL = 0.1, 1e-6
 @dataclass(frozen=True)
 class HoldoutSelection:
     """Result of :func:`holdout_order`: ``orders`` tried, their ``errors`` (NaN where the fit failed), the
-    ``chosen`` order and the ``rule`` in words."""
+    ``chosen`` order, the ``rule`` in words and ``supported``, the largest order the fitted frequencies support
+    (:func:`supported_order`; no order above it is tried, whatever ``max_order`` asked)."""
 
     orders: np.ndarray
     errors: np.ndarray
     chosen: int
     rule: str
+    supported: int | None = None
+
+
+def supported_order(frf) -> int:
+    """The largest order :func:`sysid.identify` accepts for these data (0 when none).
+
+    :func:`sysid.max_order` for the data's grid: Algorithm 1 on McKelvey's equispaced grid
+    (:attr:`sysid.FrequencyResponse.is_equispaced`), Algorithm 2 on any other, the way ``identify`` chooses. It
+    is the most the subspace step supports whatever the target order, so an order above it is refused (an
+    :class:`sysid.OrderError`) without fitting anything; more frequencies support more.
+
+    Parameters
+    ----------
+    frf : sysid.FrequencyResponse
+        Data with ``T`` (discrete frequencies).
+
+    Returns
+    -------
+    int
+    """
+    import sysid
+
+    if frf.nfreq < 2:
+        return 0
+    p, m = frf.shape[:2]
+    return int(sysid.max_order(frf.nfreq - 1, "mckelvey1" if frf.is_equispaced else "mckelvey2", p, m))
 
 
 def _source(frf) -> str:
@@ -153,7 +183,7 @@ def _holdout_errors(part, val, den, orders, dc_gain, stable, algorithm, workers,
     return [_holdout_error(*a) for a in args]
 
 
-def holdout_order(frf, *, max_order: int = 30, dc_gain=None, stable: bool = True,
+def holdout_order(frf, *, max_order: int = DEFAULT_MAX_ORDER, dc_gain=None, stable: bool = True,
                   algorithm: str = "auto", workers: int | None = None, effort: str = "fast") -> HoldoutSelection:
     """Choose the order by hold-out (rule in the module docstring).
 
@@ -162,7 +192,8 @@ def holdout_order(frf, *, max_order: int = 30, dc_gain=None, stable: bool = True
     frf : sysid.FrequencyResponse
         Data with ``T``.
     max_order : int
-        Largest order tried (fewer when the fitting half cannot support it).
+        Largest order tried; at most :func:`supported_order` of the fitted half (``HoldoutSelection.supported``),
+        above which every fit would be refused.
     dc_gain, stable, algorithm, effort
         As for :func:`sysid.identify` (``dc_gain`` is None or a (p, m) array; ``"match"`` is resolved by the
         caller so that the held-out half keeps the full data's DC value).
@@ -185,7 +216,8 @@ def holdout_order(frf, *, max_order: int = 30, dc_gain=None, stable: bool = True
     part, val = frf.take(fit_idx), frf.take(held)
     Hv = np.asarray(val.H)
     den = np.maximum(np.sqrt(np.mean(np.abs(Hv) ** 2, axis=(1, 2))), np.finfo(float).tiny)
-    orders = np.arange(1, max_order + 1)
+    supported = supported_order(part)
+    orders = np.arange(1, min(int(max_order), supported) + 1)   # above `supported` every fit is refused
     workers = min(os.cpu_count() or 1, 8) if workers is None else int(workers)
     results = _holdout_errors(part, val, den, orders, dc_gain, stable, algorithm, workers, effort)
     errs = np.full(orders.size, np.nan)
@@ -210,7 +242,7 @@ def holdout_order(frf, *, max_order: int = 30, dc_gain=None, stable: bool = True
     rule = (f"hold-out: fitted orders 1..{int(orders[np.isfinite(errs)].max())} to {fit_idx.size} of the "
             f"{frf.nfreq} frequencies ({which}), measured on the other {held.size}; "
             f"chose the smallest order whose hold-out error is <= 1.1 x the best ({best:.3g}) + 1e-6")
-    return HoldoutSelection(orders=orders, errors=errs, chosen=chosen, rule=rule)
+    return HoldoutSelection(orders=orders, errors=errs, chosen=chosen, rule=rule, supported=supported)
 
 
 T_BAND_FACTOR = 10.0
@@ -282,7 +314,7 @@ class FitOutcome:
 
 
 def fit_data(frf, *, order: int | str = "auto", dc_gain: str = "auto", stable: bool = True, T: float | None = None,
-             max_order: int = 30, algorithm: str = "auto", effort: str = "fast") -> FitOutcome:
+             max_order: int = DEFAULT_MAX_ORDER, algorithm: str = "auto", effort: str = "fast") -> FitOutcome:
     """Diagnose, choose the order and identify a ROM.
 
     Parameters
@@ -686,7 +718,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("data", type=Path, metavar="DATA", help="data file: .npz, .mat or .csv")
     p.add_argument("--order", default="auto", metavar="N|auto",
                    help="model order, or auto (default): hold-out selection on alternate frequencies")
-    p.add_argument("--max-order", type=int, default=30, help="largest order tried by --order auto (default 30)")
+    p.add_argument("--max-order", type=int, default=None,
+                   help=f"largest order tried by --order auto (default {DEFAULT_MAX_ORDER}); never more than the "
+                        "fitted half of the frequencies supports (a note says so when MAX_ORDER asks for more)")
     p.add_argument("--dc-gain", default=None, metavar="match|none|VALUE[,VALUE...]",
                    help="match the omega = 0 sample exactly, none, or impose a known real DC gain (one value per "
                         "output and input, outputs by rows); default: match when the data have an omega = 0 sample")
@@ -752,6 +786,33 @@ def _parse_order(text, file) -> int | str:
     return n
 
 
+def max_order_note(asked: int | None, out: FitOutcome) -> str | None:
+    """What ``lfdrom fit`` says when ``--max-order`` asked for more orders than the data support, else None.
+
+    ``--max-order`` bounds a search: orders above what the fitted half of the frequencies supports
+    (:func:`supported_order`) would each be refused, so they are not tried and the search ends there, with the
+    same choice it would have made. The note says so when the user gave the bound (the default is silent: it
+    is documented as capped), with what the data support and how to get more.
+
+    Parameters
+    ----------
+    asked : int or None
+        ``--max-order`` as given; None when left out.
+    out : FitOutcome
+
+    Returns
+    -------
+    str or None
+    """
+    sel = out.selection
+    if asked is None or sel is None or sel.supported is None or asked <= sel.supported:
+        return None
+    n_fit = _split(out.data)[0].size
+    return (f"--max-order {asked} is more than the data support: the hold-out fits use {n_fit} of the "
+            f"{out.data.nfreq} frequencies, which support orders up to {sel.supported} (sysid.max_order), so orders "
+            f"1..{sel.supported} were tried; more frequencies support higher orders")
+
+
 def cmd_fit(args) -> int:
     """Run ``lfdrom fit``; returns the exit status (0 ok, 1 identification failed, 2 bad input, 4 not written)."""
     import sysid
@@ -763,8 +824,9 @@ def cmd_fit(args) -> int:
         T = _parse_T(args.T, args.data)
         order = _parse_order(args.order, args.data)
         dc_gain = _parse_dc_gain(args.dc_gain, args.data)
-        if args.max_order < 1:
-            raise FitInputError(args.data, "--max-order", f"must be >= 1, got {args.max_order}")
+        max_order = DEFAULT_MAX_ORDER if args.max_order is None else args.max_order
+        if max_order < 1:
+            raise FitInputError(args.data, "--max-order", f"must be >= 1, got {max_order}")
         frf = load_data(args.data, T=T, freq_unit=args.freq_unit, input_name=args.input)
     except FitInputError as e:
         err(str(e))
@@ -786,7 +848,7 @@ def cmd_fit(args) -> int:
         return EXIT_NOT_WRITTEN
     try:
         out = fit_data(frf, order=order, dc_gain=dc_gain, stable=args.stable, T=T,
-                       max_order=args.max_order, algorithm=args.algorithm, effort=args.effort)
+                       max_order=max_order, algorithm=args.algorithm, effort=args.effort)
     except FitInputError as e:
         err(str(e))
         return EXIT_BAD_INPUT
@@ -796,6 +858,9 @@ def cmd_fit(args) -> int:
     except Exception as e:  # noqa: BLE001 - the command line reports any failure with its type
         err(f"the identification of {args.data} failed: {type(e).__name__}: {e}")
         return EXIT_FAILED
+    note = max_order_note(args.max_order, out)
+    if note:
+        print(f"lfdrom: note: {note}", file=sys.stderr)
     command = "lfdrom fit " + " ".join(sys.argv[2:]) if len(sys.argv) > 2 and sys.argv[1] == "fit" else None
     try:
         paths = write_outputs(out, args.data, out_dir, command=command, figures=not args.no_figures)

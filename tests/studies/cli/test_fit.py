@@ -669,3 +669,37 @@ def test_fit_and_rom_warn_at_the_same_error():
     from studies.cli.fit import FIT_ERROR_WARNING
 
     assert FIT_ERROR_WARNING == ROM_ERROR_WARNING
+
+
+def _small_npz(tmp_path, omega, **extra):
+    """20 samples of a two-output first-order system (the audit's file) at ``omega``."""
+    w = np.linspace(0, 4, 20)
+    H = np.vstack([1 / (1 + 1j * w), 0.2 / (1 + 0.5j * w)])[:, None, :]
+    p = tmp_path / "small.npz"
+    np.savez(p, **({"H": H, "omega": omega} | extra))
+    return p
+
+
+@pytest.mark.parametrize("asked, note", [(None, False), (3, False), (4, False), (5, True), (100000, True)])
+def test_max_order_is_capped_at_what_the_data_support(tmp_path, capsys, asked, note):
+    # 10 of the 20 frequencies are fitted by the hold-out: Algorithm 2 with 2 outputs supports order 4 there;
+    # 100000 used to fit every order (minutes) to reach the same choice
+    p = _small_npz(tmp_path, np.linspace(0, 4, 20))
+    option = [] if asked is None else ["--max-order", str(asked)]
+    assert cli.main(["fit", str(p), *option, "--no-figures", "--quiet", "--out", str(tmp_path / "o")]) == 0
+    err = capsys.readouterr().err
+    assert ("lfdrom: note: --max-order" in err) is note
+    if note:
+        assert re.search(rf"--max-order {asked} is more than the data support: the hold-out fits use 10 of the 20 "
+                         r"frequencies, which support orders up to 4 .*more frequencies", err)
+    sel = fit_data(load_data(p), max_order=asked or 30).selection
+    assert sel.supported == 4 and sel.orders.max() == min(asked or 30, 4) and sel.chosen == 2
+
+
+@pytest.mark.filterwarnings("ignore:singular value .* round-off:RuntimeWarning")
+def test_supported_order_is_what_identify_accepts(files):
+    frf = fit_data(load_data(files["csv"]), order=4).data
+    top = fit.supported_order(frf)
+    sysid.identify(frf, top, dc_gain="match")
+    with pytest.raises(sysid.OrderError):
+        sysid.identify(frf, top + 1, dc_gain="match")
