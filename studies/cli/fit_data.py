@@ -160,7 +160,13 @@ def _read_arrays(path: Path, d: dict, T_opt: float | None):
             if not np.issubdtype(np.asarray(d[key]).dtype, np.number):
                 raise FitInputError(path, f"key '{key}'", f"is not numeric (dtype {np.asarray(d[key]).dtype}); store "
                                                           "a real array")
-        re, im = np.asarray(d["H_re"], dtype=float), np.asarray(d["H_im"], dtype=float)
+            part = np.asarray(d[key])
+            if np.iscomplexobj(part) and np.any(part.imag != 0):   # (float() would drop it with a ComplexWarning)
+                raise FitInputError(path, f"key '{key}'", f"is complex (dtype {part.dtype}) with non-zero imaginary "
+                                                          "parts: H_re and H_im must be real arrays (the real and the "
+                                                          "imaginary part of H); store the complex response as H "
+                                                          "instead")
+        re, im = (np.asarray(d[key]).real.astype(float) for key in ("H_re", "H_im"))
         if re.shape != im.shape:
             raise FitInputError(path, "key 'H_im'", f"has shape {im.shape} but H_re has {re.shape}; they must match")
         H, where_H = re + 1j * im, "key 'H_re'"

@@ -703,3 +703,18 @@ def test_supported_order_is_what_identify_accepts(files):
     sysid.identify(frf, top, dc_gain="match")
     with pytest.raises(sysid.OrderError):
         sysid.identify(frf, top + 1, dc_gain="match")
+
+
+@pytest.mark.parametrize("imag, ok", [(0.0, True), (1e-3, False)])
+def test_complex_H_re_is_refused(tmp_path, capsys, imag, ok):
+    w = np.linspace(0, 4, 20)
+    H = np.vstack([1 / (1 + 1j * w), 0.2 / (1 + 0.5j * w)])[:, None, :]
+    p = tmp_path / "rc.npz"
+    np.savez(p, H_re=H.real + 1j * imag, H_im=H.imag, omega=w)
+    if ok:   # a complex array whose imaginary parts are all zero loses nothing
+        np.testing.assert_array_equal(load_data(p).H, load_data(_small_npz(tmp_path, w)).H)
+        return
+    with pytest.raises(FitInputError, match=r"rc.npz: key 'H_re': is complex .* H_re and H_im must be real"):
+        load_data(p)
+    assert cli.main(["fit", str(p), "--order", "2", "--no-figures", "--out", str(tmp_path / "o")]) == 2
+    assert "H_re and H_im must be real" in capsys.readouterr().err
