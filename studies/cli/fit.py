@@ -83,9 +83,18 @@ from .exit_codes import EXIT_FAILED, EXIT_NOT_WRITTEN, EXIT_OK
 from .exit_codes import EXIT_UNAVAILABLE as EXIT_BAD_INPUT  # 2: bad input, found before anything is computed
 from ..store.files import atomic_write_text, generated_marker, generated_prefix, is_generated_page
 from ..config.numbers import parse_number
+from sysid import errors as _sysid_errors
 from sysid.grids import period_range
 
 HOLDOUT_RTOL, HOLDOUT_ATOL = 0.1, 1e-6
+SYSID_INPUT_ERRORS = (_sysid_errors.FrequencyDataError, _sysid_errors.FrequencyGridError, _sysid_errors.OrderError,
+                      _sysid_errors.ConstraintError, _sysid_errors.OptionError)
+"""The typed errors of :mod:`sysid.errors` that say the input (data, frequencies, options) is unusable:
+``lfdrom fit`` reports them as bad input (exit 2), not as a failed identification (``SolverError`` and anything
+untyped: exit 1)."""
+T_ADVICE = ("give the sampling period with --T (in the time unit of the frequencies), or rescale the frequencies "
+            "(e.g. to rad/s, Hz or U/c) so that they are neither vanishingly small nor huge")
+"""What to do about data whose frequencies no sampling period suits (said with a sysid grid error)."""
 DEFAULT_MAX_ORDER = 30
 """``--max-order`` when not given: the largest order ``--order auto`` tries (fewer when the data support fewer)."""
 
@@ -338,6 +347,15 @@ def fit_data(frf, *, order: int | str = "auto", dc_gain: str = "auto", stable: b
     Returns
     -------
     FitOutcome
+
+    Raises
+    ------
+    FitInputError
+        Unusable options or data: a ``T`` that does not suit the frequencies, no default ``T`` for them (a
+        :data:`SYSID_INPUT_ERRORS` of :func:`sysid.diagnostics.default_T`), ``match`` without an ``omega = 0``
+        sample, an order the data do not support.
+    sysid.FrequencyDataError, sysid.FrequencyGridError, sysid.ConstraintError, sysid.OptionError
+        From the diagnostics or the fit (:data:`SYSID_INPUT_ERRORS`; ``lfdrom fit`` reports them as bad input).
     """
     import sysid
     from sysid.data_checks import check_nonzero_outputs
@@ -356,7 +374,11 @@ def fit_data(frf, *, order: int | str = "auto", dc_gain: str = "auto", stable: b
         raise FitInputError(src, "--T", "the data are on discrete frequencies omega_d without a sampling period; "
                                         "give it with --T (fit_data(..., T=...))")
     else:
-        Td = default_T(frf.omega)
+        try:
+            Td = default_T(frf.omega)
+        except SYSID_INPUT_ERRORS as e:   # e.g. frequencies so small that omega_lo omega_hi underflows
+            raise FitInputError(src, "--T", f"no default sampling period for these frequencies ({e}); {T_ADVICE}") \
+                from None
         frf = frf.with_T(Td)
         w = frf.omega[np.isfinite(frf.omega) & (frf.omega > 0)]
         T_rule = (f"T = {Td:.6g} (default 2 / sqrt(omega_lo omega_hi), omega from {w.min():.4g} to {w.max():.4g}: "
@@ -852,8 +874,8 @@ def cmd_fit(args) -> int:
     except FitInputError as e:
         err(str(e))
         return EXIT_BAD_INPUT
-    except (sysid.ConstraintError, sysid.FrequencyGridError, sysid.FrequencyDataError) as e:
-        err(f"{args.data}: {e}")
+    except SYSID_INPUT_ERRORS as e:   # sysid's typed input errors: the data or the options, not the method
+        err(f"{args.data}: {e}" + (f"; {T_ADVICE}" if isinstance(e, sysid.FrequencyGridError) else ""))
         return EXIT_BAD_INPUT
     except Exception as e:  # noqa: BLE001 - the command line reports any failure with its type
         err(f"the identification of {args.data} failed: {type(e).__name__}: {e}")

@@ -718,3 +718,45 @@ def test_complex_H_re_is_refused(tmp_path, capsys, imag, ok):
         load_data(p)
     assert cli.main(["fit", str(p), "--order", "2", "--no-figures", "--out", str(tmp_path / "o")]) == 2
     assert "H_re and H_im must be real" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("error", [sysid.FrequencyGridError, sysid.FrequencyDataError])
+def test_no_default_T_is_bad_input(tmp_path, capsys, monkeypatch, error):
+    # omega ~ 1e-300: omega_lo omega_hi underflows; sysid.diagnostics.default_T refuses it with a typed error
+    import sysid.diagnostics
+
+    def refuse(omega):
+        raise error("no usable frequency to choose T from; give T explicitly")
+
+    monkeypatch.setattr(sysid.diagnostics, "default_T", refuse)
+    p = _small_npz(tmp_path, np.linspace(0, 4, 20) * 1e-300)
+    with pytest.raises(FitInputError, match=r"small.npz: --T: no default sampling period .*give the sampling period "
+                                            r"with --T .* or rescale the frequencies"):
+        fit_data(load_data(p), order=2)
+    assert cli.main(["fit", str(p), "--order", "2", "--no-figures", "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert "--T" in err and "rescale the frequencies" in err and "failed" not in err
+
+
+@pytest.mark.parametrize("error, advice", [(sysid.FrequencyGridError, True), (sysid.FrequencyDataError, False),
+                                           (sysid.OptionError, False), (sysid.ConstraintError, False)])
+def test_sysid_input_errors_of_the_fit_are_bad_input(tmp_path, capsys, monkeypatch, error, advice):
+    def refuse(*a, **k):
+        raise error("unusable")
+
+    monkeypatch.setattr(sysid, "identify", refuse)
+    p = _small_npz(tmp_path, np.linspace(0, 4, 20))
+    assert cli.main(["fit", str(p), "--order", "2", "--no-figures", "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert "small.npz: unusable" in err and "failed" not in err
+    assert ("rescale the frequencies" in err) is advice
+
+
+def test_a_solver_failure_is_a_failed_fit(tmp_path, capsys, monkeypatch):
+    def fail(*a, **k):
+        raise sysid.SolverError("infeasible")
+
+    monkeypatch.setattr(sysid, "identify", fail)
+    p = _small_npz(tmp_path, np.linspace(0, 4, 20))
+    assert cli.main(["fit", str(p), "--order", "2", "--no-figures", "--out", str(tmp_path / "o")]) == 1
+    assert "failed: SolverError: infeasible" in capsys.readouterr().err
