@@ -46,6 +46,7 @@ piece is stored as such and computed again by the next run.
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 from typing import Any, Callable, Optional
 
@@ -355,7 +356,10 @@ def _parse_section(source, entry, key, gusts) -> SectionSpec:
         spec.section()
     except SectionError as e:
         msg = str(e)
-        bad = next((k for k in SECTION_KEYS[1:-1] if msg.startswith(k) or f" {k}" in msg.split(":")[0]), None)
+        # TypicalSection names the parameter it refuses first ("r_alpha2 = 0.001 must exceed x_alpha^2 ..."); a
+        # name further on is context (" mu" matched that message's " must", so the key said mu)
+        first = re.match(r"[A-Za-z_]\w*", msg)
+        bad = first.group() if first and first.group() in SECTION_KEYS[1:-1] else None
         raise _error(source, f"{key}.{bad}" if bad else key, msg) from None
     return spec
 
