@@ -214,9 +214,12 @@ def load_study(path) -> StudyConfig:
     Raises
     ------
     StudyConfigError
-        Missing or unreadable file, TOML syntax, unknown keys, bad values, impossible sweep points.
+        Missing or unreadable file, a folder (the message names the ``.toml`` file when the folder holds one),
+        TOML syntax, unknown keys, bad values, impossible sweep points.
     """
     path = Path(path)
+    if path.is_dir():
+        raise StudyConfigError(str(path), None, _folder_problem(path))
     try:
         text = path.read_text(encoding="utf-8")
     except FileNotFoundError:
@@ -225,6 +228,21 @@ def load_study(path) -> StudyConfig:
     except (OSError, UnicodeDecodeError) as e:
         raise StudyConfigError(str(path), None, f"cannot read the study file: {e}") from None
     return loads_study(text, source=str(path), base_dir=path.resolve().parent, default_name=path.stem)
+
+
+def _folder_problem(folder: Path) -> str:
+    """What to say of a folder given as the study file: give the ``.toml`` file, naming the folder's own."""
+    try:
+        found = sorted(p.name for p in folder.glob("*.toml") if p.is_file())
+    except OSError:   # an unreadable folder: say what to give all the same
+        found = []
+    text = "is a folder, not a study file; give the path of the .toml study file"
+    if len(found) == 1:
+        return f"{text}: {folder / found[0]}"
+    if found:
+        shown = ", ".join(found[:5]) + (f" and {len(found) - 5} more" if len(found) > 5 else "")
+        return f"{text} (this folder holds {len(found)}: {shown})"
+    return f"{text} (this folder holds none; examples: studies/demo.toml, studies/paper.toml)"
 
 
 def as_config(study) -> StudyConfig:

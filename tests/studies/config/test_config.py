@@ -200,6 +200,26 @@ def test_file_level_errors(tmp_path):
     assert e.value.file == str(bad)
 
 
+@pytest.mark.parametrize("names, advice", [
+    ((), r"this folder holds none; examples: studies/demo.toml"),
+    (("only.toml",), r"give the path of the \.toml study file: .*/d/only\.toml$"),
+    (("a.toml", "b.toml", "notes.txt"), r"this folder holds 2: a\.toml, b\.toml\)$"),
+])
+def test_a_folder_given_as_the_study_file(tmp_path, capsys, names, advice):
+    # it said "cannot read the study file: [Errno 21] Is a directory"
+    folder = tmp_path / "d"
+    folder.mkdir()
+    for name in names:
+        (folder / name).write_text(BASE)
+    with pytest.raises(StudyConfigError, match=r"is a folder, not a study file; give the path of the \.toml") as e:
+        load_study(folder)
+    assert re.search(advice, str(e.value)) and e.value.key is None and e.value.file == str(folder)
+    from studies.cli import main
+
+    assert main(["run", str(folder)]) == 2
+    assert re.search(advice, capsys.readouterr().err.strip())
+
+
 def test_canonical_form_is_stable_under_reordering():
     a = loads_study(GOOD)
     b = loads_study("""
