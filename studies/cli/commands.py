@@ -485,7 +485,7 @@ def rom_study(args) -> StudyConfig:
 
 _ROM_KEYS = {"cases[0].name": "CASE", "cases[0].naca": "--naca", "cases[0].mach": "--mach",
              "cases[0].alpha_deg": "--alpha", "sweep.orders": "--order", "sweep.orders[0]": "--order",
-             "sweep.T[0]": "--T", "sweep.M_base": "--M", "sweep.M[0]": "--M"}
+             "sweep.T[0]": "--T", "sweep.M_base": "--M", "sweep.M[0]": "--M", "output": "--out", "store": "--store"}
 
 
 def cmd_rom(args) -> int:

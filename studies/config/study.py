@@ -11,7 +11,8 @@ Schema (every key optional unless marked; see ``studies/demo.toml`` and ``studie
 
     name = "demo"                  # default: the file's stem
     description = "..."            # free text (not part of the hash)
-    output = "../results/demo"     # relative to the study file's folder; default results/<name> there
+    output = "../results/demo"     # relative to the study file's folder (not that folder itself, nor /);
+                                   # default results/<name> there
     store = "../results/store"     # results store (studies.store.cache); default <output>/store
     cases = ["T2", {name = "T5", orders = [25, 55]},
              {name = "mine", naca = "0012", mach = 0.5, alpha_deg = 1.0, grid = {nj = 48}}]   # required
@@ -243,6 +244,31 @@ def _folder_problem(folder: Path) -> str:
         shown = ", ".join(found[:5]) + (f" and {len(found) - 5} more" if len(found) > 5 else "")
         return f"{text} (this folder holds {len(found)}: {shown})"
     return f"{text} (this folder holds none; examples: studies/demo.toml, studies/paper.toml)"
+
+
+def _check_output(P: ConfigReader, text: str, output_dir: Path, study_folder: Path | None, name: str) -> None:
+    """Refuse an ``output`` that is empty, the filesystem root or the study file's own folder.
+
+    The run writes its report, tables, figures, run log and (by default) the results store into ``output``, a
+    folder of the study's own. An empty ``output`` resolved to the study file's folder (which holds other studies
+    and their files) and ``"/"`` to the root. ``study_folder`` is None for a study without a file (its relative
+    paths are taken from the working folder, e.g. ``lfdrom rom``'s).
+
+    Raises
+    ------
+    StudyConfigError
+        At key ``output``, saying what to give instead.
+    """
+    fix = f"give a folder of the study's own, e.g. \"results/{name}\"" + (
+        " (relative to the study file), or leave output out" if study_folder is not None else "")
+    if not text.strip():
+        raise P.err("output", f"is empty: {fix}")
+    if output_dir.parent == output_dir:
+        raise P.err("output", f"{text!r} is the filesystem root {output_dir}, where the run would write its report, "
+                              f"figures and store; {fix}")
+    if study_folder is not None and output_dir == study_folder:
+        raise P.err("output", f"{text!r} is the study file's own folder {output_dir}, where the run would write its "
+                              f"report, tables, figures and store among the study files; {fix}")
 
 
 def as_config(study) -> StudyConfig:
@@ -501,6 +527,8 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
 
     out = data.get("output")
     output_dir = ((base / P.string(out, "output")) if out is not None else base / "results" / name).resolve()
+    if out is not None:
+        _check_output(P, out, output_dir, base.resolve() if base_dir is not None else None, name)
     store = data.get("store")
     store_dir = (base / P.string(store, "store")).resolve() if store is not None else output_dir / "store"
     report = parse_report_table(P, data.get("report", {}), base)

@@ -220,6 +220,29 @@ def test_a_folder_given_as_the_study_file(tmp_path, capsys, names, advice):
     assert re.search(advice, capsys.readouterr().err.strip())
 
 
+@pytest.mark.parametrize("output, problem", [
+    ('""', "is empty"), ('"  "', "is empty"), ('"/"', "'/' is the filesystem root /"),
+    ('"/.."', "'/..' is the filesystem root /"), ('"."', "'.' is the study file's own folder"),
+    ('"../d"', "'../d' is the study file's own folder"),
+])
+def test_output_must_be_a_folder_of_the_study_s_own(tmp_path, output, problem):
+    # "" and "." wrote the results among the study files, "/" into the root
+    study = tmp_path / "d" / "s.toml"
+    study.parent.mkdir()
+    study.write_text(f"output = {output}\n" + BASE)
+    with pytest.raises(StudyConfigError, match=re.escape(problem) + r".*e\.g\. \"results/s\"") as e:
+        load_study(study)
+    assert e.value.key == "output"
+
+
+@pytest.mark.parametrize("output, where", [("out", "d/out"), ("..", "."), ("../results/s", "results/s")])
+def test_output_inside_beside_or_above_the_study_s_folder(tmp_path, output, where):
+    study = tmp_path / "d" / "s.toml"
+    study.parent.mkdir()
+    study.write_text(f"output = {output!r}\n" + BASE)
+    assert load_study(study).output_dir == (tmp_path / where).resolve()
+
+
 def test_canonical_form_is_stable_under_reordering():
     a = loads_study(GOOD)
     b = loads_study("""
