@@ -22,7 +22,8 @@ their sweep points, as lines or as a bar on a terminal); independent tasks run i
 Resume, failures, force
 -----------------------
 Every piece goes through the content-addressed store, so an interrupted study resumes where it stopped and
-a second run computes nothing. A piece that raises is stored as a failure (``status = "failed"`` and
+a second run computes nothing. Each run's ``run-log.json`` in the output folder lists the pieces it stored (an
+interrupted run writes it too, marked ``"interrupted": true``). A piece that raises is stored as a failure (``status = "failed"`` and
 ``"ExceptionType: message"``) and does not stop the others; a failed steady flow or FRF marks the ROMs
 that need it failed (see :mod:`studies.store.results`). Failed pieces are computed again by the next run (they may
 have been transient); ``force=True`` recomputes every piece of the study.
@@ -354,7 +355,10 @@ def _run(config: StudyConfig, pool, display: ProgressDisplay, force: bool, state
         # tasks that ended but were not handed back yet (with one process every task runs inside submit, so
         # an interruption can leave finished ones behind) stored their pieces too: count them for the message
         ended = [f for f in pending if f.done() and not f.cancelled() and f.exception() is None]
-        state["computed"] = tracker.done + sum(len(f.result()) for f in ended)
+        late = [report for f in ended for report in f.result()]
+        state["computed"] = tracker.done + len(late)
+        tracker.log.extend(late)
+        _write_log(config, tracker, time.perf_counter() - tracker.t0, interrupted=True)
         raise
 
     elapsed = time.perf_counter() - tracker.t0
@@ -368,8 +372,20 @@ def _run(config: StudyConfig, pool, display: ProgressDisplay, force: bool, state
     return replace(results, run=summary)
 
 
-def _write_log(config: StudyConfig, tracker: _Progress, elapsed: float) -> None:
-    """``run-log.json`` in the output folder: the pieces this run computed, with their times."""
+def _write_log(config: StudyConfig, tracker: _Progress, elapsed: float, *, interrupted: bool = False) -> None:
+    """``run-log.json`` in the output folder: the pieces this run computed, with their times.
+
+    Parameters
+    ----------
+    config : StudyConfig
+    tracker : _Progress
+        The run's reports of the pieces stored (``tracker.log``).
+    elapsed : float
+        Wall time of the run, to its end or its interruption.
+    interrupted : bool
+        The run was interrupted (Ctrl-C): the log has ``"interrupted": true`` and lists the pieces stored until
+        then (those of the tasks still running when it came are not).
+    """
     by_piece: dict = {}
     for report in tracker.log:
         totals = by_piece.setdefault(report["piece"], {"count": 0, "failed": 0, "seconds": 0.0})
@@ -378,6 +394,8 @@ def _write_log(config: StudyConfig, tracker: _Progress, elapsed: float) -> None:
         totals["seconds"] += report["seconds"]
     doc = {"study": config.name, "wall_s": elapsed, "totals": by_piece, "pieces": tracker.log,
            "finished_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())}
+    if interrupted:
+        doc["interrupted"] = True
     try:
         atomic_write_bytes(Path(config.output_dir) / "run-log.json", json.dumps(doc, indent=1).encode())
     except OSError as e:  # the log is a convenience; the results are in the store

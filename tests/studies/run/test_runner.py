@@ -288,3 +288,57 @@ def test_interruption_counts_tasks_that_ended_before_it(computed, tmp_path, monk
     with pytest.raises(RunInterrupted) as e:
         run_study(study, progress=False)
     assert e.value.computed == len(load_results(study).ltd) == len(config.gusts) >= 1
+
+
+def _stored_piece(label):
+    """A task of the fake section below: one piece 'stored' (nothing computed)."""
+    return [{"piece": "fake", "label": label, "status": "ok", "seconds": 0.25}]
+
+
+def _ctrl_c(label):
+    raise KeyboardInterrupt
+
+
+class _FakeSection:
+    """A section whose tasks store nothing (no CFD): piece 'a', then ``second`` (after 'a' or not)."""
+
+    def __init__(self, second, after):
+        self.second, self.after = second, after
+
+    def plan(self, config, store, force):
+        from studies.sections.protocol import Plan, Task
+
+        return Plan(tasks=(Task("fake", "T2", _stored_piece, ("a",), ids=("a",), priority=0),
+                           Task("fake", "T2", self.second, ("b",), ids=("b",), after=self.after, priority=1)),
+                    rom_pieces=2)
+
+    def summary(self, config, results):
+        return None
+
+
+def _fake_study(tmp_path, monkeypatch, second, after=("a",)):
+    from tinystudy import STUDY
+
+    (tmp_path / "s.toml").write_text(STUDY)
+    monkeypatch.setattr(runner, "active_sections", lambda config: [_FakeSection(second, after)])
+    return load_study(tmp_path / "s.toml")
+
+
+def test_a_finished_run_log_is_not_marked_interrupted(tmp_path, monkeypatch):
+    config = _fake_study(tmp_path, monkeypatch, _stored_piece)
+    run_study(config, progress=False)
+    log = json.loads((config.output_dir / "run-log.json").read_text())
+    assert "interrupted" not in log and [p["label"] for p in log["pieces"]] == ["a", "b"]
+
+
+@pytest.mark.parametrize("after", [("a",), ()])
+def test_an_interrupted_run_writes_its_log(tmp_path, monkeypatch, after):
+    """A run of two tasks, the second interrupted. With after=() both are ready together, so the first ended
+    (inside submit, one process) before the runner took its report: it is logged all the same."""
+    config = _fake_study(tmp_path, monkeypatch, _ctrl_c, after)
+    with pytest.raises(runner.RunInterrupted) as e:
+        run_study(config, progress=False)
+    assert e.value.computed == 1
+    log = json.loads((config.output_dir / "run-log.json").read_text())
+    assert log["interrupted"] is True and log["study"] == config.name
+    assert [p["label"] for p in log["pieces"]] == ["a"] and log["totals"]["fake"]["count"] == 1
