@@ -5,7 +5,8 @@ Run: ``python bench/sysid_truth_between_bench.py`` (about a minute on the 2-core
 ``--seeds 1,2,3,4,5``: the noisy rows over those noise realisations instead (the 12-state systems drawn with
 ``10 + seed``), one line per fit and the median ratio per row, of the max errors between the samples and of the
 RMS errors over the dense points. ``--estimate``: the default fits of the 12-state rows of seeds 1 - 21 at orders
-8, 12 and 16, the estimate of their error between the samples against the truth (a few minutes).
+8, 12 and 16, the estimate of their error between the samples against the truth, and the distribution of that
+truth (a few minutes; ``--last-seed 60 --orders 10,12,14,16`` for seeds 1 - 60 at those orders).
 
 Data (McKelvey's grid, M = 64 intervals, T = 1, so 65 samples with omega = 0 and inf; the truth on 7999 points of
 ``omega_d`` strictly between 0 and pi, i.e. about 125 per interval):
@@ -136,7 +137,7 @@ def estimate_against_truth(seeds, orders=(8, 12, 16)):
     max error between them, for the default fits of the noisy 12-state rows at ``orders``: one line per realisation
     and the counts of fits whose estimate is within a factor 2 of the truth, more than 2 times above it and more
     than 2 times below it."""
-    log_ratios = []
+    log_ratios, truths = [], []
     for seed in seeds:
         for name, G, truth in cases(seed):
             if not name.startswith("12 states"):
@@ -150,12 +151,17 @@ def estimate_against_truth(seeds, orders=(8, 12, 16)):
                     res = sysid.identify(frf, n, dc_gain="match", stable=True)
                 true = np.abs(res.evaluate(DENSE)[0, 0] - truth).max() / peak
                 log_ratios.append(np.log(max(res.between_error, 1e-12) / true))
+                truths.append(true)
                 cells.append(f"order {n}: estimate {res.between_error:.4f}, truth {true:.4f}")
             print(f"seed {seed} | {name} | " + " | ".join(cells), flush=True)
     r = np.array(log_ratios)
     print(f"{r.size} fits: estimate within a factor 2 of the truth at {int(np.sum(np.abs(r) < np.log(2)))}, more than "
           f"2 times above at {int(np.sum(r > np.log(2)))}, more than 2 times below at {int(np.sum(r < -np.log(2)))}; "
           f"geometric mean estimate / truth {np.exp(r.mean()):.2f}")
+    t = np.array(truths)
+    print(f"true max error between the samples: median {np.median(t):.4f}, geometric mean {np.exp(np.log(t).mean()):.4f}"
+          f", above 5 % of the peak at {int(np.sum(t > 0.05))}, above 10 % at {int(np.sum(t > 0.1))}, above 20 % at "
+          f"{int(np.sum(t > 0.2))} of {t.size} fits")
 
 
 def main():
@@ -165,7 +171,10 @@ def main():
         over_seeds([int(x) for x in sys.argv[sys.argv.index("--seeds") + 1].split(",")])
         return
     if "--estimate" in sys.argv:
-        estimate_against_truth(range(1, 22))
+        last = int(sys.argv[sys.argv.index("--last-seed") + 1]) if "--last-seed" in sys.argv else 21
+        orders = ((8, 12, 16) if "--orders" not in sys.argv
+                  else tuple(int(x) for x in sys.argv[sys.argv.index("--orders") + 1].split(",")))
+        estimate_against_truth(range(1, last + 1), orders)
         return
 
     rows = ["| data | order (sweep) | default: samples | default: between (truth) | default: estimate | "

@@ -37,6 +37,10 @@ POLISH_FROM = 1e-13
 #: 12-state system with 1 % noise at order 18; ``bench/sysid_truth_between_bench.py --seeds``, seed 15).
 NOISE_TRUST = 3.0
 NOISE_TRUST_GAP = 2.0
+#: Candidates at the noise level whose rms errors are within this factor of the best one's explain the samples
+#: equally well (the rms of K complex noise samples scatters by about 1 / sqrt(2 K) relative: 6 % for K = 65), and
+#: :func:`pick_candidates` orders them by their estimate between the samples (``c["between"]``).
+NOISE_RMS_TIE = 1.1
 
 
 def candidate_eig(c):
@@ -111,30 +115,61 @@ def pick_candidates(cands, trust=None):
     candidate within the bounds, or its errors are at the data's noise level (``c["at_noise"]``), its gain at most
     :data:`NOISE_TRUST_GAP` times the bounds and its error :data:`NOISE_TRUST` times smaller than theirs: then the
     samples themselves determine the resonance (noise-free data of a lightly damped system: errors 1e-12 against
-    0.4; noisy data of a resonance narrower than the spacing: errors at the noise level against 8 times it).
+    0.4; noisy data of a resonance narrower than the spacing: errors at the noise level against 8 times it). An
+    admissible candidate at the noise level estimated far off between the samples (``c["far_between"]``,
+    :func:`sysid.relocation._fit_simo`) gives way to the candidates without that fault whose errors are within
+    :data:`NOISE_TRUST` of its own and whose gain is within :data:`NOISE_TRUST_GAP` of the bounds.
     Among the admissible ones, the one whose worst output is closest to the best any of them reached on that
     output, by the max errors ``c["err"]``, or by the rms errors ``c["rms"]`` when every one of them is at the
     noise level (``c["at_noise"]``: the least-squares criterion is the likelihood of Gaussian noise, where the
     largest error is that of one noise sample)."""
-    for c in cands:
-        c["admissible"] = _equalities_hold(c) and c["gap"] <= 1.0 + 1e-6
-    if trust is not None:
-        bounded = [float(np.max(c["err"])) for c in cands if c["admissible"]]
-        # no candidate within the bounds: nothing to be 100 times better than, so nothing is trusted (the vacuous
-        # rule admitted a fit 1.4e5 times over the bounds on T4 at N_r = 55)
-        limit = min(bounded) / trust if bounded else -np.inf
-        for c in cands:
-            e = float(np.max(c["err"]))
-            explained = (c.get("at_noise", False) and c["gap"] <= NOISE_TRUST_GAP and bool(bounded)
-                         and min(bounded) > NOISE_TRUST * e)
-            c["admissible"] |= _equalities_hold(c) and (e <= limit or explained)
+    _admit(cands, trust)
+    far = [c for c in cands if c["admissible"] and c.get("far_between", False)]
+    if far:
+        # a fit at the noise level estimated far off between the samples (sysid.relocation._fit_simo) gives way to
+        # every fit without that fault that comes within NOISE_TRUST of its error on the samples and whose gain is
+        # within NOISE_TRUST_GAP of the bounds (the margin the noise-level rule allows)
+        e_far = min(float(np.max(c["err"])) for c in far)
+        near = [c for c in cands if not c.get("far_between", False) and _equalities_hold(c)
+                and (c["admissible"] or (c.get("at_noise", False) and c["gap"] <= NOISE_TRUST_GAP))
+                and float(np.max(c["err"])) < NOISE_TRUST * e_far]
+        if near:
+            for c in far:
+                c["admissible"] = False
+            for c in near:
+                c["admissible"] = True
     ok = [c for c in cands if c["admissible"]]
     pool = ok if ok else sorted(cands, key=lambda c: (not _equalities_hold(c), c["gap"], c["eq"]))[:1]
     # errors at the noise level (every candidate's): by their rms, the likelihood of Gaussian noise (sysid.relocation)
     key = "rms" if all(c.get("at_noise", False) and "rms" in c for c in pool) else "err"
     best_i = np.maximum(np.min([c[key] for c in pool], axis=0), np.finfo(float).tiny)
     pool.sort(key=lambda c: (float(np.max(c[key] / best_i)),) + candidate_score(c[key]))
+    if key == "rms" and all("between" in c for c in pool):
+        # rms errors within NOISE_RMS_TIE of the best explain the noisy samples equally well: the estimate between
+        # them (sysid.between) tells them apart
+        lead = float(np.max(pool[0]["rms"] / best_i))
+        tied = [c for c in pool if float(np.max(c["rms"] / best_i)) <= NOISE_RMS_TIE * lead]
+        tied.sort(key=lambda c: float(np.max(c["between"])))
+        pool = tied + pool[len(tied):]
     return pool + [c for c in cands if not any(c is q for q in pool)]
+
+
+def _admit(cands, trust):
+    """Set ``c["admissible"]`` by the equalities, the gap bounds and, with ``trust``, the trust rules
+    (:func:`pick_candidates`)."""
+    for c in cands:
+        c["admissible"] = _equalities_hold(c) and c["gap"] <= 1.0 + 1e-6
+    if trust is None:
+        return
+    bounded = [float(np.max(c["err"])) for c in cands if c["admissible"]]
+    # no candidate within the bounds: nothing to be 100 times better than, so nothing is trusted (the vacuous
+    # rule admitted a fit 1.4e5 times over the bounds on T4 at N_r = 55)
+    limit = min(bounded) / trust if bounded else -np.inf
+    for c in cands:
+        e = float(np.max(c["err"]))
+        explained = (c.get("at_noise", False) and c["gap"] <= NOISE_TRUST_GAP and bool(bounded)
+                     and min(bounded) > NOISE_TRUST * e)
+        c["admissible"] |= _equalities_hold(c) and (e <= limit or explained)
 
 
 def _equalities_hold(c) -> bool:

@@ -83,6 +83,7 @@ from .pole_refinement import refine_poles
 from .poles import (RESOLUTION, discrete_basis, initial_poles, input_normal, modal_realisation,
                     partial_fraction_basis, pole_distance, resolution_floor, stability_region)
 from .noise import noise_level
+from .between import BETWEEN_MIN_ERROR, BETWEEN_RATIO, between_error
 from .residues import gap_bounds, minimax_cd
 from .state_space import eigen_parts
 from .vector_fitting import relocate_poles
@@ -344,11 +345,19 @@ def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson,
                 bound_candidate_gaps(c, z, G, dc, ft, wbm, zb, ub, peak, within=minimax_within)
             met += int(c["gap"] <= 1.0 + 1e-6)
     # at the noise level the candidates are told apart by their rms errors (pick_candidates): the least-squares
-    # criterion is the likelihood of Gaussian noise, where the largest error is that of one noise sample
+    # criterion is the likelihood of Gaussian noise, where the largest error is that of one noise sample; and by their
+    # estimate between the samples (sysid.between), which tells a fit that follows the noise where the samples cannot
+    # check it (mostly with a resonance narrower than they see) from one that does not: a candidate estimated more
+    # than BETWEEN_RATIO times further off between the samples than on them (what sysid.identify warns of) is "far
+    # between"; a floored pass follows, and pick_candidates takes another fit where one comes close
+    readings = {}   # the samples' local readings, shared by the candidates' estimates
     for c in cands:
         c["at_noise"] = at_noise_level(c["err"], noise)
+        c["far_between"] = False
         if c["at_noise"]:
             c["rms"] = rms_errors(c["A"], c["B"], c["C"], c["D"], z, G, candidate_eig(c))
+            c["between"] = between = between_error(c["A"], c["B"], c["C"], c["D"], np.angle(z), G, readings)
+            c["far_between"] = bool(np.any((between > BETWEEN_RATIO * c["err"]) & (between > BETWEEN_MIN_ERROR)))
     return cands
 
 
@@ -566,10 +575,12 @@ def _fit_relocated(omega, z, G, T, order, *, dc_gain, feedthrough, weights, star
                   refine=(3 if nj <= 40 else 2) if refine is None else refine,  # (the thorough default)
                   minimax=minimax, minimax_rounds=minimax_rounds, budget=np.inf if budget is None else budget / m,
                   gap_refits=plan["gap_refits"], min_real=min_real)
-        # free poles first; where the best fit breaks the gap bounds (a resonance the samples do not see), the
+        # free poles first; where the best fit breaks the gap bounds (a resonance the samples do not see) or, at the
+        # noise level, is estimated far off between the samples (one that follows the noise at a sample or two), the
         # poles again with the resolution floor and bounded residues, and the best admissible of both
         cands = pick_candidates(_fit_simo(*args, region=region, floored_next=resolution > 0, **kw))
-        if min(cands, key=lambda c: candidate_score(c["err"]))["gap"] > 1.0 + 1e-6 and resolution > 0:
+        lead = min(cands, key=lambda c: candidate_score(c["err"]))
+        if (lead["gap"] > 1.0 + 1e-6 or lead["far_between"]) and resolution > 0:
             # (fewer refinements, and minimax residues only from the bounded fits: the second pass costs about
             # half the first)
             kw.update(refine=min(kw["refine"], 2), minimax=0)
