@@ -46,7 +46,7 @@ import numpy as np
 
 from .arrays import freeze_array_fields
 from .data_checks import check_constraint, check_weights
-from .errors import ConstraintError, FrequencyDataError, OptionError
+from .errors import ConstraintError, FrequencyDataError, FrequencyGridError, OptionError
 from .refit_solvers import clear_refit_cache, null_space_solve, reduce_regression, solve_compiled  # noqa: F401
 from .state_space import evaluate_ss, modal_form, resolvent_C
 
@@ -63,6 +63,18 @@ __all__ = [
 
 #: Distance of an eigenvalue of ``A`` to ``z = +-1`` below which a constraint there is refused.
 POLE_TOL = 1e-8
+#: Largest ``| |z| - 1 |`` of a sample point ``z = exp(1j omega_d)`` (round-off of the exponential is 1e-16).
+UNIT_CIRCLE_TOL = 1e-9
+
+
+def check_tolerance(value, name: str, *, positive: bool = True) -> float:
+    """``value`` as a float, or :class:`OptionError` naming ``name`` unless it is a finite number ``> 0`` (``>= 0``
+    when not ``positive``): ``tol=-1`` and ``rtol=nan`` were accepted, and made every fit need polishing or never
+    stop early."""
+    if isinstance(value, (bool, np.bool_)) or np.ndim(value) != 0 or np.asarray(value).dtype.kind not in "iuf" \
+            or not np.isfinite(value) or (value <= 0 if positive else value < 0):
+        raise OptionError(f"{name} must be a finite number {'> 0' if positive else '>= 0'}; got {value!r}.")
+    return float(value)
 
 
 # --------------------------------------------------------------------------------------------- results
@@ -198,6 +210,11 @@ def _validate(A, C, z, G, weights, dc_gain, feedthrough):
     G = G.astype(complex)
     if not (np.all(np.isfinite(G)) and np.all(np.isfinite(z))):
         raise FrequencyDataError("G or z contains NaN or inf; remove or repair those frequency samples.")
+    off = np.abs(np.abs(z) - 1.0)
+    if off.max() > UNIT_CIRCLE_TOL:
+        k = int(np.argmax(off))
+        raise FrequencyGridError(f"z[{k}] = {z[k]:.6g} is off the unit circle (|z| = {abs(z[k]):.6g}): the sample points "
+                                 "are z = exp(1j omega_d) for discrete frequencies omega_d in rad/sample.")
     m = G.shape[1]
     weights = check_weights(weights, p, m, K)
     cons = []
@@ -320,15 +337,25 @@ def fit_bd(A, C, z, G, *, weights=None, dc_gain=None, feedthrough=None, solver: 
     SolverError
         Clarabel failed.
     FrequencyDataError
-        Malformed arrays.
+        Malformed arrays, or an eigenvalue of ``A`` on a sample point (an infinite response there).
+    FrequencyGridError
+        A sample point off the unit circle.
     OptionError
-        ``solver`` is not ``"clarabel"`` or ``"numpy"``.
+        ``solver`` is not ``"clarabel"`` or ``"numpy"``; ``tol`` not a finite number > 0.
     """
     t0 = time.perf_counter()
     A, C, z, G, weights, cons, n, p, m, K = _validate(A, C, z, G, weights, dc_gain, feedthrough)
     if solver not in ("clarabel", "numpy"):
         raise OptionError(f"solver must be 'clarabel' or 'numpy'; got {solver!r}.")
-    E, Fr = _constraint_rows(A, C, cons, eig[0] if eig else None)
+    tol = check_tolerance(tol, "tol")
+    lam = eig[0] if eig else np.linalg.eigvals(A)
+    if np.min(np.abs(z[:, None] - lam[None, :])) < POLE_TOL:
+        # (the resolvent is then huge but may be finite: B came out near 0 with status "optimal")
+        raise FrequencyDataError(
+            "A has an eigenvalue at (or numerically at) one of the sample points z_k on the unit circle, so the "
+            "model response C (z_k I - A)^-1 is infinite there; identify with stable=True or at another order."
+        )
+    E, Fr = _constraint_rows(A, C, cons, lam)
     c = E.shape[0]
     N = n + p
     if c > N:
@@ -452,7 +479,7 @@ def fit_cd(A, B, z, G, *, weights=None, dc_gain=None, feedthrough=None, solver: 
     Raises
     ------
     OptionError
-        ``solver`` is not ``"clarabel"`` or ``"numpy"``.
+        ``solver`` is not ``"clarabel"`` or ``"numpy"``; ``tol`` not a finite number > 0.
     ConstraintError, SolverError
         As in :func:`fit_bd`.
     FrequencyDataError
@@ -518,12 +545,14 @@ def fit_alternating(A, C, z, G, *, iterations: int = 10, rtol: float = 1e-9, wei
     Raises
     ------
     OptionError
-        ``iterations`` is not an integer >= 1, or ``solver`` is not ``"clarabel"`` or ``"numpy"``.
+        ``iterations`` is not an integer >= 1, ``rtol`` not a finite number >= 0, or ``solver`` is not
+        ``"clarabel"`` or ``"numpy"``.
     ConstraintError, SolverError, FrequencyDataError
         As raised by :func:`fit_bd` and :func:`fit_cd`.
     """
     if isinstance(iterations, bool) or not isinstance(iterations, (int, np.integer)) or iterations < 1:
         raise OptionError(f"iterations must be an integer >= 1; got {iterations!r}.")
+    rtol = check_tolerance(rtol, "rtol", positive=False)
     history = []
     C = np.asarray(C, dtype=float)
     bd = cd = None

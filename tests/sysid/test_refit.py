@@ -347,6 +347,29 @@ def test_pole_on_a_sample_point_is_a_typed_error(grid):
         fit_bd(A, np.ones((1, 2)), grid, np.ones((1, 1, grid.size)))
 
 
+def test_a_pole_on_a_sample_point_off_z_1_is_a_typed_error(grid):
+    # a rotation by the sixth sample's angle: eigenvalues exp(+-1j omega_d[5]) on the sample itself; the resolvent
+    # there was huge but finite and B came out near 0 with status "optimal"
+    w = np.angle(grid[5])
+    A = np.array([[np.cos(w), -np.sin(w)], [np.sin(w), np.cos(w)]])
+    with pytest.raises(FrequencyDataError, match="eigenvalue at .* one of the sample points"):
+        fit_bd(A, np.eye(2), grid, np.ones((2, 1, grid.size)))
+
+
+@pytest.mark.parametrize("call, error, match", [
+    (lambda A, C, z, G: fit_bd(A, C, 2 * z, G), sysid.FrequencyGridError, r"is off the unit circle \(\|z\| = 2\)"),
+    (lambda A, C, z, G: fit_bd(A, C, z, G, tol=-1.0), sysid.OptionError, "tol must be a finite number > 0"),
+    (lambda A, C, z, G: fit_cd(A, C.T, z, G, tol=np.nan), sysid.OptionError, "tol must be a finite number > 0"),
+    (lambda A, C, z, G: fit_alternating(A, C, z, G, rtol=np.nan), sysid.OptionError, "rtol must be a finite number >= 0"),
+    (lambda A, C, z, G: fit_alternating(A, C, z, G, rtol="1e-9"), sysid.OptionError, "rtol must be"),
+])
+def test_points_off_the_circle_and_bad_tolerances_are_refused(grid, call, error, match):
+    # all accepted before: points off the circle fitted as if on it, tol=-1 polished every fit, rtol=nan never stopped
+    A, B, C, D = random_system(4, 1, 1, seed=0)
+    with pytest.raises(error, match=match):
+        call(A, C, grid, frequency_response(A, B, C, D, grid))
+
+
 def test_concurrent_refits_share_the_cached_problem_safely(grid):
     from concurrent.futures import ThreadPoolExecutor
 
