@@ -63,12 +63,15 @@ def check_weights(weights: Any, p: int, m: int, K: int, outputs: Sequence[str] |
     Raises
     ------
     FrequencyDataError
-        Another shape, NaN, inf or a negative weight; weights that are zero at every frequency (of all outputs,
+        Another shape, complex values, NaN, inf or a negative weight; weights that are zero at every frequency (of all outputs,
         or of one: that output would be fitted to nothing; ``np.zeros(K)`` raised cvxpy's "Parameter value must
         be real").
     """
     if weights is None:
         return None
+    if np.iscomplexobj(weights):
+        raise FrequencyDataError("weights must be real and nonnegative (they multiply the squared residuals); got "
+                                 "complex values, whose imaginary part would be dropped")
     try:
         w = np.asarray(weights, dtype=float)
     except (TypeError, ValueError):
@@ -98,7 +101,7 @@ def check_constraint(value: Any, name: str, p: int, m: int, z0: float) -> np.nda
     Raises
     ------
     ConstraintError
-        Complex, of another shape, NaN or inf.
+        Complex, not numbers, of another shape, NaN or inf.
     """
     v = np.asarray(value)
     if np.iscomplexobj(v):
@@ -108,7 +111,11 @@ def check_constraint(value: Any, name: str, p: int, m: int, z0: float) -> np.nda
                 "Pass its real part."
             )
         v = v.real
-    v = np.asarray(v, dtype=float)
+    try:
+        v = np.asarray(v, dtype=float)
+    except (TypeError, ValueError):
+        raise ConstraintError(f"{name} must be an array of real numbers of shape (p, m) = ({p}, {m}); got "
+                              f"{value!r}"[:300]) from None
     if v.ndim == 0 and p == 1 and m == 1:
         v = v.reshape(1, 1)
     if v.shape != (p, m):

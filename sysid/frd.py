@@ -229,7 +229,11 @@ class FrequencyResponse:
         if metadata is not None and not isinstance(metadata, Mapping):
             raise FrequencyDataError(f"metadata must be a mapping (a dict of names to values), got "
                                      f"{type(metadata).__name__}")
-        md = {} if metadata is None else copy.deepcopy(dict(metadata))
+        try:
+            md = {} if metadata is None else copy.deepcopy(dict(metadata))
+        except (TypeError, copy.Error) as exc:   # e.g. a generator: "cannot pickle 'generator' object"
+            raise FrequencyDataError(f"metadata must hold plain data (numbers, strings, lists, dicts; save() writes "
+                                     f"it as JSON), but a value cannot be copied: {exc}") from None
         sa = object.__setattr__
         sa(self, "H", read_only(Harr))
         sa(self, "omega_d", read_only(wd))

@@ -44,7 +44,7 @@ from typing import Any
 
 import numpy as np
 
-from .data_checks import check_fit_data, check_flag, check_weights
+from .data_checks import check_constraint, check_fit_data, check_flag, check_weights
 from .errors import ConstraintError, FrequencyDataError, OptionError
 from .frd import FrequencyResponse
 from .between import BETWEEN_MIN_ERROR, BETWEEN_RATIO
@@ -71,18 +71,7 @@ def _resolve_dc(dc_gain: Any, frf: FrequencyResponse, dc_data: np.ndarray | None
                 "(the steady solution) or pass the DC gain as a (p, m) array"
             )
         return np.array(dc, dtype=float)
-    dc = np.asarray(dc_gain)
-    if np.iscomplexobj(dc):
-        if np.abs(dc.imag).max() > 0:
-            raise ConstraintError("dc_gain must be real (a real system's DC gain is real)")
-        dc = dc.real
-    dc = np.array(dc, dtype=float)
-    if dc.ndim == 0 and (p, m) == (1, 1):
-        dc = dc.reshape(1, 1)
-    if dc.shape != (p, m):
-        raise ConstraintError(f"dc_gain has shape {dc.shape}, expected (p, m) = {(p, m)} (outputs, inputs)")
-    if not np.isfinite(dc).all():
-        raise ConstraintError("dc_gain contains NaN or inf")
+    dc = check_constraint(dc_gain, "dc_gain", p, m, 1.0)
     peak = np.abs(np.asarray(frf.H)).max(axis=2)   # (p, m)
     ratio = np.abs(dc) / np.where(peak > 0, peak, np.inf)
     if np.any(ratio > DC_GAIN_SCALE_LIMIT):

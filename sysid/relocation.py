@@ -77,8 +77,8 @@ from .arrays import freeze_array_fields
 from .candidates import (bound_candidate_gaps, candidate_eig, candidate_score, channel_errors, gap_excess,
                          pick_candidates, rms_errors, settle_equalities)
 from .data_checks import check_constraint, check_nonzero_outputs, check_weights
-from .errors import FrequencyDataError, OptionError, OrderError
-from .grids import check_continuous_frequencies, check_distinct, check_period
+from .errors import FrequencyDataError, FrequencyGridError, OptionError, OrderError
+from .grids import check_continuous_frequencies, check_distinct, check_period, continuous_to_discrete
 from .pole_refinement import refine_poles
 from .poles import (RESOLUTION, discrete_basis, initial_poles, input_normal, modal_realisation,
                     partial_fraction_basis, pole_distance, resolution_floor, stability_region)
@@ -444,7 +444,8 @@ def fit_relocated(omega, z, G, T, order, *, dc_gain=None, feedthrough=None, weig
         NaN / inf in ``G``, inconsistent shapes, bad ``weights``, or an output (one output's response to one
         input) that is zero at every frequency.
     FrequencyGridError
-        ``T`` not positive and finite; ``omega`` NaN, negative or with a frequency twice.
+        ``T`` not positive and finite; ``omega`` NaN, negative or with a frequency twice; ``z`` not the points of
+        ``omega`` under the bilinear map with ``T``.
     ConstraintError
         ``dc_gain`` / ``feedthrough`` complex, NaN or of the wrong shape, or inconsistent constraints (from
         :func:`sysid.refit.fit_cd`).
@@ -506,6 +507,14 @@ def _fit_relocated(omega, z, G, T, order, *, dc_gain, feedthrough, weights, star
     T = check_period(T)
     omega = check_continuous_frequencies(omega)
     check_distinct(omega, "omega")
+    if not normalised:
+        mismatch = np.abs(np.asarray(z, dtype=complex) - np.exp(1j * continuous_to_discrete(omega, T)))
+        if mismatch.max() > 1e-9:
+            k = int(np.argmax(mismatch))
+            raise FrequencyGridError(
+                f"z[{k}] = {complex(z[k]):.6g} is not the point of omega[{k}] = {omega[k]:.6g} with T = {T:g}: z must be "
+                "exp(1j omega_d) with omega_d = 2 arctan(omega T / 2) (the bilinear map); pass frf.omega, frf.z and "
+                "frf.T of one FrequencyResponse")
     check_nonzero_outputs(G, per_input=True)
     weights = check_weights(weights, p, m, K)
     if weights is not None and weights.ndim == 1:

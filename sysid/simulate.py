@@ -196,6 +196,9 @@ def first_uneven_step(t) -> int | None:
 
 def _check_input(u, m: int, t=None) -> np.ndarray:
     """``u`` as a finite float array of shape ``(m, N)``; :class:`TimeDataError` naming the first bad sample."""
+    if np.iscomplexobj(u):
+        raise TimeDataError("u must be real (an input history); got complex values, whose imaginary part would be "
+                            "dropped: pass u.real, or simulate the real and imaginary parts apart")
     try:
         U = np.atleast_2d(np.asarray(u, dtype=float))
     except (TypeError, ValueError):

@@ -119,6 +119,7 @@ _WD5 = np.pi * np.arange(5) / 4
     (dict(omega_d=None), FrequencyGridError, "give the frequencies"),
     (dict(omega_d=_WD5 + 1j), FrequencyGridError, "must be real frequencies"),   # cast to real with a warning before
     (dict(metadata=[1]), FrequencyDataError, "metadata must be a mapping"),       # a bare TypeError before
+    (dict(metadata={"f": (x for x in [])}), FrequencyDataError, "metadata must hold plain data"),   # TypeError before
 ])
 def test_bad_input_raises(kwargs, exc, match):
     args = dict(H=np.ones(5), omega_d=_WD5, T=1.0)

@@ -613,3 +613,24 @@ def test_two_inputs_one_output_fitted_through_the_transpose():
     assert res.algorithm == "relocation" and res.model.nstates == 6
     assert res.max_error < 1e-8 and res.dc_error < 1e-12
     assert pole_mismatch(np.linalg.eigvals(np.asarray(res.model.A)), poles) < 1e-6
+
+
+@pytest.mark.parametrize("kw, error, match", [
+    # accepted before: the imaginary part of the weights dropped with a ComplexWarning, text a bare ValueError,
+    # z of other frequencies than omega fitted without a word
+    (dict(weights=np.ones(33) * (1 + 1j)), FrequencyDataError, "weights must be real and nonnegative"),
+    (dict(dc_gain=[["a"], ["b"]]), sysid.ConstraintError, r"dc_gain must be an array of real numbers of shape \(p, m\)"),
+])
+def test_identify_refuses_complex_weights_and_text_constraints(kw, error, match):
+    wd, _ = mckelvey_grid(32, 1.0)
+    frf = FrequencyResponse.from_model(__import__("control").ss([[0.9, 0.1], [-0.1, 0.8]], [[1.0], [0.5]], np.eye(2),
+                                                                [[0.1], [0.0]], 1.0), wd)
+    with pytest.raises(error, match=match):
+        identify(frf, 2, stable=True, **kw)
+
+
+def test_fit_relocated_refuses_points_z_of_other_frequencies_than_omega():
+    wd, w = mckelvey_grid(32, 1.0)
+    G = (1.0 / (np.exp(1j * wd) - 0.5)).reshape(1, 1, -1)
+    with pytest.raises(sysid.FrequencyGridError, match=r"z\[11\] = .* is not the point of omega\[11\] = 3.59626 with T = 1"):
+        fit_relocated(3 * w, np.exp(1j * wd), G, 1.0, 2)

@@ -181,6 +181,8 @@ def test_markov_parameters_and_simulate_discrete_check_their_matrices_and_input(
         simulate_discrete(A1, B1, C1, D1, np.ones(3), method=None)
     with pytest.raises(sysid.TimeDataError, match="u has no samples"):   # an IndexError before
         simulate_discrete(A1, B1, C1, D1, np.zeros((1, 0)))
+    with pytest.raises(sysid.TimeDataError, match="u must be real"):   # imaginary part dropped with a warning before
+        simulate_discrete(A1, B1, C1, D1, np.ones(3) + 1j)
 
 
 def test_rediscretise_names_itself_for_what_is_not_a_model():
