@@ -7,6 +7,7 @@ per cell with ``p = (gamma - 1) (rho E - rho |u|^2 / 2)``.
 
 import numpy as np
 
+from .checks import kind_of, real_array
 from .errors import MeshError
 
 __all__ = ["primitives", "write_vtk"]
@@ -29,8 +30,18 @@ def primitives(q, mach, gamma=1.4):
     dict of str to ndarray
         ``rho`` (...), ``velocity`` (..., 2), ``pressure`` (...), ``mach`` (...) local Mach number,
         ``cp`` (...) pressure coefficient ``(p - p_inf) / (rho_inf M^2 / 2)``.
+
+    Raises
+    ------
+    MeshError
+        If ``q`` is not an array of real numbers (complex, text, None).
+    ValueError
+        If ``q``'s last axis is not 4, or ``mach`` is not positive.
     """
-    q = np.asarray(q, dtype=float)
+    q_given, q = q, real_array(q)   # None for text and None, and for complex (it lost its imaginary part)
+    if q is None:
+        raise MeshError(f"q must be an array of real conserved states (rho, rho u, rho v, rho E), shape (..., 4); "
+                        f"got {kind_of(q_given)} {q_given!r:.80}")
     if q.shape[-1] != 4:
         raise ValueError(f"q must have a last axis of 4 (rho, rho u, rho v, rho E); got shape {q.shape}")
     if not mach > 0:
@@ -64,7 +75,8 @@ def write_vtk(grid, path, cell_data=None):
     Raises
     ------
     MeshError
-        If a field does not have the cell shape of the grid.
+        If a field is not an array of real numbers (complex, text, None) or does not have the cell shape of the
+        grid.
     """
     try:
         import meshio
@@ -77,7 +89,10 @@ def write_vtk(grid, path, cell_data=None):
     quads = np.stack([node[:-1, :-1], node[1:, :-1], node[1:, 1:], node[:-1, 1:]], axis=-1).reshape(-1, 4)
     data = {}
     for name, arr in (cell_data or {}).items():
-        a = np.asarray(arr, dtype=float)
+        a = real_array(arr)   # None for text and None, and for complex (it lost its imaginary part)
+        if a is None:
+            raise MeshError(f"cell field {name!r} must be an array of real numbers (one value per cell, shape "
+                            f"{grid.cell_shape}, or a vector per cell); got {kind_of(arr)} {arr!r:.80}")
         if a.shape[:2] != grid.cell_shape or a.ndim not in (2, 3) or (a.ndim == 3 and a.shape[2] not in (2, 3)):
             raise MeshError(
                 f"cell field {name!r} has shape {a.shape}; expected {grid.cell_shape} or "

@@ -69,3 +69,41 @@ def test_legacy_vtk_and_bad_field_shape(grid, tmp_path):
     assert meshio.read(tmp_path / "grid.vtk").cells_dict["quad"].shape == (grid.n_cells, 4)
     with pytest.raises(MeshError, match="expected"):
         write_vtk(grid, tmp_path / "bad.vtu", {"p": np.zeros((3, 3))})
+
+
+# A complex q or field lost its imaginary part with only a ComplexWarning; text failed in NumPy ("could not convert
+# string to float"), a None q with an IndexError.
+NOT_REAL = [
+    pytest.param(lambda a: a + 1j, "dtype complex128", id="complex"),
+    pytest.param(lambda a: a.astype(np.complex64), "dtype complex64", id="complex64"),
+    pytest.param(lambda a: "rho", "str", id="text"),
+    pytest.param(lambda a: None, "NoneType", id="None"),
+]
+
+
+@pytest.mark.parametrize("make, kind", NOT_REAL)
+def test_primitives_refuse_states_that_are_not_real(make, kind):
+    q = freestream((3, 2), 0.5, 1.0)
+    with pytest.raises(MeshError, match=f"q must be an array of real conserved states.*got {kind}"):
+        primitives(make(q), 0.5)
+
+
+@pytest.mark.parametrize("make, kind", NOT_REAL)
+def test_write_vtk_refuses_fields_that_are_not_real(grid, tmp_path, make, kind):
+    path = tmp_path / "bad.vtu"
+    with pytest.raises(MeshError, match=f"cell field 'cp' must be an array of real numbers.*got {kind}"):
+        write_vtk(grid, path, {"rho": np.ones(grid.cell_shape), "cp": make(np.zeros(grid.cell_shape))})
+    assert not path.exists()
+
+
+@pytest.mark.parametrize("convert", [lambda a: a.astype(int), lambda a: a.astype(np.float32), lambda a: a.tolist()],
+                         ids=["int", "float32", "list"])
+def test_real_states_and_fields_of_any_real_type_are_taken(grid, tmp_path, convert):
+    q = np.array([[1.0, 1.0, 0.0, 3.0], [2.0, 1.0, 1.0, 5.0]])   # whole numbers: the int array is the same states
+    ref = primitives(q, 0.5)
+    f = primitives(convert(q), 0.5)
+    for k in ref:
+        assert np.allclose(f[k], ref[k], rtol=1e-6)
+    write_vtk(grid, tmp_path / "ok.vtu", {"i": np.arange(grid.n_cells).reshape(grid.cell_shape),
+                                          "f": convert(np.ones(grid.cell_shape))})
+    assert np.array_equal(meshio.read(tmp_path / "ok.vtu").cell_data["i"][0], np.arange(grid.n_cells))
