@@ -376,6 +376,17 @@ def warn_unseen(gust, t_end, x_ref=0.0, stacklevel=3):
 # Face averages and cell integrals
 # ---------------------------------------------------------------------------------------------
 
+def _abscissae(name, value):
+    """Edge end-point abscissae as a float array, or :class:`GustError` naming ``name`` unless they are real
+    numbers: a complex value lost its imaginary part with only a ``ComplexWarning``, None became NaN, text failed
+    in NumPy."""
+    v = real_array(value)
+    if v is None:
+        raise GustError(f"{name} must be a real number or an array of real end-point abscissae (chords); got "
+                        f"{kind_of(value)} {value!r:.80}")
+    return v
+
+
 def edge_average(gust, x1, x2, s):
     """Exact average of ``v_g / U`` along straight edges whose end points have abscissae x1, x2.
 
@@ -394,9 +405,14 @@ def edge_average(gust, x1, x2, s):
     Returns
     -------
     ndarray
+
+    Raises
+    ------
+    GustError
+        If ``x1`` or ``x2`` is not a real number or an array of real numbers (complex, text, None).
     """
-    x1 = np.asarray(x1, dtype=float)
-    x2 = np.asarray(x2, dtype=float)
+    x1 = _abscissae("x1", x1)
+    x2 = _abscissae("x2", x2)
     dx = x2 - x1
     tiny = np.abs(dx) <= 1e-13 * (1.0 + np.abs(x1))
     safe = np.where(tiny, 1.0, dx)
@@ -421,9 +437,14 @@ def harmonic_edge_average(x1, x2, omega, x_ref=0.0):
     Returns
     -------
     ndarray, complex
+
+    Raises
+    ------
+    GustError
+        If ``x1`` or ``x2`` is not a real number or an array of real numbers (complex, text, None).
     """
-    x1 = np.asarray(x1, dtype=float)
-    x2 = np.asarray(x2, dtype=float)
+    x1 = _abscissae("x1", x1)
+    x2 = _abscissae("x2", x2)
     xm = 0.5 * (x1 + x2)
     return np.exp(-1j * omega * (xm - x_ref)) * np.sinc(omega * (x2 - x1) / (2.0 * np.pi))
 

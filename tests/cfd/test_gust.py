@@ -132,6 +132,36 @@ def test_harmonic_edge_average_against_quadrature():
         np.testing.assert_allclose(harmonic_edge_average(x1, x2, omega, 0.25), ref, atol=1e-7)
 
 
+
+# A complex abscissa was cast to its real part with only a ComplexWarning, None to NaN (averages of NaN returned);
+# text failed in NumPy ("could not convert string to float").
+EDGE_FUNCTIONS = [
+    pytest.param(lambda x1, x2: edge_average(OneMinusCosine(length=2.0, angle_deg=1.0, x0=-1.0), x1, x2, 0.3),
+                 id="edge_average"),
+    pytest.param(lambda x1, x2: harmonic_edge_average(x1, x2, 0.7, 0.25), id="harmonic_edge_average"),
+]
+
+
+@pytest.mark.parametrize("average", EDGE_FUNCTIONS)
+@pytest.mark.parametrize("which", ["x1", "x2"])
+@pytest.mark.parametrize("bad, kind", [(np.array([0.1, 0.5]) + 1j, "dtype complex128"),
+                                       (np.complex64(0.5 + 1j), "complex64"), ("0.5", "str"), (None, "NoneType")])
+def test_edge_averages_refuse_abscissae_that_are_not_real(average, which, bad, kind):
+    good = np.array([0.2, 0.9])
+    args = (bad, good) if which == "x1" else (good, bad)
+    with pytest.raises(GustError, match=f"{which} must be a real number or an array of real end-point abscissae.*"
+                                        f"got {kind}"):
+        average(*args)
+
+
+@pytest.mark.parametrize("average", EDGE_FUNCTIONS)
+def test_edge_averages_take_real_abscissae_of_any_real_type(average):
+    x1, x2 = np.array([-1.0, 0.0, 2.0]), np.array([0.5, 0.0, 3.0])   # exact in float32 and as ints (x1)
+    ref = average(x1, x2)
+    np.testing.assert_array_equal(average(x1.astype(np.float32), x2.astype(np.float32)), ref)
+    np.testing.assert_array_equal(average(x1.astype(int).tolist(), list(x2)), ref)
+    np.testing.assert_array_equal(average(2, 3), average(2.0, 3.0))
+
 @pytest.mark.parametrize("gust", GUSTS)
 @pytest.mark.parametrize("seed", [0, 1])
 def test_cell_integral_against_quadrature(gust, seed):
