@@ -11,7 +11,7 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 
-from ..checks import whole_number
+from ..checks import kind_of, real_array, real_number, whole_number
 from .orthonormal import ColumnBuffer, basis_coefficients, nested_extension, orthonormalise
 from ..superlu import splu_nested, splu_pivoted
 from ..gust import face_gust_harmonic
@@ -362,6 +362,12 @@ class SweepBasis:
         -------
         int
             Number of basis vectors added.
+
+        Raises
+        ------
+        LinearError
+            If ``omega`` is not a real number (complex, text, None, a bool) or ``n_moments`` is not an integer
+            >= 1.
         """
         return self.add_shifts([omega], [n_moments])[0]
 
@@ -383,8 +389,19 @@ class SweepBasis:
         -------
         list of int
             Vectors added per shift.
+
+        Raises
+        ------
+        LinearError
+            If a shift is not a real number (complex, text, None, a bool), before any factorisation, or
+            ``n_moments`` does not give one integer >= 1 per shift.
         """
-        omegas = [float(w) for w in omegas]
+        given = list(omegas)
+        omegas = [real_number(w) for w in given]
+        for w, v in zip(given, omegas):
+            if v is None:   # float() kept a numpy complex's real part with only a ComplexWarning; text was parsed
+                raise LinearError(f"shift frequencies must be real numbers (U/c units, finite, >= 0); got "
+                                  f"{kind_of(w)} {w!r:.80}")
         counts = [self.n_moments if k is None else int(k) for k in (n_moments or [None] * len(omegas))]
         if any(k < 1 for k in counts) or len(counts) != len(omegas):
             raise LinearError(f"n_moments must give one integer >= 1 per shift; got {n_moments!r}")
@@ -486,9 +503,18 @@ class SweepBasis:
             Error estimate of ``y`` (absolute).
         res : ndarray, shape (p, K)
             Dual residual norms relative to ``|C_k|``.
+
+        Raises
+        ------
+        LinearError
+            If ``omega`` is not an array of real numbers (complex, text, None), ``gust`` is not a known method,
+            or the basis is empty.
         """
         check_gust_method(gust)
-        w = np.asarray(omega, dtype=float)
+        w = real_array(omega)   # None for text and None, and for complex (it lost its imaginary part)
+        if w is None:
+            raise LinearError(f"omega must be an array of real frequencies (U/c units, finite, >= 0); got "
+                              f"{kind_of(omega)} {omega!r:.80}")
         if self.size == 0:
             raise LinearError("the sweep basis is empty; call add_shift first")
         t0 = time.perf_counter()

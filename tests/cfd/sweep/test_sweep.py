@@ -165,6 +165,51 @@ def test_bad_input(plate, systems):
         SweepBasis(plate, n_moments=1)
 
 
+
+@pytest.fixture(scope="module")
+def plate_basis(plate):
+    basis = SweepBasis(plate, n_moments=2)
+    basis.add_shift(0.5)
+    return basis
+
+
+# A complex frequency was cast to its real part with only a ComplexWarning (evaluate, and add_shift of a numpy
+# complex); text failed in NumPy (or was parsed by float in add_shift), None with a TypeError.
+NOT_REAL = [
+    pytest.param(lambda w: np.asarray(w) + 1j, "dtype complex128", id="complex"),
+    pytest.param(lambda w: "0.5", "str", id="text"),
+    pytest.param(lambda w: None, "NoneType", id="None"),
+]
+
+
+@pytest.mark.parametrize("input", ["gust", "plunge"])
+@pytest.mark.parametrize("make, kind", NOT_REAL)
+def test_evaluate_refuses_frequencies_that_are_not_real(plate_basis, make, kind, input):
+    with pytest.raises(LinearError, match=f"omega must be an array of real frequencies.*got {kind}"):
+        plate_basis.evaluate(make([0.1, 0.5]), input=input)
+
+
+@pytest.mark.parametrize("omega, kind", [(np.complex128(0.7 + 0.1j), "complex128"), (0.7 + 0.1j, "complex"),
+                                         ("0.7", "str"), (None, "NoneType"), (True, "bool")])
+def test_add_shift_refuses_a_frequency_that_is_not_real(plate_basis, omega, kind):
+    shifts = list(plate_basis.shifts)
+    with pytest.raises(LinearError, match=f"shift frequencies must be real numbers.*got {kind}"):
+        plate_basis.add_shift(omega)
+    with pytest.raises(LinearError, match=f"shift frequencies must be real numbers.*got {kind}"):
+        plate_basis.add_shifts([0.9, omega])   # refused before the first shift is factorised
+    assert plate_basis.shifts == shifts
+
+
+@pytest.mark.parametrize("convert", [lambda w: np.asarray(w, np.float32), lambda w: w.tolist()],
+                         ids=["float32", "list"])
+def test_evaluate_takes_real_frequencies_of_any_real_type(plate_basis, convert):
+    w = np.array([0.0, 0.5, 1.0])   # exact in float32
+    y, est, res = plate_basis.evaluate(w)
+    for a, b in zip(plate_basis.evaluate(convert(w)), (y, est, res)):
+        np.testing.assert_array_equal(a, b)
+    np.testing.assert_array_equal(plate_basis.evaluate([0, 1])[0], y[:, [0, 2]])
+
+
 def test_vortex_far_field_system():
     """With the point-vortex far field the rank-one circulation term is in the sweep operator too."""
     from cfd.euler import Scheme
