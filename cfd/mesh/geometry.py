@@ -74,6 +74,17 @@ def _points(name, value, what):
     return v
 
 
+def _stations(value):
+    """Chordwise stations ``x`` as a float array, or :class:`GeometryError` unless they are real numbers (a
+    complex value lost its imaginary part with only a ``ComplexWarning``, None became NaN, text failed in
+    NumPy). NaN itself passes, and gives NaN, as before."""
+    v = real_array(value)
+    if v is None:
+        raise GeometryError(f"x must be a real number or an array of real chordwise stations (chords, in [0, 1]); "
+                            f"got {kind_of(value)} {value!r:.80}")
+    return v
+
+
 def _check_section(m, p, t):
     """Refuse (:class:`GeometryError`) a NACA 4-digit section outside the family's definition: ``0 <= m <
     MAX_CAMBER``, ``0 < p < 1`` when ``m > 0`` (the camber line divides by ``p`` and ``1 - p``; any finite ``p``
@@ -157,8 +168,13 @@ class Aerofoil:
         -------
         ndarray, same shape as ``x``
             Half thickness in chords; zero at ``x = 0`` and (sharp trailing edge) at ``x = 1``.
+
+        Raises
+        ------
+        GeometryError
+            ``x`` not real numbers (complex, text, None).
         """
-        x = np.asarray(x, dtype=float)
+        x = _stations(x)
         return self._yt(np.sqrt(np.clip(x, 0.0, None)), x)
 
     def _yt(self, sqrt_x, x):
@@ -177,8 +193,13 @@ class Aerofoil:
         -------
         yc, dyc : ndarray, same shape as ``x``
             Camber ordinate (chords) and slope (dimensionless).
+
+        Raises
+        ------
+        GeometryError
+            ``x`` not real numbers (complex, text, None).
         """
-        x = np.asarray(x, dtype=float)
+        x = _stations(x)
         m, p = self.m, self.p
         if m == 0.0:
             return np.zeros_like(x), np.zeros_like(x)
@@ -372,8 +393,23 @@ class TabulatedAerofoil(Aerofoil):
         return np.maximum(self._spline(np.clip(sqrt_x, 0.0, 1.0)), 0.0)
 
     def thickness_slope(self, x):
-        """Slope ``dy_t/dx`` of the half thickness (dimensionless), for ``0 < x <= 1``."""
-        x = np.asarray(x, dtype=float)
+        """Slope ``dy_t/dx`` of the half thickness (dimensionless), for ``0 < x <= 1``.
+
+        Parameters
+        ----------
+        x : array_like
+            Chordwise stations in ``(0, 1]`` (chords).
+
+        Returns
+        -------
+        ndarray, same shape as ``x``
+
+        Raises
+        ------
+        GeometryError
+            ``x`` not real numbers (complex, text, None).
+        """
+        x = _stations(x)
         u = np.sqrt(np.clip(x, 1e-300, None))
         return self._spline(u, 1) / (2.0 * u)
 

@@ -153,6 +153,38 @@ def test_surface_point_messages_say_what_they_take():
         foil.at_arc(None)
 
 
+
+# Chordwise stations x: a complex value lost its imaginary part with only a ComplexWarning, None became NaN and
+# gave NaN, text raised NumPy's "could not convert string to float"
+STATION_METHODS = [("0012", "thickness"), ("2412", "camber"), ("0012", "camber"), ("64A010", "thickness"),
+                   ("64A010", "camber"), ("64A010", "thickness_slope")]
+
+
+@pytest.mark.parametrize("code, method", STATION_METHODS)
+@pytest.mark.parametrize("value, kind", [
+    (np.array([0.2, 0.5]) + 0.1j, "dtype complex128"),
+    (np.complex128(0.5), "complex128"),
+    (0.5 + 0j, "complex"),
+    ("0.5", "str"),
+    (None, "NoneType"),
+])
+def test_chordwise_stations_refuse_values_that_are_not_real_numbers(code, method, value, kind):
+    foil = naca(code)
+    with pytest.raises(GeometryError, match=rf"x must be a real number or an array of real chordwise stations "
+                                            rf"\(chords, in \[0, 1\]\); got {kind}"):
+        getattr(foil, method)(value)
+
+
+@pytest.mark.parametrize("code, method", STATION_METHODS)
+def test_chordwise_stations_of_any_real_type_are_taken(code, method):
+    # the same values as the float64 array (NaN gives NaN, as before)
+    foil = naca(code)
+    values = lambda x: getattr(foil, method)(x) if method == "camber" else (getattr(foil, method)(x),)
+    x = np.array([0.25, 0.5, 1.0])   # exact in float32
+    for given in (x.astype(np.float32), x.tolist(), np.array([1, 0]), 1, np.nan):
+        for a, b in zip(values(given), values(np.asarray(given, dtype=float))):
+            np.testing.assert_array_equal(a, b)
+
 # ---------------------------------------------------------------- NACA 64A010 (tabulated)
 from cfd import TabulatedAerofoil, naca64a010  # noqa: E402
 
