@@ -117,8 +117,23 @@ def _check_wake(x, y, n_wake):
 
 def signed_cell_areas(x, y) -> np.ndarray:
     """Signed areas of the quadrilateral cells of the node arrays ``x, y`` (shape (ni, nj)), shape (ni-1, nj-1):
-    half the cross product of the diagonals, positive for right-handed ``(i, j)``."""
-    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+    half the cross product of the diagonals, positive for right-handed ``(i, j)``.
+
+    Parameters
+    ----------
+    x, y : array_like, shape (ni, nj)
+        Node coordinates (chords).
+
+    Returns
+    -------
+    ndarray, shape (ni-1, nj-1)
+
+    Raises
+    ------
+    MeshError
+        If ``x`` or ``y`` is not an array of real numbers (complex, text, None).
+    """
+    x, y = _nodes("x", x), _nodes("y", y)
     # corners 1 = (i, j), 2 = (i+1, j), 3 = (i+1, j+1), 4 = (i, j+1): 0.5 (x3 - x1, y3 - y1) x (x4 - x2, y4 - y2)
     return 0.5 * ((x[1:, 1:] - x[:-1, :-1]) * (y[:-1, 1:] - y[1:, :-1])
                   - (x[:-1, 1:] - x[1:, :-1]) * (y[1:, 1:] - y[:-1, :-1]))
@@ -126,7 +141,8 @@ def signed_cell_areas(x, y) -> np.ndarray:
 
 def inverted_cells(x, y) -> np.ndarray:
     """Indices ``(i, j)`` of the cells of the node arrays ``x, y`` (shape (ni, nj)) whose signed area is not
-    positive (inverted or degenerate), shape (k, 2), in row-major order."""
+    positive (inverted or degenerate), shape (k, 2), in row-major order; :class:`MeshError` as
+    :func:`signed_cell_areas` for nodes that are not real numbers."""
     return np.argwhere(signed_cell_areas(x, y) <= 0.0)
 
 

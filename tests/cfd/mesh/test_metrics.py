@@ -2,6 +2,7 @@ import numpy as np
 import pytest
 
 from cfd import MeshError, grid_from_nodes
+from cfd.mesh.metrics import inverted_cells, signed_cell_areas
 
 
 def _annulus(ni=41, nj=9, r0=1.0, r1=3.0):
@@ -74,3 +75,30 @@ def test_grid_without_a_cut_needs_n_wake_zero():
 def test_matching_n_wake_is_accepted_also_as_a_numpy_integer(c_grid_nodes):
     assert grid_from_nodes(*c_grid_nodes, n_wake=np.int64(8)).n_wake == 8
     assert grid_from_nodes(*c_grid_nodes, n_wake=8.0).n_wake == 8  # a whole-valued float, e.g. (ni - 1 - n) / 2
+
+
+# signed_cell_areas (and inverted_cells, through it): complex nodes lost their imaginary part with only a
+# ComplexWarning; text raised NumPy's "could not convert string to float", None an IndexError
+@pytest.mark.parametrize("function", [signed_cell_areas, inverted_cells])
+@pytest.mark.parametrize("which", ["x", "y"])
+@pytest.mark.parametrize("make, kind", [
+    (lambda a: a + 0.5j, "dtype complex128"),
+    (lambda a: a.astype(np.complex64), "dtype complex64"),
+    (lambda a: "a", "str"),
+    (lambda a: None, "NoneType"),
+])
+def test_cell_areas_refuse_nodes_that_are_not_real(function, which, make, kind):
+    x, y = _annulus(ni=5, nj=3)
+    args = (make(x), y) if which == "x" else (x, make(y))
+    with pytest.raises(MeshError, match=rf"{which} must be a 2-D array of real node coordinates .*got {kind}"):
+        function(*args)
+
+
+def test_cell_areas_of_nodes_of_any_real_type_are_the_same():
+    x, y = np.meshgrid([0.0, 1.0, 3.0], [0.0, 0.5, 2.0], indexing="ij")   # exact in float32 and as ints (x4)
+    ref = signed_cell_areas(x, y)
+    assert np.array_equal(ref, [[0.5, 1.5], [1.0, 3.0]])
+    for convert in (lambda a: a.astype(np.float32), lambda a: a.tolist()):
+        assert np.array_equal(signed_cell_areas(convert(x), convert(y)), ref)
+    assert np.array_equal(signed_cell_areas((4 * x).astype(int), (4 * y).astype(int)), 16 * ref)
+    assert inverted_cells(x[::-1], y).tolist() == [[0, 0], [0, 1], [1, 0], [1, 1]]
