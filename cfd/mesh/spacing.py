@@ -4,6 +4,9 @@ import math
 
 import numpy as np
 
+from ..checks import kind_of, real_array, real_number, whole_number
+from ..errors import MeshError
+
 __all__ = ["geometric_distribution", "vinokur_distribution"]
 
 
@@ -18,6 +21,37 @@ def _solve_monotone(f, target, lo, hi, n_iter=100):
         lo = np.where(below, mid, lo)
         hi = np.where(below, hi, mid)
     return 0.5 * (lo + hi)
+
+
+def _intervals(n):
+    """``n`` as an int if it is a whole number >= 1, else :class:`MeshError` (a numpy complex ``n`` lost its
+    imaginary part with only a ``ComplexWarning``, ``2.5`` gave points that miss the end, 0 NaN or a division by
+    zero, text a bare TypeError)."""
+    v = whole_number(n)
+    if v is None or v < 1:
+        raise MeshError(f"n must be a whole number of intervals >= 1; got {kind_of(n)} {n!r:.80}")
+    return v
+
+
+def _lengths(name, value, what):
+    """``value`` as a float array, or :class:`MeshError` naming ``name`` unless it holds real numbers (a complex
+    value lost its imaginary part with only a ``ComplexWarning``, None became NaN, text failed in NumPy)."""
+    v = real_array(value)
+    if v is None:
+        raise MeshError(f"{name} must be a real number or an array of real numbers ({what}); got "
+                        f"{kind_of(value)} {value!r:.80}")
+    return v
+
+
+def _fraction(name, value, what):
+    """``value`` as a float if it is a positive finite real number, else :class:`MeshError` naming ``name`` (a
+    numpy complex lost its imaginary part with only a ``ComplexWarning``; a Python complex, text, None, 0 or a
+    negative number raised a bare TypeError, ZeroDivisionError or math domain error)."""
+    v = real_number(value)
+    if v is None or not (math.isfinite(v) and v > 0.0):
+        raise MeshError(f"{name} must be a positive finite real number ({what}); got {kind_of(value)} "
+                        f"{value!r:.80}")
+    return v
 
 
 def _geometric_sum(r, n):
@@ -47,9 +81,16 @@ def geometric_distribution(n, first, length):
         Increasing from 0 to ``length``.
     ratio : ndarray, shape (...)
         The growth ratio of neighbouring intervals (in ``[0.2, 5]``).
+
+    Raises
+    ------
+    MeshError
+        If ``n`` is not a whole number >= 1, or ``first`` or ``length`` is not real numbers (complex, text,
+        None).
     """
-    first = np.asarray(first, dtype=float)
-    length = np.asarray(length, dtype=float)
+    n = _intervals(n)
+    first = _lengths("first", first, "first interval, chords")
+    length = _lengths("length", length, "total length, chords")
     ratio = _solve_monotone(lambda r: first * _geometric_sum(r, n), length, 0.2, 5.0)
     k = np.arange(n + 1)
     frac = _geometric_sum(ratio[..., None], k) / _geometric_sum(ratio[..., None], n)
@@ -70,7 +111,16 @@ def vinokur_distribution(n, ds0, ds1):
     -------
     ndarray, shape (n + 1,)
         Increasing from 0 to 1.
+
+    Raises
+    ------
+    MeshError
+        If ``n`` is not a whole number >= 1, or ``ds0`` or ``ds1`` is not a positive finite real number
+        (complex, text, None, 0).
     """
+    n = _intervals(n)
+    ds0 = _fraction("ds0", ds0, "first interval as a fraction of the length")
+    ds1 = _fraction("ds1", ds1, "last interval as a fraction of the length")
     xi = np.arange(n + 1) / n
     b = 1.0 / (n * math.sqrt(ds0 * ds1))
     if abs(b - 1.0) < 1e-8:
