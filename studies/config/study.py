@@ -13,7 +13,8 @@ Schema (every key optional unless marked; see ``studies/demo.toml`` and ``studie
     description = "..."            # free text (not part of the hash)
     output = "../results/demo"     # relative to the study file's folder (not that folder itself, nor /);
                                    # default results/<name> there
-    store = "../results/store"     # results store (studies.store.cache); default <output>/store
+    store = "../results/store"     # results store (studies.store.cache), relative like output (not the study
+                                   # file's folder, nor /; studies may share one); default <output>/store
     cases = ["T2", {name = "T5", orders = [25, 55]},
              {name = "mine", naca = "0012", mach = 0.5, alpha_deg = 1.0, grid = {nj = 48}}]   # required
     gusts = ["G3", "G6", {name = "g2c", kind = "one_minus_cosine", length = 2.0, angle_deg = 1.0}]
@@ -261,14 +262,42 @@ def _check_output(P: ConfigReader, text: str, output_dir: Path, study_folder: Pa
     """
     fix = f"give a folder of the study's own, e.g. \"results/{name}\"" + (
         " (relative to the study file), or leave output out" if study_folder is not None else "")
+    _check_folder(P, "output", text, output_dir, study_folder, fix,
+                  "its report, figures and store", "its report, tables, figures and store among the study files")
+
+
+def _check_store(P: ConfigReader, text: str, store_dir: Path, study_folder: Path | None) -> None:
+    """Refuse a ``store`` that is empty, the filesystem root or the study file's own folder.
+
+    The results store (:mod:`studies.store.cache`) fills its folder with cache entries; ``store = ""`` (or
+    ``"."``) put them among the study files and ``"/"`` into the root. A store shared by several studies (e.g.
+    ``"../results/store"``) is fine: that is what it is for.
+
+    Raises
+    ------
+    StudyConfigError
+        At key ``store``, saying what to give instead.
+    """
+    fix = "give a folder for the results store, e.g. \"results/store\"" + (
+        " (relative to the study file; studies may share one), or leave store out (default: <output>/store)"
+        if study_folder is not None else "")
+    _check_folder(P, "store", text, store_dir, study_folder, fix,
+                  "its cache of flows, frequency responses and ROMs",
+                  "its cache of flows, frequency responses and ROMs among the study files")
+
+
+def _check_folder(P: ConfigReader, key: str, text: str, folder: Path, study_folder: Path | None, fix: str,
+                  root_use: str, own_use: str) -> None:
+    """The checks of :func:`_check_output` and :func:`_check_store`: ``key`` = ``text`` (resolved: ``folder``)
+    is not empty, not the filesystem root and not ``study_folder``; ``root_use`` and ``own_use`` say what the
+    run would write there."""
     if not text.strip():
-        raise P.err("output", f"is empty: {fix}")
-    if output_dir.parent == output_dir:
-        raise P.err("output", f"{text!r} is the filesystem root {output_dir}, where the run would write its report, "
-                              f"figures and store; {fix}")
-    if study_folder is not None and output_dir == study_folder:
-        raise P.err("output", f"{text!r} is the study file's own folder {output_dir}, where the run would write its "
-                              f"report, tables, figures and store among the study files; {fix}")
+        raise P.err(key, f"is empty: {fix}")
+    if folder.parent == folder:
+        raise P.err(key, f"{text!r} is the filesystem root {folder}, where the run would write {root_use}; {fix}")
+    if study_folder is not None and folder == study_folder:
+        raise P.err(key, f"{text!r} is the study file's own folder {folder}, where the run would write {own_use}; "
+                         f"{fix}")
 
 
 def as_config(study) -> StudyConfig:
@@ -531,6 +560,8 @@ def parse_study(data: Mapping[str, Any], source: str = "<dict>", base_dir=None,
         _check_output(P, out, output_dir, base.resolve() if base_dir is not None else None, name)
     store = data.get("store")
     store_dir = (base / P.string(store, "store")).resolve() if store is not None else output_dir / "store"
+    if store is not None:
+        _check_store(P, store, store_dir, base.resolve() if base_dir is not None else None)
     report = parse_report_table(P, data.get("report", {}), base)
     # the sections' tables ([aeroelastic], [nonlinear], ...): studies.sections.protocol
     study = StudyTables(cases=tuple(sweeps), gusts=tuple(gusts), simulation=sim, cfd=cfd, methods=tuple(methods),

@@ -155,6 +155,8 @@ def test_report_page_and_prose_are_handed_over(fake_modules, tmp_path):
     (["rom", "mine", "--naca", "00x2", "--mach", "0.5", "--order", "9"], "--naca: .*non-digit"),
     (["rom", "mine", "--naca", "0012", "--mach", "fast", "--order", "9"], "--mach: 'fast' is not a number"),
     (["rom", "T2", "--order", "9", "--out", "/"], "--out: '/' is the filesystem root /.*e.g. \"results/rom\"$"),
+    (["rom", "T2", "--order", "9", "--store", "/"],
+     "--store: '/' is the filesystem root /.*e.g. \"results/store\"$"),
 ])
 def test_rom_validation(argv, match, capsys, fake_modules):
     fake_modules("studies.run.runner", "run_study")

@@ -243,6 +243,41 @@ def test_output_inside_beside_or_above_the_study_s_folder(tmp_path, output, wher
     assert load_study(study).output_dir == (tmp_path / where).resolve()
 
 
+@pytest.mark.parametrize("store, problem", [
+    ('""', "is empty"), ('"  "', "is empty"), ('"/"', "'/' is the filesystem root /"),
+    ('"/.."', "'/..' is the filesystem root /"), ('"."', "'.' is the study file's own folder"),
+    ('"../d"', "'../d' is the study file's own folder"),
+])
+def test_store_must_not_be_the_study_s_folder_or_the_root(tmp_path, store, problem):
+    # "" and "." put the cache entries among the study files, "/" into the root
+    study = tmp_path / "d" / "s.toml"
+    study.parent.mkdir()
+    study.write_text(f"store = {store}\n" + BASE)
+    with pytest.raises(StudyConfigError, match=re.escape(problem) + r".*e\.g\. \"results/store\".*leave store "
+                                               r"out \(default: <output>/store\)$") as e:
+        load_study(study)
+    assert e.value.key == "store"
+
+
+@pytest.mark.parametrize("store, where", [(None, "d/results/s/store"), ("cache", "d/cache"), ("..", "."),
+                                          ("../results/store", "results/store")])
+def test_store_default_inside_beside_or_above_the_study_s_folder(tmp_path, store, where):
+    study = tmp_path / "d" / "s.toml"
+    study.parent.mkdir()
+    study.write_text((f"store = {store!r}\n" if store is not None else "") + BASE)
+    assert load_study(study).store_dir == (tmp_path / where).resolve()
+
+
+def test_a_store_shared_by_two_studies(tmp_path):
+    (tmp_path / "d").mkdir()
+    configs = []
+    for stem in ("a", "b"):
+        (tmp_path / "d" / f"{stem}.toml").write_text('store = "../results/store"\n' + BASE)
+        configs.append(load_study(tmp_path / "d" / f"{stem}.toml"))
+    assert configs[0].store_dir == configs[1].store_dir == (tmp_path / "results" / "store").resolve()
+    assert configs[0].output_dir != configs[1].output_dir
+
+
 def test_canonical_form_is_stable_under_reordering():
     a = loads_study(GOOD)
     b = loads_study("""
