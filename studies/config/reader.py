@@ -18,6 +18,7 @@ __all__ = [
     "StudyConfigError",
     "ConfigReader",
     "did_you_mean",
+    "table_array",
     "grid_config_error",
     "TOP_KEYS",
     "GRID_KEYS",
@@ -176,6 +177,47 @@ def did_you_mean(word: str, options) -> str:
         return f" (did you mean {low[word.lower()]!r}?)"
     close = difflib.get_close_matches(word, options, n=1, cutoff=0.6)
     return f" (did you mean {close[0]!r}?)" if close else ""
+
+
+def table_array(error, value, key: str, *, most: Optional[int] = None) -> list:
+    """``value`` checked to be a TOML array of tables (``[[key]]``): a non-empty list of tables (dicts).
+
+    A single table is refused, not taken for a list of one: ``sections = {name = "w"}`` or ``[aeroelastic.sections]``
+    (single brackets) read as one table, and an incomplete one was then reported as a missing key of
+    ``sections[0]``, which the study file does not have.
+
+    Parameters
+    ----------
+    error : callable
+        ``error(dotted_key, problem) -> Exception`` (:meth:`ConfigReader.err` or a section's error factory).
+    value
+        The parsed TOML value.
+    key : str
+        Its dotted key, e.g. ``"aeroelastic.sections"``; the entries are ``key[i]``.
+    most : int, optional
+        The most entries allowed.
+
+    Raises
+    ------
+    StudyConfigError
+        At ``key`` (not an array, a single table, empty, too long) or ``key[i]`` (an entry that is not a table),
+        saying to write each entry under its own ``[[key]]``.
+    """
+    name = key.rsplit(".", 1)[-1]
+    how = f"start each entry with its own [[{key}]] line (double brackets) followed by its keys"
+    if isinstance(value, dict):
+        raise error(key, f"must be an array of tables, got a single table {value!r} ({name} = {{...}} or "
+                         f"[{key}] in single brackets): {how}")
+    if not isinstance(value, list):
+        raise error(key, f"must be an array of tables ([[{key}]]), got {type(value).__name__} {value!r}: {how}")
+    if not value:
+        raise error(key, f"is empty: give at least one [[{key}]] table")
+    if most is not None and len(value) > most:
+        raise error(key, f"has {len(value)} tables, at most {most} are allowed: give at most {most} [[{key}]]")
+    for i, entry in enumerate(value):
+        if not isinstance(entry, dict):
+            raise error(f"{key}[{i}]", f"must be a table, got {type(entry).__name__} {entry!r}: {how}")
+    return value
 
 
 def grid_config_error(P: ConfigReader, prefix: str, e: CaseError) -> StudyConfigError:

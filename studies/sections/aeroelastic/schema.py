@@ -54,7 +54,7 @@ import numpy as np
 
 from sysid.order_limits import max_order
 
-from ...config.reader import did_you_mean
+from ...config.reader import did_you_mean, table_array
 from ...config.numbers import normalise_float, parse_number
 from ...config.schema import case_canonical
 
@@ -316,10 +316,7 @@ def parse_aeroelastic(table: Any, source: Callable[[str, str], Exception], cases
     if raw is None:
         raise _error(source, "aeroelastic.sections", "missing: give at least one [[aeroelastic.sections]] with "
                                                      "name, mu, a, x_alpha, r_alpha2, omega_ratio")
-    if isinstance(raw, dict):
-        raw = [raw]
-    if not isinstance(raw, list) or not raw:
-        raise _error(source, "aeroelastic.sections", "must be a list of tables ([[aeroelastic.sections]])")
+    raw = table_array(source, raw, "aeroelastic.sections")
     sections = []
     for i, entry in enumerate(raw):
         sections.append(_parse_section(source, entry, f"aeroelastic.sections[{i}]", gusts))

@@ -82,7 +82,7 @@ from dataclasses import dataclass
 from typing import Any, Callable, Optional
 
 from ...config.numbers import normalise_float, parse_number
-from ...config.reader import did_you_mean
+from ...config.reader import did_you_mean, table_array
 
 __all__ = [
     "LoadsOptions",
@@ -428,15 +428,10 @@ def parse_loads(table: Any, error: Callable[[str, str], Exception], study) -> Lo
     raw = table.get("points")
     if raw is None:
         raise error("loads.points", "missing: give at least one [[loads.points]] with case, altitude_m, chord_m")
-    if isinstance(raw, dict):
-        raw = [raw]
-    if not isinstance(raw, list) or not raw:
-        raise error("loads.points", "must be a list of tables ([[loads.points]])")
+    raw = table_array(error, raw, "loads.points")
     points, origins = [], []          # origins: the [[loads.points]] entry of each point (for messages)
     for i, entry in enumerate(raw):
         key = f"loads.points[{i}]"
-        if not isinstance(entry, dict):
-            raise error(key, f"must be a table, got {entry!r}")
         _check_keys(error, entry, POINT_KEYS, key)
         for req in ("case", "altitude_m", "chord_m"):
             if req not in entry:
@@ -614,15 +609,10 @@ def _parse_sections(error, raw) -> tuple:
 
     if raw is None:
         return ()
-    if isinstance(raw, dict):
-        raw = [raw]
-    if not isinstance(raw, list) or not raw or len(raw) > MAX_SECTIONS:
-        raise error("loads.sections", f"must be a list of 1 to {MAX_SECTIONS} tables ([[loads.sections]])")
+    raw = table_array(error, raw, "loads.sections", most=MAX_SECTIONS)
     out = []
     for i, entry in enumerate(raw):
         key = f"loads.sections[{i}]"
-        if not isinstance(entry, dict):
-            raise error(key, f"must be a table, got {entry!r}")
         _check_keys(error, entry, SECTION_KEYS, key)
         for req in SECTION_KEYS[:-1]:
             if req not in entry:

@@ -107,6 +107,15 @@ def test_parse_defaults_and_grids(tmp_path):
      "aeroelastic.gust_order", "beyond what 11 frequencies support \\(at most 5"),
     ("[aeroelastic]\n" + SECTION + "gust_speed = 0\n", "aeroelastic.sections[0].gust_speed", "positive"),
     ("[aeroelastic]\nomega = 3\n" + SECTION, "aeroelastic.omega", "must be a table"),
+    # a single table where [[aeroelastic.sections]] is expected: once a "missing" at sections[0].mu
+    ('[aeroelastic]\nsections = { name = "HP" }\n', "aeroelastic.sections",
+     r"must be an array of tables, got a single table \{'name': 'HP'\}.*its own \[\[aeroelastic.sections\]\] line"),
+    ("[aeroelastic]\n" + SECTION.replace("[[aeroelastic.sections]]", "[aeroelastic.sections]"),
+     "aeroelastic.sections", r"got a single table .*\[aeroelastic.sections\] in single brackets"),
+    ('[aeroelastic]\nsections = "HP"\n', "aeroelastic.sections",
+     r"must be an array of tables \(\[\[aeroelastic.sections\]\]\), got str 'HP'"),
+    ("[aeroelastic]\nsections = []\n", "aeroelastic.sections", r"is empty: give at least one \[\[aeroelastic"),
+    ('[aeroelastic]\nsections = ["HP"]\n', "aeroelastic.sections[0]", "must be a table, got str 'HP'"),
 ])
 def test_parse_errors(tmp_path, extra, key, match):
     with pytest.raises(StudyConfigError, match=match) as info:

@@ -152,6 +152,13 @@ def bad(key, value):
     ("\n[loads]\n" + SECTIONS + POINTS, "", "loads.sections", "which the \\[aeroelastic\\] section computes"),
     ("\n[loads]\n" + SECTIONS + POINTS, AERO.replace('cases = ["T2"]\n', 'cases = []\n'), "aeroelastic.cases",
      "non-empty"),
+    # a single table where [[loads.sections]] is expected: once a "missing" at loads.sections[0].mass_kg_m
+    ('\n[loads]\nsections = { name = "stiff" }\n' + POINTS, AERO, "loads.sections",
+     r"must be an array of tables, got a single table .*its own \[\[loads.sections\]\] line"),
+    ("\n[loads]\n" + POINTS + SECTIONS.replace("[[loads.sections]]", "[loads.sections]"), AERO, "loads.sections",
+     r"\[loads.sections\] in single brackets"),
+    ("\n[loads]\nsections = [" + ", ".join(['{ name = "s" }'] * 21) + "]\n" + POINTS, AERO, "loads.sections",
+     r"has 21 tables, at most 20 are allowed"),
 ])
 def test_parse_errors(extra, aero, key, match):
     with pytest.raises(StudyConfigError, match=match) as info:

@@ -84,6 +84,12 @@ def test_parse_rom_and_alleviation():
     ("\n[loads]\nH_range_m = [50, 20]\n" + POINTS, "loads.H_range_m", "must not be below"),
     ("\n[loads]\nn_grid = 2\n" + POINTS, "loads.n_grid", "between 3 and"),
     ("\n[loads]\nh_rtol = 0\n" + POINTS, "loads.h_rtol", "positive"),
+    # a single table where [[loads.points]] is expected
+    ("\n[loads]\n" + POINTS.replace("[[loads.points]]", "[loads.points]"), "loads.points",
+     r"must be an array of tables, got a single table .*its own \[\[loads.points\]\] line"),
+    ('\n[loads]\npoints = { case = "T2" }\n', "loads.points", r"got a single table \{'case': 'T2'\}"),
+    ("\n[loads]\npoints = []\n", "loads.points", r"is empty: give at least one \[\[loads.points\]\]"),
+    ('\n[loads]\npoints = ["T2"]\n', "loads.points[0]", "must be a table, got str 'T2'"),
 ])
 def test_parse_errors(extra, key, match):
     with pytest.raises(StudyConfigError, match=match) as info:
