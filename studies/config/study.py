@@ -11,7 +11,7 @@ Schema (every key optional unless marked; see ``studies/demo.toml`` and ``studie
 
     name = "demo"                  # default: the file's stem
     description = "..."            # free text (not part of the hash)
-    output = "../results/demo"     # relative to the study file's folder (not that folder itself, nor /);
+    output = "../results/demo"     # relative to the study file's folder (not empty, nor /);
                                    # default results/<name> there
     store = "../results/store"     # results store (studies.store.cache), relative like output (not the study
                                    # file's folder, nor /; studies may share one); default <output>/store
@@ -248,11 +248,11 @@ def _folder_problem(folder: Path) -> str:
 
 
 def _check_output(P: ConfigReader, text: str, output_dir: Path, study_folder: Path | None, name: str) -> None:
-    """Refuse an ``output`` that is empty, the filesystem root or the study file's own folder.
+    """Refuse an ``output`` that is empty or the filesystem root.
 
-    The run writes its report, tables, figures, run log and (by default) the results store into ``output``, a
-    folder of the study's own. An empty ``output`` resolved to the study file's folder (which holds other studies
-    and their files) and ``"/"`` to the root. ``study_folder`` is None for a study without a file (its relative
+    The run writes its report, tables, figures, run log and (by default) the results store into ``output``. An
+    empty ``output`` is a slip (it resolved to the study file's folder without saying so: write ``"."`` for that)
+    and ``"/"`` puts all of it into the root. ``study_folder`` is None for a study without a file (its relative
     paths are taken from the working folder, e.g. ``lfdrom rom``'s).
 
     Raises
@@ -260,18 +260,18 @@ def _check_output(P: ConfigReader, text: str, output_dir: Path, study_folder: Pa
     StudyConfigError
         At key ``output``, saying what to give instead.
     """
-    fix = f"give a folder of the study's own, e.g. \"results/{name}\"" + (
-        " (relative to the study file), or leave output out" if study_folder is not None else "")
-    _check_folder(P, "output", text, output_dir, study_folder, fix,
-                  "its report, figures and store", "its report, tables, figures and store among the study files")
+    fix = f"give a folder for the study's results, e.g. \"results/{name}\"" + (
+        " (relative to the study file; \".\" for the study file's own folder), or leave output out"
+        if study_folder is not None else "")
+    _check_folder(P, "output", text, output_dir, fix, "its report, figures and store")
 
 
 def _check_store(P: ConfigReader, text: str, store_dir: Path, study_folder: Path | None) -> None:
-    """Refuse a ``store`` that is empty, the filesystem root or the study file's own folder.
+    """Refuse a ``store`` that is empty or the filesystem root.
 
-    The results store (:mod:`studies.store.cache`) fills its folder with cache entries; ``store = ""`` (or
-    ``"."``) put them among the study files and ``"/"`` into the root. A store shared by several studies (e.g.
-    ``"../results/store"``) is fine: that is what it is for.
+    The results store (:mod:`studies.store.cache`) fills its folder with cache entries; ``store = ""`` resolved to
+    the study file's folder without saying so and ``"/"`` put them into the root. A store shared by several
+    studies (e.g. ``"../results/store"``) is fine: that is what it is for.
 
     Raises
     ------
@@ -281,23 +281,16 @@ def _check_store(P: ConfigReader, text: str, store_dir: Path, study_folder: Path
     fix = "give a folder for the results store, e.g. \"results/store\"" + (
         " (relative to the study file; studies may share one), or leave store out (default: <output>/store)"
         if study_folder is not None else "")
-    _check_folder(P, "store", text, store_dir, study_folder, fix,
-                  "its cache of flows, frequency responses and ROMs",
-                  "its cache of flows, frequency responses and ROMs among the study files")
+    _check_folder(P, "store", text, store_dir, fix, "its cache of flows, frequency responses and ROMs")
 
 
-def _check_folder(P: ConfigReader, key: str, text: str, folder: Path, study_folder: Path | None, fix: str,
-                  root_use: str, own_use: str) -> None:
+def _check_folder(P: ConfigReader, key: str, text: str, folder: Path, fix: str, root_use: str) -> None:
     """The checks of :func:`_check_output` and :func:`_check_store`: ``key`` = ``text`` (resolved: ``folder``)
-    is not empty, not the filesystem root and not ``study_folder``; ``root_use`` and ``own_use`` say what the
-    run would write there."""
+    is not empty and not the filesystem root; ``root_use`` says what the run would write there."""
     if not text.strip():
         raise P.err(key, f"is empty: {fix}")
     if folder.parent == folder:
         raise P.err(key, f"{text!r} is the filesystem root {folder}, where the run would write {root_use}; {fix}")
-    if study_folder is not None and folder == study_folder:
-        raise P.err(key, f"{text!r} is the study file's own folder {folder}, where the run would write {own_use}; "
-                         f"{fix}")
 
 
 def as_config(study) -> StudyConfig:

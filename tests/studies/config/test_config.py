@@ -222,11 +222,10 @@ def test_a_folder_given_as_the_study_file(tmp_path, capsys, names, advice):
 
 @pytest.mark.parametrize("output, problem", [
     ('""', "is empty"), ('"  "', "is empty"), ('"/"', "'/' is the filesystem root /"),
-    ('"/.."', "'/..' is the filesystem root /"), ('"."', "'.' is the study file's own folder"),
-    ('"../d"', "'../d' is the study file's own folder"),
+    ('"/.."', "'/..' is the filesystem root /"),
 ])
-def test_output_must_be_a_folder_of_the_study_s_own(tmp_path, output, problem):
-    # "" and "." wrote the results among the study files, "/" into the root
+def test_output_must_not_be_empty_or_the_root(tmp_path, output, problem):
+    # "" wrote the results among the study files without saying so, "/" into the root
     study = tmp_path / "d" / "s.toml"
     study.parent.mkdir()
     study.write_text(f"output = {output}\n" + BASE)
@@ -235,7 +234,8 @@ def test_output_must_be_a_folder_of_the_study_s_own(tmp_path, output, problem):
     assert e.value.key == "output"
 
 
-@pytest.mark.parametrize("output, where", [("out", "d/out"), ("..", "."), ("../results/s", "results/s")])
+@pytest.mark.parametrize("output, where", [("out", "d/out"), ("..", "."), ("../results/s", "results/s"),
+                                           (".", "d"), ("../d", "d")])   # the study file's own folder, on purpose
 def test_output_inside_beside_or_above_the_study_s_folder(tmp_path, output, where):
     study = tmp_path / "d" / "s.toml"
     study.parent.mkdir()
@@ -245,11 +245,10 @@ def test_output_inside_beside_or_above_the_study_s_folder(tmp_path, output, wher
 
 @pytest.mark.parametrize("store, problem", [
     ('""', "is empty"), ('"  "', "is empty"), ('"/"', "'/' is the filesystem root /"),
-    ('"/.."', "'/..' is the filesystem root /"), ('"."', "'.' is the study file's own folder"),
-    ('"../d"', "'../d' is the study file's own folder"),
+    ('"/.."', "'/..' is the filesystem root /"),
 ])
-def test_store_must_not_be_the_study_s_folder_or_the_root(tmp_path, store, problem):
-    # "" and "." put the cache entries among the study files, "/" into the root
+def test_store_must_not_be_empty_or_the_root(tmp_path, store, problem):
+    # "" put the cache entries among the study files without saying so, "/" into the root
     study = tmp_path / "d" / "s.toml"
     study.parent.mkdir()
     study.write_text(f"store = {store}\n" + BASE)
