@@ -452,18 +452,17 @@ def test_the_algorithm_can_be_chosen(files, tmp_path, capsys):
 
 
 def test_the_fits_warnings_are_reported_with_it(tmp_path, capsys):
-    # 1 % noise on an order-4 response fitted at order 8: identify warns of a resonance the samples cannot see;
-    # lfdrom fit prints it after the errors and writes it into summary.md, not as a Python warning with a path
+    # 0.3 % noise on a 12-state response fitted at order 14: identify warns of a resonance the samples cannot see
+    # (tests/sysid/test_identify.py, _resonating_twelve_states); lfdrom fit prints it after the errors and writes it
+    # into summary.md, not as a Python warning with a path
+    from sysid_synth import noisy_resonant_system
+
     wd, w = sysid.mckelvey_grid(64, 1.0)
-    s = 1j * np.where(np.isinf(w), 0.0, w)
-    H = np.where(np.isinf(w), 0.0, 2 * np.pi * (0.13 / (s + 0.26) + 1 / (s + 2)) + 1.8 / (s**2 + 0.6 * s + 9))
-    rng = np.random.default_rng(3)
-    H = H + 0.01 * np.abs(H).max() * (rng.standard_normal(65) + 1j * rng.standard_normal(65)) / np.sqrt(2)
-    H[0], H[-1] = H[0].real, 0.0
+    H, _ = noisy_resonant_system(w, w[:2], seed=59, noise=0.003)
     data = sysid.FrequencyResponse(H[None, None, :], wd, 1.0).save(tmp_path / "noisy.npz")
-    assert cli.main(["fit", str(data), "--order", "8", "--out", str(tmp_path / "o")]) == 0
+    assert cli.main(["fit", str(data), "--order", "14", "--out", str(tmp_path / "o")]) == 0
     captured = capsys.readouterr()
-    assert "warning: the order-8 model has a resonance at omega = 0.4" in captured.out   # 0.43 (2026-12-04)
+    assert "warning: the order-14 model has a resonance at omega = 1.0" in captured.out   # 1.098 (2026-12-04)
     assert "RuntimeWarning" not in captured.err
     summary = (tmp_path / "o" / "summary.md").read_text()
     assert "**Warnings of the fit**" in summary and "invisible at the samples" in summary
