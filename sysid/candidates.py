@@ -14,7 +14,7 @@ from .state_space import eigen_parts, evaluate_ss
 __all__ = ["EQ_TOL", "channel_errors", "rms_errors", "candidate_score", "bound_candidate_gaps", "pick_candidates",
            "gap_excess", "equality_residual", "equality_gaps", "polish_equalities", "POLISH_FROM", "candidate_eig",
            "ROUNDOFF_TOL", "equality_roundoff", "check_equalities", "constrained_responses", "settle_equalities",
-           "NOISE_TRUST", "NOISE_TRUST_GAP"]
+           "NOISE_TRUST", "NOISE_TRUST_GAP", "NOISE_RMS_TIE"]
 
 #: Accepted violation of the DC / feedthrough equalities by the model (:func:`equality_residual`), relative to
 #: each output's peak.
@@ -116,42 +116,56 @@ def pick_candidates(cands, trust=None):
     :data:`NOISE_TRUST_GAP` times the bounds and its error :data:`NOISE_TRUST` times smaller than theirs: then the
     samples themselves determine the resonance (noise-free data of a lightly damped system: errors 1e-12 against
     0.4; noisy data of a resonance narrower than the spacing: errors at the noise level against 8 times it). An
-    admissible candidate at the noise level estimated far off between the samples (``c["far_between"]``,
-    :func:`sysid.relocation._fit_simo`) gives way to the candidates without that fault whose errors are within
-    :data:`NOISE_TRUST` of its own and whose gain is within :data:`NOISE_TRUST_GAP` of the bounds.
+    admissible candidate at the noise level estimated far off between the samples gives way to those without that
+    fault that come close (:func:`_prefer_near`), and candidates whose rms errors tie are ordered by their estimate
+    between the samples (:func:`_tied_by_between`).
     Among the admissible ones, the one whose worst output is closest to the best any of them reached on that
     output, by the max errors ``c["err"]``, or by the rms errors ``c["rms"]`` when every one of them is at the
     noise level (``c["at_noise"]``: the least-squares criterion is the likelihood of Gaussian noise, where the
     largest error is that of one noise sample)."""
     _admit(cands, trust)
-    far = [c for c in cands if c["admissible"] and c.get("far_between", False)]
-    if far:
-        # a fit at the noise level estimated far off between the samples (sysid.relocation._fit_simo) gives way to
-        # every fit without that fault that comes within NOISE_TRUST of its error on the samples and whose gain is
-        # within NOISE_TRUST_GAP of the bounds (the margin the noise-level rule allows)
-        e_far = min(float(np.max(c["err"])) for c in far)
-        near = [c for c in cands if not c.get("far_between", False) and _equalities_hold(c)
-                and (c["admissible"] or (c.get("at_noise", False) and c["gap"] <= NOISE_TRUST_GAP))
-                and float(np.max(c["err"])) < NOISE_TRUST * e_far]
-        if near:
-            for c in far:
-                c["admissible"] = False
-            for c in near:
-                c["admissible"] = True
+    _prefer_near(cands)
     ok = [c for c in cands if c["admissible"]]
     pool = ok if ok else sorted(cands, key=lambda c: (not _equalities_hold(c), c["gap"], c["eq"]))[:1]
     # errors at the noise level (every candidate's): by their rms, the likelihood of Gaussian noise (sysid.relocation)
     key = "rms" if all(c.get("at_noise", False) and "rms" in c for c in pool) else "err"
     best_i = np.maximum(np.min([c[key] for c in pool], axis=0), np.finfo(float).tiny)
     pool.sort(key=lambda c: (float(np.max(c[key] / best_i)),) + candidate_score(c[key]))
-    if key == "rms" and all("between" in c for c in pool):
-        # rms errors within NOISE_RMS_TIE of the best explain the noisy samples equally well: the estimate between
-        # them (sysid.between) tells them apart
-        lead = float(np.max(pool[0]["rms"] / best_i))
-        tied = [c for c in pool if float(np.max(c["rms"] / best_i)) <= NOISE_RMS_TIE * lead]
-        tied.sort(key=lambda c: float(np.max(c["between"])))
-        pool = tied + pool[len(tied):]
+    if key == "rms":
+        pool = _tied_by_between(pool, best_i)
     return pool + [c for c in cands if not any(c is q for q in pool)]
+
+
+def _prefer_near(cands):
+    """Where admissible candidates are estimated far off between the samples (``c["far_between"]``,
+    :func:`sysid.relocation._fit_simo`), admit instead the candidates at the noise level without that fault whose
+    equalities hold, whose error is within :data:`NOISE_TRUST` of the best far one's and whose gain is admissible
+    or within :data:`NOISE_TRUST_GAP` of the gap bounds (the margin the noise-level rule allows); the far ones
+    stay admissible only where there is none."""
+    far = [c for c in cands if c["admissible"] and c.get("far_between", False)]
+    if not far:
+        return
+    e_far = min(float(np.max(c["err"])) for c in far)
+    near = [c for c in cands if c.get("at_noise", False) and "between" in c and not c["far_between"]
+            and _equalities_hold(c) and (c["admissible"] or c["gap"] <= NOISE_TRUST_GAP)
+            and float(np.max(c["err"])) < NOISE_TRUST * e_far]
+    if near:
+        for c in far:
+            c["admissible"] = False
+        for c in near:
+            c["admissible"] = True
+
+
+def _tied_by_between(pool, best_i):
+    """``pool`` (sorted by rms error ratio to ``best_i``) with the candidates whose rms errors are within
+    :data:`NOISE_RMS_TIE` of the leader's - they explain the noisy samples equally well - ordered by their
+    estimate between the samples (``c["between"]``; NaN last), when every one has it."""
+    if not all("between" in c for c in pool):
+        return pool
+    lead = float(np.max(pool[0]["rms"] / best_i))
+    tied = [c for c in pool if float(np.max(c["rms"] / best_i)) <= NOISE_RMS_TIE * lead]
+    tied.sort(key=lambda c: float(np.nan_to_num(np.max(c["between"]), nan=np.inf)))
+    return tied + pool[len(tied):]
 
 
 def _admit(cands, trust):

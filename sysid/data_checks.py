@@ -70,8 +70,11 @@ def check_weights(weights: Any, p: int, m: int, K: int, outputs: Sequence[str] |
     if weights is None:
         return None
     if np.iscomplexobj(weights):
-        raise FrequencyDataError("weights must be real and nonnegative (they multiply the squared residuals); got "
-                                 "complex values, whose imaginary part would be dropped")
+        wc = np.asarray(weights)
+        if np.abs(wc.imag).max(initial=0.0) > 1e-12 * np.abs(wc).max(initial=0.0):   # round-off, as check_constraint
+            raise FrequencyDataError("weights must be real and nonnegative (they multiply the squared residuals); "
+                                     "got complex values, whose imaginary part would be dropped")
+        weights = wc.real   # e.g. H * H.conj(): complex type, real values (to 1e-16)
     try:
         w = np.asarray(weights, dtype=float)
     except (TypeError, ValueError):

@@ -125,7 +125,7 @@ def history_errors(t, model: Mapping[str, Any], reference: Mapping[str, Any],
         ``outputs`` missing from either mapping, or (``outputs`` not given) no output in common.
     """
     for what, value in (("model", model), ("reference", reference)):
-        if not isinstance(value, Mapping):
+        if not (isinstance(value, Mapping) or (hasattr(value, "keys") and hasattr(value, "__getitem__"))):
             raise TimeDataError(f"{what} must be a mapping of output names to histories (e.g. {{'Cl': array}}), got "
                                 f"{type(value).__name__}")
     if outputs is None:

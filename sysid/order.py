@@ -229,11 +229,19 @@ def order_sweep(
     ------
     ArgumentTypeError, FrequencyGridError, FrequencyDataError
         Data :func:`sysid.identify` refuses (:func:`sysid.data_checks.check_fit_data`): not a
-        :class:`FrequencyResponse`, no ``T``, an output zero everywhere or of a magnitude whose squares overflow.
+        :class:`FrequencyResponse`, no ``T``, a ``T`` whose ``2 / T`` lies more than 100 times outside the data's
+        frequencies (:func:`sysid.grids.check_period_resolves`), a frequency twice, an output zero everywhere or
+        of a magnitude whose squares overflow.
     OrderError
         ``max_order`` beyond what the data support.
     OptionError
         ``holdout`` not a bool, ``holdout_tol`` / ``holdout_atol`` negative or not finite.
+
+    Warns
+    -----
+    RuntimeWarning
+        ``2 / T`` more than 10 times outside the data's frequencies (as :func:`sysid.identify` warns); no order
+        pinned down between the samples (module docstring).
     """
     t0 = time.perf_counter()
     check_fit_data(frf, "order_sweep")   # identify's checks: the sweep's errors were NaN where identify refuses

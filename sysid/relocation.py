@@ -57,7 +57,11 @@ steps live in :mod:`sysid.vector_fitting`, :mod:`sysid.pole_refinement`, :mod:`s
    its errors are at the noise level, 3 times below every bounded one's, and its gain at most twice the bounds
    (:data:`sysid.candidates.NOISE_TRUST`). The bounds allow for the samples' noise (:func:`gap_bounds`'
    ``noise``, from :func:`sysid.noise.noise_level`), and candidates at the noise level are ranked by their rms
-   error, not their largest (:func:`pick_candidates`).
+   error, not their largest (:func:`pick_candidates`). At the noise level each candidate also gets its
+   estimate between the samples (:func:`sysid.between.between_error`): where the best is estimated more than
+   ``BETWEEN_RATIO`` times further off between the samples than on them (mostly a resonance of a few hundredths of
+   a spacing that follows the noise at a sample or two), the floored pass runs too, and a candidate without that
+   fault whose error is within ``NOISE_TRUST`` of its own is taken instead.
 
 The entry point :func:`fit_relocated` runs them from several starting pole sets and picks, among the
 admissible candidates (equalities hold when the model is evaluated; gain within the gap bounds), the one
@@ -211,7 +215,8 @@ def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson,
     """One-input fit: poles relocated on all outputs, residues by convex fits. Returns the candidates (dicts
     with ``err``, ``eq`` and ``gap``, see :func:`pick_candidates`); with ``bound_gaps`` the leading ones that
     break the :func:`gap_bounds` get bounded minimax residues (:func:`sysid.candidates.bound_candidate_gaps`).
-    ``floored_next``: a floored pass follows when the best candidate breaks the gap bounds, so the minimax
+    ``floored_next``: a floored pass follows when the best candidate breaks the gap bounds (or is estimated far
+    off between the samples at the noise level), so the minimax
     residues are skipped where the best least-squares candidate breaks them by more than
     :data:`_FLOORED_SURE` (its minimax fit would be discarded)."""
     from .refit import fit_cd
@@ -356,8 +361,9 @@ def _fit_simo(omega, z, G, T, n, dc, ft, weights, starts, *, iterations, lawson,
         c["far_between"] = False
         if c["at_noise"]:
             c["rms"] = rms_errors(c["A"], c["B"], c["C"], c["D"], z, G, candidate_eig(c))
-            c["between"] = between = between_error(c["A"], c["B"], c["C"], c["D"], np.angle(z), G, readings)
-            c["far_between"] = bool(np.any((between > BETWEEN_RATIO * c["err"]) & (between > BETWEEN_MIN_ERROR)))
+            c["between"] = between_error(c["A"], c["B"], c["C"], c["D"], np.angle(z), G, readings)
+            c["far_between"] = bool(np.any((c["between"] > BETWEEN_RATIO * c["err"])
+                                           & (c["between"] > BETWEEN_MIN_ERROR)))
     return cands
 
 
@@ -423,8 +429,8 @@ def fit_relocated(omega, z, G, T, order, *, dc_gain=None, feedthrough=None, weig
         (default): run every stage, so the result does not depend on the machine's speed.
     effort : {"fast", "thorough"}
         How many candidates the fit builds (:data:`EFFORTS`). ``"fast"`` (default): the relocation from every
-        start, Gauss-Newton from the best, minimax residues for it; where the free poles break the gap bounds,
-        the floored pass starts from the first pass's three best candidates moved under the floor and gives
+        start, Gauss-Newton from the best, minimax residues for it; where the free poles break the gap bounds (or,
+        at the noise level, the best fit is estimated far off between the samples), the floored pass starts from the first pass's three best candidates moved under the floor and gives
         bounded minimax residues to its leading candidates until two meet the bounds. ``"thorough"``: Lawson
         iterations and Gauss-Newton from up to three starts, minimax residues for two candidates, bounded
         residues for three, and a floored pass relocated from every start again. Measured side by side with
@@ -508,8 +514,10 @@ def _fit_relocated(omega, z, G, T, order, *, dc_gain, feedthrough, weights, star
     omega = check_continuous_frequencies(omega)
     check_distinct(omega, "omega")
     if not normalised:
-        mismatch = np.abs(np.asarray(z, dtype=complex) - np.exp(1j * continuous_to_discrete(omega, T)))
-        if mismatch.max() > 1e-9:
+        # FrequencyResponse lets omega and omega_d disagree by rtol 1e-9 and atol 1e-12 (on omega_d): the same here
+        wd_of_omega = continuous_to_discrete(omega, T)
+        mismatch = np.abs(np.asarray(z, dtype=complex) - np.exp(1j * wd_of_omega)) / (1e-9 * wd_of_omega + 1e-12)
+        if mismatch.max() > 1.0:
             k = int(np.argmax(mismatch))
             raise FrequencyGridError(
                 f"z[{k}] = {complex(z[k]):.6g} is not the point of omega[{k}] = {omega[k]:.6g} with T = {T:g}: z must be "

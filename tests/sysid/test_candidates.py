@@ -6,8 +6,8 @@ import scipy.linalg
 from sysid_synth import LIGHT, freqresp
 
 from sysid import mckelvey_grid
-from sysid.candidates import (EQ_TOL, NOISE_TRUST, NOISE_TRUST_GAP, ROUNDOFF_TOL, channel_errors, check_equalities,
-                              gap_excess, pick_candidates, rms_errors, settle_equalities)
+from sysid.candidates import (EQ_TOL, NOISE_RMS_TIE, NOISE_TRUST, NOISE_TRUST_GAP, ROUNDOFF_TOL, channel_errors,
+                              check_equalities, gap_excess, pick_candidates, rms_errors, settle_equalities)
 from sysid.poles import balanced_coordinates, discrete_basis
 from sysid.residues import gap_bounds, minimax_cd
 
@@ -116,6 +116,36 @@ def test_pick_ranks_fits_at_the_noise_level_by_their_rms_error():
     assert pick_candidates([a, b])[0]["label"] == "b"
     a2, b2 = dict(a, at_noise=False), dict(b)
     assert pick_candidates([a2, b2])[0]["label"] == "a"
+
+
+def _noisy(label, err, gap, rms, between, far):
+    """A candidate at the noise level with its estimate between the samples (sysid.relocation._fit_simo)."""
+    return dict(_cand(label, [err], gap, True, rms=[rms]), between=np.array([between]), far_between=far)
+
+
+@pytest.mark.parametrize("near_err, near_rms, near_gap, taken", [
+    (0.005, 0.0021, 0.9, "near"),                   # as good on the samples: the fit that does not resonate
+    (0.012, 0.0030, 1.5, "near"),                   # 2.4x worse, over the bounds within the noise margin: still
+    (0.005 * NOISE_TRUST + 1e-4, 0.0030, 0.9, "far"),   # more than NOISE_TRUST times worse: the samples want the far one
+    (0.005, 0.0021, NOISE_TRUST_GAP + 0.1, "far"),  # far over the bounds: not a candidate either
+])
+def test_a_fit_estimated_far_off_between_the_samples_gives_way_to_one_that_is_not(near_err, near_rms, near_gap,
+                                                                                    taken):
+    # the first candidate follows the noise with a resonance between two samples (estimated 0.1 off there against
+    # 0.005 on them); the second explains the samples nearly as well without it
+    far = _noisy("far", 0.005, 0.9, 0.002, 0.1, True)
+    near = _noisy("near", near_err, near_gap, near_rms, 0.006, False)
+    assert pick_candidates([far, near], trust=100.0)[0]["label"] == taken
+
+
+def test_fits_that_explain_noisy_samples_equally_well_are_ordered_by_their_estimate_between_them():
+    # rms errors within NOISE_RMS_TIE of the best tie; the estimate between the samples decides among them, a NaN
+    # estimate last; a fit outside the tie stays behind whatever its estimate
+    a = _noisy("a", 0.005, 0.9, 0.0020, 0.030, False)
+    b = _noisy("b", 0.005, 0.9, 0.0021, 0.010, False)
+    c = _noisy("c", 0.005, 0.9, 0.0020 * NOISE_RMS_TIE * 1.01, 0.001, False)
+    d = _noisy("d", 0.005, 0.9, 0.0020, np.nan, False)
+    assert [x["label"] for x in pick_candidates([a, b, c, d])] == ["b", "a", "d", "c"]
 
 
 def test_rms_errors_are_relative_to_each_outputs_peak():

@@ -357,7 +357,7 @@ def test_a_pole_on_a_sample_point_off_z_1_is_a_typed_error(grid):
 
 
 @pytest.mark.parametrize("call, error, match", [
-    (lambda A, C, z, G: fit_bd(A, C, 2 * z, G), sysid.FrequencyGridError, r"is off the unit circle \(\|z\| = 2\)"),
+    (lambda A, C, z, G: fit_bd(A, C, 2 * z, G), sysid.FrequencyGridError, r"is off the unit circle by \+1 \(\|z\| - 1"),
     (lambda A, C, z, G: fit_bd(A, C, z, G, tol=-1.0), sysid.OptionError, "tol must be a finite number > 0"),
     (lambda A, C, z, G: fit_cd(A, C.T, z, G, tol=np.nan), sysid.OptionError, "tol must be a finite number > 0"),
     (lambda A, C, z, G: fit_alternating(A, C, z, G, rtol=np.nan), sysid.OptionError, "rtol must be a finite number >= 0"),

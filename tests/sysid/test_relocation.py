@@ -616,8 +616,7 @@ def test_two_inputs_one_output_fitted_through_the_transpose():
 
 
 @pytest.mark.parametrize("kw, error, match", [
-    # accepted before: the imaginary part of the weights dropped with a ComplexWarning, text a bare ValueError,
-    # z of other frequencies than omega fitted without a word
+    # the imaginary part of the weights was dropped with a ComplexWarning, text raised a bare ValueError
     (dict(weights=np.ones(33) * (1 + 1j)), FrequencyDataError, "weights must be real and nonnegative"),
     (dict(dc_gain=[["a"], ["b"]]), sysid.ConstraintError, r"dc_gain must be an array of real numbers of shape \(p, m\)"),
 ])
@@ -632,5 +631,23 @@ def test_identify_refuses_complex_weights_and_text_constraints(kw, error, match)
 def test_fit_relocated_refuses_points_z_of_other_frequencies_than_omega():
     wd, w = mckelvey_grid(32, 1.0)
     G = (1.0 / (np.exp(1j * wd) - 0.5)).reshape(1, 1, -1)
-    with pytest.raises(sysid.FrequencyGridError, match=r"z\[11\] = .* is not the point of omega\[11\] = 3.59626 with T = 1"):
+    with pytest.raises(sysid.FrequencyGridError, match=r"z\[1\] = .* is not the point of omega\[1\] = 0.294761 with T = 1"):
         fit_relocated(3 * w, np.exp(1j * wd), G, 1.0, 2)
+
+
+def test_fit_relocated_takes_z_and_omega_as_close_as_a_frequency_response_does():
+    # FrequencyResponse lets omega_d and omega disagree by rtol 1e-9 (on omega_d); so does fit_relocated
+    wd, w = mckelvey_grid(64, 1.0)
+    frf = FrequencyResponse((1.0 / (1j * w[:-1] + 1.0)).reshape(1, 1, -1), wd[:-1] * (1 + 9e-10), 1.0, omega=w[:-1])
+    assert identify(frf, 1, algorithm="relocation").max_error < 1e-6
+
+
+def test_complex_weights_of_zero_imaginary_part_are_taken():
+    # e.g. |H|^2 written as H * H.conj(): complex type, real values (as dc_gain takes them)
+    wd, _ = mckelvey_grid(32, 1.0)
+    H = (1.0 / (np.exp(1j * wd) - 0.5)).reshape(1, 1, -1)
+    frf = FrequencyResponse(H, wd, 1.0)
+    a = identify(frf, 1, stable=True, weights=(H * H.conj()).ravel())
+    b = identify(frf, 1, stable=True, weights=np.abs(H).ravel() ** 2)
+    # the two weights agree to round-off (1e-16 relative), the exact order-1 fit is well conditioned
+    np.testing.assert_allclose(a.matrices.A, b.matrices.A, rtol=1e-12)
