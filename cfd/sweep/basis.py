@@ -366,8 +366,8 @@ class SweepBasis:
         Raises
         ------
         LinearError
-            If ``omega`` is not a real number (complex, text, None, a bool) or ``n_moments`` is not an integer
-            >= 1.
+            If ``omega`` is not a real number (complex, text, None, a bool), is NaN, infinite or negative, or
+            ``n_moments`` is not an integer >= 1.
         """
         return self.add_shifts([omega], [n_moments])[0]
 
@@ -393,8 +393,8 @@ class SweepBasis:
         Raises
         ------
         LinearError
-            If a shift is not a real number (complex, text, None, a bool), before any factorisation, or
-            ``n_moments`` does not give one integer >= 1 per shift.
+            If a shift is not a real number (complex, text, None, a bool) or is NaN, infinite or negative, before
+            any factorisation, or ``n_moments`` does not give one integer >= 1 per shift.
         """
         given = list(omegas)
         omegas = [real_number(w) for w in given]
@@ -402,6 +402,10 @@ class SweepBasis:
             if v is None:   # float() kept a numpy complex's real part with only a ComplexWarning; text was parsed
                 raise LinearError(f"shift frequencies must be real numbers (U/c units, finite, >= 0); got "
                                   f"{kind_of(w)} {w!r:.80}")
+            if not (np.isfinite(v) and v >= 0.0):   # NaN and inf failed in SuperLU ("Factor is exactly
+                # singular"), a negative shift was factorised and kept
+                raise LinearError(f"shift frequencies must be finite and >= 0 (U/c units; the sweep's "
+                                  f"infinite frequency needs no shift); got {v!r}")
         counts = [self.n_moments if k is None else int(k) for k in (n_moments or [None] * len(omegas))]
         if any(k < 1 for k in counts) or len(counts) != len(omegas):
             raise LinearError(f"n_moments must give one integer >= 1 per shift; got {n_moments!r}")
@@ -507,14 +511,18 @@ class SweepBasis:
         Raises
         ------
         LinearError
-            If ``omega`` is not an array of real numbers (complex, text, None), ``gust`` is not a known method,
-            or the basis is empty.
+            If ``omega`` is not an array of real numbers (complex, text, None), holds NaN, infinite or negative
+            frequencies, ``gust`` is not a known method, or the basis is empty.
         """
         check_gust_method(gust)
         w = real_array(omega)   # None for text and None, and for complex (it lost its imaginary part)
         if w is None:
             raise LinearError(f"omega must be an array of real frequencies (U/c units, finite, >= 0); got "
                               f"{kind_of(omega)} {omega!r:.80}")
+        bad = w[~(np.isfinite(w) & (w >= 0.0))]   # NaN and inf gave outputs of 0 with only RuntimeWarnings
+        if bad.size:
+            raise LinearError(f"omega must be finite frequencies >= 0 (U/c units; cfd.sweep.fast_sweep takes inf, "
+                              f"the gust's feedthrough); got {bad[:5].tolist()}")
         if self.size == 0:
             raise LinearError("the sweep basis is empty; call add_shift first")
         t0 = time.perf_counter()

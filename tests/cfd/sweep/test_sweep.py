@@ -200,6 +200,24 @@ def test_add_shift_refuses_a_frequency_that_is_not_real(plate_basis, omega, kind
     assert plate_basis.shifts == shifts
 
 
+# Before: a NaN or infinite shift failed in SuperLU with a bare RuntimeError ("Factor is exactly singular"), a
+# negative one was factorised and kept; evaluate gave outputs of 0 at NaN and inf with only RuntimeWarnings.
+@pytest.mark.parametrize("omega", [np.nan, np.inf, -np.inf, -1.0, np.float32(-0.5)])
+def test_add_shift_refuses_a_frequency_that_is_not_finite_and_nonnegative(plate_basis, omega):
+    shifts, size = list(plate_basis.shifts), plate_basis.size
+    with pytest.raises(LinearError, match=r"shift frequencies must be finite and >= 0 .*got"):
+        plate_basis.add_shift(omega)
+    with pytest.raises(LinearError, match=r"shift frequencies must be finite and >= 0"):
+        plate_basis.add_shifts([0.9, omega])   # refused before the first shift is factorised
+    assert plate_basis.shifts == shifts and plate_basis.size == size
+
+
+@pytest.mark.parametrize("omega", [[0.5, np.nan], [np.inf], [0.1, -1.0]])
+def test_evaluate_refuses_frequencies_that_are_not_finite_and_nonnegative(plate_basis, omega):
+    with pytest.raises(LinearError, match=r"omega must be finite frequencies >= 0 .*got \["):
+        plate_basis.evaluate(omega)
+
+
 @pytest.mark.parametrize("convert", [lambda w: np.asarray(w, np.float32), lambda w: w.tolist()],
                          ids=["float32", "list"])
 def test_evaluate_takes_real_frequencies_of_any_real_type(plate_basis, convert):
