@@ -131,9 +131,13 @@ def signed_cell_areas(x, y) -> np.ndarray:
     Raises
     ------
     MeshError
-        If ``x`` or ``y`` is not an array of real numbers (complex, text, None).
+        If ``x`` or ``y`` is not an array of real numbers (complex, text, None), or they are not 2-D arrays of
+        the same shape.
     """
     x, y = _nodes("x", x), _nodes("y", y)
+    if x.ndim != 2 or x.shape != y.shape:   # 1-D or 0-D nodes raised a bare IndexError, 3-D gave (ni-1, nj-1, k)
+        raise MeshError(f"x and y must be 2-D arrays of node coordinates of the same shape (ni, nj); got shapes "
+                        f"{x.shape} and {y.shape}")
     # corners 1 = (i, j), 2 = (i+1, j), 3 = (i+1, j+1), 4 = (i, j+1): 0.5 (x3 - x1, y3 - y1) x (x4 - x2, y4 - y2)
     return 0.5 * ((x[1:, 1:] - x[:-1, :-1]) * (y[:-1, 1:] - y[1:, :-1])
                   - (x[:-1, 1:] - x[1:, :-1]) * (y[1:, 1:] - y[:-1, :-1]))
@@ -142,7 +146,7 @@ def signed_cell_areas(x, y) -> np.ndarray:
 def inverted_cells(x, y) -> np.ndarray:
     """Indices ``(i, j)`` of the cells of the node arrays ``x, y`` (shape (ni, nj)) whose signed area is not
     positive (inverted or degenerate), shape (k, 2), in row-major order; :class:`MeshError` as
-    :func:`signed_cell_areas` for nodes that are not real numbers."""
+    :func:`signed_cell_areas` for nodes that are not real numbers or not 2-D arrays of the same shape."""
     return np.argwhere(signed_cell_areas(x, y) <= 0.0)
 
 

@@ -43,6 +43,16 @@ def _lengths(name, value, what):
     return v
 
 
+def _positive(v, name, what):
+    """The float array ``v`` if every value is positive and finite, else :class:`MeshError` naming ``name`` (a
+    ``first`` of 0 or below, or NaN, gave the ratio 5 or 0.2 of the bisection's bounds without a word; a ``length``
+    of 0 or below gave points that do not increase; an infinite one NaN)."""
+    bad = v[~(np.isfinite(v) & (v > 0.0))]
+    if bad.size:
+        raise MeshError(f"{name} must be positive and finite ({what}); got {bad.ravel()[:5].tolist()}")
+    return v
+
+
 def _fraction(name, value, what):
     """``value`` as a float if it is a positive finite real number, else :class:`MeshError` naming ``name`` (a
     numpy complex lost its imaginary part with only a ``ComplexWarning``; a Python complex, text, None, 0 or a
@@ -86,11 +96,11 @@ def geometric_distribution(n, first, length):
     ------
     MeshError
         If ``n`` is not a whole number >= 1, or ``first`` or ``length`` is not real numbers (complex, text,
-        None).
+        None) or holds a value that is not positive and finite.
     """
     n = _intervals(n)
-    first = _lengths("first", first, "first interval, chords")
-    length = _lengths("length", length, "total length, chords")
+    first = _positive(_lengths("first", first, "first interval, chords"), "first", "first interval, chords")
+    length = _positive(_lengths("length", length, "total length, chords"), "length", "total length, chords")
     ratio = _solve_monotone(lambda r: first * _geometric_sum(r, n), length, 0.2, 5.0)
     k = np.arange(n + 1)
     frac = _geometric_sum(ratio[..., None], k) / _geometric_sum(ratio[..., None], n)

@@ -94,6 +94,21 @@ def test_cell_areas_refuse_nodes_that_are_not_real(function, which, make, kind):
         function(*args)
 
 
+# Before: 1-D or scalar nodes raised a bare IndexError, nodes of two shapes NumPy's broadcasting ValueError, and 3-D
+# nodes gave areas of shape (ni-1, nj-1, k) without a word.
+@pytest.mark.parametrize("function", [signed_cell_areas, inverted_cells])
+@pytest.mark.parametrize("make", [
+    pytest.param(lambda x, y: (x[:, 0], y[:, 0]), id="1-D"),
+    pytest.param(lambda x, y: (1.0, 2.0), id="scalars"),
+    pytest.param(lambda x, y: (x, y[:, :-1]), id="two-shapes"),
+    pytest.param(lambda x, y: (x[..., None], y[..., None]), id="3-D"),
+])
+def test_cell_areas_refuse_nodes_that_are_not_2d_arrays_of_one_shape(function, make):
+    with pytest.raises(MeshError, match=r"x and y must be 2-D arrays of node coordinates of the same shape "
+                                        r"\(ni, nj\); got shapes"):
+        function(*make(*_annulus(ni=5, nj=3)))
+
+
 def test_cell_areas_of_nodes_of_any_real_type_are_the_same():
     x, y = np.meshgrid([0.0, 1.0, 3.0], [0.0, 0.5, 2.0], indexing="ij")   # exact in float32 and as ints (x4)
     ref = signed_cell_areas(x, y)

@@ -53,6 +53,16 @@ def test_geometric_distribution_refuses_lengths_that_are_not_real(which, value, 
         geometric_distribution(5, **args)
 
 
+# Before: a first interval of 0 or below (or NaN) gave the bisection's bound 5 or 0.2 as the ratio and points that
+# ignore it, a length of 0 or below points that do not increase, an infinite length NaN; all without a word.
+@pytest.mark.parametrize("which", ["first", "length"])
+@pytest.mark.parametrize("value", [0.0, -0.1, np.nan, np.inf, np.array([0.1, 0.0])])
+def test_geometric_distribution_refuses_lengths_that_are_not_positive_and_finite(which, value):
+    args = {"first": 0.1, "length": 1.0, which: value}
+    with pytest.raises(MeshError, match=rf"{which} must be positive and finite \(.*chords\); got \["):
+        geometric_distribution(5, **args)
+
+
 @pytest.mark.parametrize("which", ["ds0", "ds1"])
 @pytest.mark.parametrize("value, kind", [(np.complex128(0.05 + 0.01j), "complex128"), (0.05 + 0j, "complex"),
                                          ("0.05", "str"), (None, "NoneType"), (0.0, "float"), (-0.05, "float"),
