@@ -7,8 +7,8 @@ per cell with ``p = (gamma - 1) (rho E - rho |u|^2 / 2)``.
 
 import numpy as np
 
-from .checks import kind_of, real_array
-from .errors import MeshError
+from .checks import kind_of, real_array, real_number
+from .errors import FlowConditionError, MeshError
 
 __all__ = ["primitives", "write_vtk"]
 
@@ -34,18 +34,22 @@ def primitives(q, mach, gamma=1.4):
     Raises
     ------
     MeshError
-        If ``q`` is not an array of real numbers (complex, text, None).
-    ValueError
-        If ``q``'s last axis is not 4, or ``mach`` is not positive.
+        If ``q`` is not an array of real numbers (complex, text, None), or its last axis is not 4.
+    FlowConditionError
+        If ``mach`` is not a positive finite real number.
     """
     q_given, q = q, real_array(q)   # None for text and None, and for complex (it lost its imaginary part)
     if q is None:
         raise MeshError(f"q must be an array of real conserved states (rho, rho u, rho v, rho E), shape (..., 4); "
                         f"got {kind_of(q_given)} {q_given!r:.80}")
-    if q.shape[-1] != 4:
-        raise ValueError(f"q must have a last axis of 4 (rho, rho u, rho v, rho E); got shape {q.shape}")
-    if not mach > 0:
-        raise ValueError(f"mach = {mach} must be positive")
+    if q.ndim == 0 or q.shape[-1] != 4:   # a plain ValueError before (a scalar q: a bare IndexError)
+        raise MeshError(f"q must have a last axis of 4 (rho, rho u, rho v, rho E), shape (..., 4); got shape "
+                        f"{q.shape}")
+    m = real_number(mach)
+    if m is None or not (np.isfinite(m) and m > 0):   # text raised a bare TypeError, NaN a plain ValueError
+        raise FlowConditionError(f"mach must be a positive finite real number (the free-stream Mach number); got "
+                                 f"{kind_of(mach)} {mach!r:.80}")
+    mach = m
     rho = q[..., 0]
     vel = q[..., 1:3] / rho[..., None]
     p = (gamma - 1.0) * (q[..., 3] - 0.5 * rho * np.sum(vel**2, axis=-1))

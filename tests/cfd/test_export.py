@@ -2,7 +2,7 @@ import meshio
 import numpy as np
 import pytest
 
-from cfd import MeshError, c_grid, naca
+from cfd import FlowConditionError, MeshError, c_grid, naca
 from cfd.export import primitives, write_vtk
 
 
@@ -86,6 +86,20 @@ def test_primitives_refuse_states_that_are_not_real(make, kind):
     q = freestream((3, 2), 0.5, 1.0)
     with pytest.raises(MeshError, match=f"q must be an array of real conserved states.*got {kind}"):
         primitives(make(q), 0.5)
+
+
+# Before: a q whose last axis is not 4 raised a plain ValueError (a scalar q a bare IndexError), a mach given as text
+# a bare TypeError, a NaN or negative one a plain ValueError.
+@pytest.mark.parametrize("q", [np.ones((3, 3)), np.ones(5), np.float64(1.0)], ids=["(3, 3)", "(5,)", "scalar"])
+def test_primitives_refuse_states_without_a_last_axis_of_4(q):
+    with pytest.raises(MeshError, match=r"q must have a last axis of 4 .*got shape"):
+        primitives(q, 0.5)
+
+
+@pytest.mark.parametrize("mach", [0.0, -0.5, np.nan, np.inf, "0.5", None, 0.5j])
+def test_primitives_refuse_a_mach_that_is_not_positive_and_finite(mach):
+    with pytest.raises(FlowConditionError, match="mach must be a positive finite real number"):
+        primitives(freestream((3, 2), 0.5, 1.0), mach)
 
 
 @pytest.mark.parametrize("make, kind", NOT_REAL)
