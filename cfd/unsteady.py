@@ -319,12 +319,13 @@ def unsteady_response(sol, gust, dt, t_end, method="svm", x_ref=0.0, *, rtol=1e-
     Raises
     ------
     UnsteadyError
-        Unknown method, not a gust, bad ``dt`` or ``t_end``, more than ``cfd.ltd.MAX_STEPS`` steps (refused before
-        any work, as the LTD), a gust that passes in fewer than ``cfd.gust.MIN_GUST_STEPS`` steps, a ``krylov``
-        that is not a bool, a ``progress`` that is not callable, a negative ``log_interval``, snapshots of more than
-        :data:`MAX_SNAPSHOT_BYTES` or at times outside ``[0, t_end]``, a non-finite ``x_ref``, a setting out of
-        range (``rtol``, ``atol`` negative; ``max_iter``, ``max_refactor`` not whole numbers; ``stall_ratio`` outside
-        (0, 1]; a limit or ``steady_tol`` not positive; any of them NaN), a non-converged ``sol``.
+        Unknown method, not a gust, bad ``dt`` or ``t_end``, more than ``cfd.ltd.MAX_STEPS`` steps or a ``t_end`` beyond
+        ``cfd.ltd.MAX_TIME`` (refused before any work, as the LTD), a gust that passes in fewer than
+        ``cfd.gust.MIN_GUST_STEPS`` steps, a ``krylov`` that is not a bool, a ``progress`` that is not callable, a
+        negative ``log_interval``, snapshots of more than :data:`MAX_SNAPSHOT_BYTES` or at times outside ``[0, t_end]``,
+        a non-finite ``x_ref``, a setting out of range (``rtol``, ``atol`` negative; ``max_iter``, ``max_refactor`` not
+        whole numbers; ``stall_ratio`` outside (0, 1]; a limit or ``steady_tol`` not positive; any of them NaN), a
+        non-converged ``sol``.
     UnsteadyStepError
         A step did not converge (``.partial`` holds the history so far); subclasses
         :class:`NonPhysicalStateError` (non-positive density or pressure) and :class:`LocalMachError`.

@@ -57,7 +57,8 @@ from ..motion import motion_forcing
 from .radau import RADAU_C, dense_weights, radau_transform, stability_function
 
 __all__ = ["LTDHistory", "ltd_response", "ltd_responses", "phase_error_estimate", "check_march", "SCHEMES",
-           "RADAU_STEP", "radau_substeps", "radau_steps", "gust_frequency", "check_scheme", "MAX_STEPS", "check_times"]
+           "RADAU_STEP", "radau_substeps", "radau_steps", "gust_frequency", "check_scheme", "MAX_STEPS", "MAX_TIME",
+           "check_times"]
 
 log = logging.getLogger(__name__)
 
@@ -126,10 +127,12 @@ def phase_error_estimate(gust, dt, scheme="bdf2", step=None):
     check_scheme(scheme)
     w = gust_frequency(gust)
     if scheme == "bdf2":
-        return (w * dt) ** 2 / 3.0
+        wdt = w * dt
+        return wdt * wdt / 3.0   # inf, not OverflowError, for an absurd dt (``** 2`` of a float raised one at 1e300)
     wh = w * radau_substeps(dt, step) * dt
     R = stability_function(1j * wh)
-    return abs(complex(np.log(abs(R)), float(np.angle(R))) / (1j * wh) - 1.0)
+    with np.errstate(divide="ignore"):   # R = 0 (L-stable) at an absurd step: an error of inf, without a warning
+        return abs(complex(np.log(abs(R)), float(np.angle(R))) / (1j * wh) - 1.0)
 
 
 def check_scheme(scheme, dt=None, step=None):
@@ -184,9 +187,17 @@ histories are marched in pieces, each from the last state of the one before (``i
 limit, ``studies.schema.MAX_STEPS``, is the same number (a test checks it)."""
 
 
+MAX_TIME = 1e6
+"""Latest convective time one march reaches (``t_end``): the gust's face averages are differences of its
+antiderivative at ``x - x0 - s``, which keep fewer of the grid's digits as ``s`` grows (a sharp-edged gust on the
+test grid: the loads off by 5e-9 at ``s = 1e6``, 7 % at 1e15, zero at 1e18 and beyond, all without a word). The
+paper's march ends at 40; a gust has long passed the aerofoil after a few hundred chords."""
+
+
 def check_times(dt, t_end, error=LinearError):
     """``(dt, t_end)`` as floats, checked for every time march (LTD, coupled, nonlinear) before any work: ``dt``
-    positive and finite, ``t_end`` finite and at least ``dt``, at most :data:`MAX_STEPS` steps; else ``error``."""
+    positive and finite, ``t_end`` finite, at least ``dt`` and at most :data:`MAX_TIME`, at most :data:`MAX_STEPS`
+    steps; else ``error``."""
     dt, t_end = real_number(dt), real_number(t_end)   # None for a bool and for text (dt="0.1" was parsed)
     if dt is None or t_end is None:
         raise error("dt and t_end must be real numbers (convective time)")
@@ -198,6 +209,10 @@ def check_times(dt, t_end, error=LinearError):
         raise error(f"t_end / dt = {t_end:g} / {dt:g} = {t_end / dt:.3g} steps, more than cfd.ltd.MAX_STEPS = "
                           f"{MAX_STEPS:.0e}: check dt (convective time, c / U; the paper's step is 0.02), or march a "
                           "longer history in pieces, each from the state the last one ended in (initial=)")
+    if t_end > MAX_TIME:   # an absurd dt (1e300) marched a sharp-edged gust to zero loads without a word
+        raise error(f"t_end = {t_end:g} (convective time) is beyond cfd.ltd.MAX_TIME = {MAX_TIME:.0e}: there the "
+                    f"gust's position x - x0 - s keeps too few of the grid's digits for its face averages; check dt "
+                    f"(= {dt:g}; convective time, c / U; the paper's step is 0.02) and t_end (the paper's is 40)")
     return dt, t_end
 
 
@@ -409,7 +424,9 @@ def _radau(lin, gusts, t, method, initial, moves, m, stage_times, clock):
     forces = [f.b0 - lin.apply_jacobian(s) for (f, _, _), s in zip(moves, shifts)]
     # at rest before s = 0 (x = 0 there): p starts at q, and a jump of x at s = 0 is an impulsive start
     q = np.zeros((lin.n, g)) if initial is None else np.asarray(initial[-1], dtype=float).reshape(lin.n, 1).copy()
-    W = dense_weights(np.arange(1, m + 1) / m)          # (m, 4): output points inside a step
+    # (min(m, n), 4): the output points inside a step that the march uses (all m of them built before: a dt of
+    # 1e-300 asked for 1e299 rows, a bare ValueError "Maximum allowed size exceeded")
+    W = dense_weights(np.arange(1, min(m, n) + 1) / m)
     Y = np.zeros((n + 1, 3, g))
     Y[0] = lin.C @ q
     y_n = Y[0]
@@ -670,9 +687,9 @@ def ltd_response(lin, gust, dt, t_end, method="svm", x_ref=0.0, initial=None, ma
     Raises
     ------
     LinearError
-        Non-positive or non-finite ``dt``, ``t_end < dt``, more than :data:`MAX_STEPS` steps, a gust that passes
-        in fewer than :data:`cfd.gust.MIN_GUST_STEPS` steps (its samples could all miss it), unknown method or
-        scheme, not a gust, neither a gust nor a motion, a ``progress`` that is not callable, a negative
+        Non-positive or non-finite ``dt``, ``t_end < dt`` or beyond :data:`MAX_TIME`, more than :data:`MAX_STEPS` steps,
+        a gust that passes in fewer than :data:`cfd.gust.MIN_GUST_STEPS` steps (its samples could all miss it), unknown
+        method or scheme, not a gust, neither a gust nor a motion, a ``progress`` that is not callable, a negative
         ``log_interval``, a motion history of the wrong length or with non-finite values, a non-finite pivot or
         ``x_ref``, a ``max_phase_error`` that is not a positive number, a Radau step that is not a positive whole
         multiple of ``dt``, an ``initial`` that is not a pair of finite real states of shape (4N,), ``lin`` not a

@@ -189,11 +189,11 @@ def coupled_ltd(lin, gust, dt, t_end, *, mass, stiffness, load, pivot, damping=N
     Raises
     ------
     LinearError
-        Not a gust, bad ``dt`` or ``t_end`` (more than ``cfd.ltd.MAX_STEPS`` steps included), a gust that passes in
-        fewer than ``cfd.gust.MIN_GUST_STEPS`` steps, unknown method, a matrix that is not a finite (2, 2) array, a
-        ``mass`` that is not positive definite (negative or zero), a non-finite pivot or ``x_ref``, a singular
-        coupled step (e.g. a damping of ``-1.5 mass / dt`` with ``stiffness`` and ``load`` zero), or ``lin`` not a
-        ``LinearSystem``.
+        Not a gust, bad ``dt`` or ``t_end`` (more than ``cfd.ltd.MAX_STEPS`` steps or beyond ``cfd.ltd.MAX_TIME``
+        included), a gust that passes in fewer than ``cfd.gust.MIN_GUST_STEPS`` steps, unknown method, a matrix that is
+        not a finite (2, 2) array, a ``mass`` that is not positive definite (negative or zero), a non-finite pivot or
+        ``x_ref``, a singular coupled step (e.g. a damping of ``-1.5 mass / dt`` with ``stiffness`` and ``load`` zero),
+        or ``lin`` not a ``LinearSystem``.
 
     Notes
     -----

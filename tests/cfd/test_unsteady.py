@@ -232,6 +232,15 @@ def test_the_step_count_is_limited_before_any_work(coarse, monkeypatch):
         unsteady_response(coarse, gust(1.0), 1.0, float(MAX_STEPS + 1))
 
 
+# Before: t_end = 1e301 (dt = 1e300) failed in the phase-error estimate with a bare OverflowError; the LTD's
+# Radau IIA march at such times gave zero loads without a word (the gust's face averages are round-off there).
+@pytest.mark.parametrize("dt, t_end", [(1e300, 1e301), (1e5, 2e6)])
+def test_a_march_beyond_max_time_is_refused_before_any_work(coarse, monkeypatch, dt, t_end):
+    monkeypatch.setattr("cfd.unsteady.residual", lambda *a, **k: (_ for _ in ()).throw(AssertionError("work done")))
+    with pytest.raises(UnsteadyError, match=r"t_end = .* is beyond cfd.ltd.MAX_TIME = 1e\+06: .*check dt"):
+        unsteady_response(coarse, SharpEdged(angle_deg=1.0, x0=-1.0), dt, t_end)
+
+
 @pytest.mark.parametrize("kwargs, match", [
     (dict(gust=OneMinusCosine(length=2.0, angle_deg=1.0), dt=5.0), r"passes a point in 0.4 time steps of dt = 5, "
                                                                    r"fewer than 2 .*Use dt <= 1 "),

@@ -1,6 +1,7 @@
 """cfd.ltd: BDF2 time marching against the LFD solution of the same equations."""
 
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -167,6 +168,41 @@ def test_bad_input_and_phase_warning(lin):
     assert phase_error_estimate(g, 0.1) == pytest.approx((2 * np.pi * 0.1) ** 2 / 3)
     with pytest.warns(RuntimeWarning, match="phase"):
         ltd_response(lin, g, 0.2, 0.4)
+
+
+# Before: dt = 1e300 (BDF2) raised a bare OverflowError in phase_error_estimate; with Radau IIA (and with BDF2 once
+# that was mended) the sharp-edged gust's face averages were round-off there and the loads zero, with only the
+# phase warning. Now t_end beyond cfd.ltd.MAX_TIME is refused before any work.
+@pytest.mark.parametrize("march, scheme", [("ltd_response", "bdf2"), ("ltd_response", "radau5"),
+                                           ("ltd_responses", "bdf2"), ("ltd_responses", "radau5"),
+                                           ("coupled_ltd", "bdf2")])   # coupled_ltd marches BDF2 only
+@pytest.mark.parametrize("dt, t_end", [(1e300, 1e301), (1e5, 2e6)])
+def test_a_march_beyond_max_time_is_refused(lin, march, scheme, dt, t_end):
+    from cfd import coupled_ltd
+
+    g = SharpEdged(angle_deg=1.0, x0=-1.0)
+    call = {"ltd_response": lambda: ltd_response(lin, g, dt, t_end, scheme=scheme),
+            "ltd_responses": lambda: ltd_responses(lin, [g], dt, t_end, scheme=scheme),
+            "coupled_ltd": lambda: coupled_ltd(lin, g, dt, t_end, mass=np.eye(2), stiffness=np.eye(2),
+                                               load=np.eye(2), pivot=0.25)}[march]
+    with pytest.raises(LinearError, match=r"t_end = .* is beyond cfd.ltd.MAX_TIME = 1e\+06: .*check dt"):
+        call()
+
+
+def test_phase_error_of_an_absurd_step_is_inf_without_an_error_or_a_warning():
+    g = SharpEdged(angle_deg=1.0, x0=-1.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert phase_error_estimate(g, 1e300) == np.inf      # an OverflowError before
+        assert phase_error_estimate(g, 1e300, "radau5") == np.inf   # a RuntimeWarning of log(0) before
+
+
+# Before: a Radau IIA march with dt = 1e-300 built the dense-output weights of all 1e299 output points of a step:
+# a bare ValueError "Maximum allowed size exceeded". The weights of the points the march uses are the same.
+def test_radau_with_a_tiny_dt_marches_the_few_steps_asked_for(lin):
+    g = SharpEdged(angle_deg=1.0, x0=-1.0)
+    h = ltd_response(lin, g, 1e-300, 5e-300, scheme="radau5")
+    assert h.t.size == 6 and np.all(np.isfinite(h.cl))
 
 
 def test_flat_plate_sharp_edged_gust_against_compressible_kussner():
