@@ -372,11 +372,10 @@ def solve_steady(grid, mach, alpha_deg, *, gamma=1.4, tol=1e-10, scheme=None, q0
     def norm(R):
         return float(np.sqrt(np.sum(R * R)))
 
-    def fail(why):
+    def fail(why, advice="Try a smaller cfl0, more RK steps (n_rk) or a finer / smoother grid."):
         raise ConvergenceError(
             f"steady solve at M={mach}, alpha={alpha_deg} deg failed: {why}; residual history has "
-            f"{len(history)} entries (last {history[-1]:.3e}). Try a smaller cfl0, more RK steps (n_rk) or a "
-            "finer / smoother grid.",
+            f"{len(history)} entries (last {history[-1]:.3e}). {advice}",
             history=np.array(history),
         )
 
@@ -417,7 +416,9 @@ def solve_steady(grid, mach, alpha_deg, *, gamma=1.4, tol=1e-10, scheme=None, q0
                 R = residual(grid, q, flow, scheme=scheme)
             history.append(norm(R))
             if not (np.isfinite(history[-1]) and _positive(q, gamma)):
-                fail(f"Runge-Kutta steps diverged at step {it + 1}")
+                # the advice was the Newton stage's (a smaller cfl0) also when cfl_rk = 1e6 diverged at step 1
+                fail(f"Runge-Kutta steps diverged at step {it + 1} (cfl_rk = {cfl_rk:g})",
+                     "Try a smaller cfl_rk (default 2.5) or a finer / smoother grid.")
             if history[-1] <= target:
                 break
         return q, R

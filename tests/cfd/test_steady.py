@@ -1,3 +1,5 @@
+import re
+
 import numpy as np
 import pytest
 
@@ -155,6 +157,15 @@ def test_divergence_raises_instead_of_returning_nan(grid0012):
     with pytest.raises(ConvergenceError, match="diverged") as err:
         cfd.solve_steady(grid0012, 0.8, 1.25, cfl_rk=50.0)
     assert err.value.history.size >= 1
+
+
+@pytest.mark.parametrize("cfl_rk", [50.0, 1e6])
+def test_a_diverging_runge_kutta_start_names_cfl_rk(grid0012, cfl_rk):
+    # the advice was the Newton stage's, "Try a smaller cfl0", also when cfl_rk diverged at the first step
+    match = r"Runge-Kutta steps diverged at step \d+ \(cfl_rk = " + re.escape(f"{cfl_rk:g})") + r".*smaller cfl_rk"
+    with pytest.raises(ConvergenceError, match=match) as err:
+        cfd.solve_steady(grid0012, 0.8, 1.25, cfl_rk=cfl_rk, n_rk=20)
+    assert "cfl0" not in str(err.value) and err.value.history.size >= 2
 
 
 @pytest.mark.slow
