@@ -229,6 +229,9 @@ def _preflight(config: StudyConfig, *, report=None, prose=None, force_page: bool
                     (folder / "figures", "report's figures folder", "give another --page or --out")]
     folders.extend(extra)
     for where, what, fix in folders:
+        if Path(where).resolve().parent == Path(where).resolve():   # --out / or --store / (the study file refuses it)
+            _err(f"{where}: the {what} would be the filesystem root; {fix}")
+            return EXIT_UNAVAILABLE
         try:
             probe_writable(where, what=what, fix=fix)
         except NotWritableError as e:

@@ -165,6 +165,18 @@ def test_rom_validation(argv, match, capsys, fake_modules):
     assert fake_modules.calls == []
 
 
+@pytest.mark.parametrize("command, flag, what", [("run", "--out", "output folder"), ("run", "--store", "results store"),
+                                                  ("report", "--out", "report page's folder")])
+def test_run_and_report_refuse_the_filesystem_root_as_out_or_store(command, flag, what, capsys, fake_modules):
+    # the study file's checks refuse output = "/" and store = "/"; --out / and --store / replaced them afterwards
+    # (lfdrom report only reads the store: --store / finds nothing there and says the store is incomplete)
+    fake_modules("studies.run.runner", "run_study")
+    assert run([command, str(STUDIES / "demo.toml"), flag, "/", "--quiet"]) == commands.EXIT_UNAVAILABLE
+    assert re.search(rf"^lfdrom: error: /: the {what} would be the filesystem root; give another",
+                     capsys.readouterr().err.strip())
+    assert fake_modules.calls == []
+
+
 def test_rom_one_point_study(tmp_path, fake_modules):
     fake_modules("studies.run.runner", "run_study")
     # the fake runner stores nothing: no ROM to export is an incomplete run (exit 3), not a success
