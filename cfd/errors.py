@@ -71,6 +71,30 @@ class LocalMachError(UnsteadyStepError):
     """The local Mach number exceeded ``max_local_mach``: a shock stronger than the study means to resolve."""
 
 
+class SolveInterrupted(KeyboardInterrupt):
+    """A steady solve (:func:`cfd.solve_steady`) was interrupted (Ctrl-C, or a ``KeyboardInterrupt`` raised by its
+    ``progress`` callback): the interrupt propagates (``except KeyboardInterrupt`` still catches it) and carries
+    the last state the solve accepted, from which ``solve_steady(..., q0=e.q)`` goes on (to the same tolerance: it
+    is measured from the free stream's residual whatever the start).
+
+    Attributes
+    ----------
+    q : ndarray, shape (ni-1, nj-1, 4)
+        The last accepted state: the start, the state after the Runge-Kutta start, or after the last accepted
+        Newton or chord step (a Runge-Kutta escape under way is not kept).
+    history : ndarray
+        Residual norm per accepted step up to the interrupt.
+    newton_steps : int
+        Newton steps taken.
+    """
+
+    def __init__(self, message, q=None, history=None, newton_steps=0):
+        super().__init__(message)
+        self.q = q
+        self.history = history
+        self.newton_steps = newton_steps
+
+
 class MarchInterrupted(KeyboardInterrupt):
     """A time march (:func:`cfd.unsteady_response`, :func:`cfd.ltd_response`, :func:`cfd.ltd_responses`) was
     interrupted (Ctrl-C, or a ``KeyboardInterrupt`` raised by its ``progress`` callback): the interrupt propagates

@@ -50,7 +50,7 @@ import scipy.sparse as sp
 from .checks import (callback, flag, kind_of, log_interval as check_log_interval, not_a_grid, real_array,
                      real_number, whole_number)
 from .superlu import splu_nested, splu_pivoted
-from .errors import ConvergenceError, FlowConditionError, MeshError
+from .errors import ConvergenceError, FlowConditionError, MeshError, SolveInterrupted
 from .euler import DEFAULT_SCHEME, Scheme, residual as _euler_residual, spectral_radius_sum
 from .flow import LOW_MACH, NON_PHYSICAL, FlowCondition, is_physical, primitive
 from .jacobian import jacobian
@@ -313,6 +313,10 @@ def solve_steady(grid, mach, alpha_deg, *, gamma=1.4, tol=1e-10, scheme=None, q0
     ConvergenceError
         If the iteration diverges (non-finite or non-physical state) or stalls before ``tol``; carries
         ``.history``.
+    SolveInterrupted
+        A ``KeyboardInterrupt`` (Ctrl-C, or raised by ``progress``) during the solve: re-raised as this subclass of
+        ``KeyboardInterrupt``, carrying the last accepted state ``.q`` (``solve_steady(..., q0=e.q)`` goes on from
+        it) and ``.history``.
     """
     flow = FlowCondition(mach, alpha_deg, gamma)
     gamma = flow.gamma  # the checked float (FlowCondition accepts any real number, e.g. numpy scalars)
@@ -423,115 +427,123 @@ def solve_steady(grid, mach, alpha_deg, *, gamma=1.4, tol=1e-10, scheme=None, q0
                 break
         return q, R
 
-    # 1. Runge-Kutta start.
-    if n_rk > 0:
-        t0 = time.perf_counter()
-        q, R = rk_steps(q, n_rk)
-        info["t_rk"] += time.perf_counter() - t0
-        report(0, cfl_rk)
-
-    # 2. Newton with pseudo-transient continuation.
-    perm = unknown_permutation(nested_dissection(grid))
-    rn = history[-1]
-    r_ref = rn
-    cfl = cfl0
     n_newton = 0
-    n_escape = 0
-    n_rk_escape = 100
-    J = None
-    solve = None
-    while history[-1] > target:
-        if n_newton >= max_newton:
-            fail(f"no convergence in {max_newton} Newton steps")
-        n_newton += 1
-        t0 = time.perf_counter()
-        if J is None:
-            J = jacobian(grid, q, flow, scheme=scheme)
-            info["t_jacobian"] += time.perf_counter() - t0
-            info["n_jacobian"] += 1
-        t1 = time.perf_counter()
-        d = (area / (cfl / spectral_radius_sum(grid, q, flow))[..., None]) if np.isfinite(cfl) else 0 * area
-        d = np.broadcast_to(d, q.shape).ravel()
-        solve = None  # the previous factors go before the next ones are built (one factor less at the peak)
-        solve, fill = factorise(J + sp.diags(d), perm)
-        t2 = time.perf_counter()
-        dq = -solve(R.ravel()).reshape(q.shape)
-        info["t_factor"] += t2 - t1
-        info["t_solve"] += time.perf_counter() - t2
-        info["n_factor"] += 1
-        info["n_solve"] += 1
-        info["fill"] = fill
-        # Limit the relative change of density and pressure per step (robust continuation through
-        # the shock transient); a full step is a Newton step.
-        rho, _, _, p = primitive(q, gamma)
-        rho_n, _, _, p_n = primitive(q + dq, gamma)
-        change = max(np.max(np.abs(rho_n - rho) / rho), np.max(np.abs(p_n - p) / p))
-        step = min(1.0, max_change / change) if change > 0 else 1.0
-        for _ in range(3 if chord else 1):
-            qn = q + step * dq
-            ok = _positive(qn, gamma)
-            if ok:
-                Rn = residual(grid, qn, flow, scheme=scheme)
-                rn = norm(Rn)
-                ok = np.isfinite(rn) and rn < max_rise * history[-1]
-            if ok:
-                break
-            step *= 0.25  # chord strategy: backtrack along the same direction before a new factorisation
-        if verbose:
-            print(f"newton {n_newton:3d}  cfl {cfl:9.3g}  step {step:5.3f}  |R| {rn if ok else np.nan:.3e}  "
-                  f"fill {fill:.1f}{'' if ok else '  rejected'}")
-        cfl_step = cfl
-        if not ok:
-            # Reject: same state and Jacobian, smaller pseudo-time step.
-            cfl *= 0.25
-            if cfl < cfl_min:
-                # Escape: explicit steps from the current state, then restart the continuation.
-                n_escape += 1
-                if n_escape > 3:
-                    fail(f"the pseudo-time step fell below cfl = {cfl_min} without an admissible step, "
-                         "three times")
-                q, R = rk_steps(q, n_rk_escape)
-                J, cfl, r_ref = None, cfl0, history[-1]
+    try:
+        # 1. Runge-Kutta start.
+        if n_rk > 0:
+            t0 = time.perf_counter()
+            q, R = rk_steps(q, n_rk)
+            info["t_rk"] += time.perf_counter() - t0
+            report(0, cfl_rk)
+
+        # 2. Newton with pseudo-transient continuation.
+        perm = unknown_permutation(nested_dissection(grid))
+        rn = history[-1]
+        r_ref = rn
+        cfl = cfl0
+        n_newton = 0
+        n_escape = 0
+        n_rk_escape = 100
+        J = None
+        solve = None
+        while history[-1] > target:
+            if n_newton >= max_newton:
+                fail(f"no convergence in {max_newton} Newton steps")
+            n_newton += 1
+            t0 = time.perf_counter()
+            if J is None:
+                J = jacobian(grid, q, flow, scheme=scheme)
+                info["t_jacobian"] += time.perf_counter() - t0
+                info["n_jacobian"] += 1
+            t1 = time.perf_counter()
+            d = (area / (cfl / spectral_radius_sum(grid, q, flow))[..., None]) if np.isfinite(cfl) else 0 * area
+            d = np.broadcast_to(d, q.shape).ravel()
+            solve = None  # the previous factors go before the next ones are built (one factor less at the peak)
+            solve, fill = factorise(J + sp.diags(d), perm)
+            t2 = time.perf_counter()
+            dq = -solve(R.ravel()).reshape(q.shape)
+            info["t_factor"] += t2 - t1
+            info["t_solve"] += time.perf_counter() - t2
+            info["n_factor"] += 1
+            info["n_solve"] += 1
+            info["fill"] = fill
+            # Limit the relative change of density and pressure per step (robust continuation through
+            # the shock transient); a full step is a Newton step.
+            rho, _, _, p = primitive(q, gamma)
+            rho_n, _, _, p_n = primitive(q + dq, gamma)
+            change = max(np.max(np.abs(rho_n - rho) / rho), np.max(np.abs(p_n - p) / p))
+            step = min(1.0, max_change / change) if change > 0 else 1.0
+            for _ in range(3 if chord else 1):
+                qn = q + step * dq
+                ok = _positive(qn, gamma)
+                if ok:
+                    Rn = residual(grid, qn, flow, scheme=scheme)
+                    rn = norm(Rn)
+                    ok = np.isfinite(rn) and rn < max_rise * history[-1]
+                if ok:
+                    break
+                step *= 0.25  # chord strategy: backtrack along the same direction before a new factorisation
+            if verbose:
+                print(f"newton {n_newton:3d}  cfl {cfl:9.3g}  step {step:5.3f}  |R| {rn if ok else np.nan:.3e}  "
+                      f"fill {fill:.1f}{'' if ok else '  rejected'}")
+            cfl_step = cfl
+            if not ok:
+                # Reject: same state and Jacobian, smaller pseudo-time step.
+                cfl *= 0.25
+                if cfl < cfl_min:
+                    # Escape: explicit steps from the current state, then restart the continuation.
+                    n_escape += 1
+                    if n_escape > 3:
+                        fail(f"the pseudo-time step fell below cfl = {cfl_min} without an admissible step, "
+                             "three times")
+                    q, R = rk_steps(q, n_rk_escape)
+                    J, cfl, r_ref = None, cfl0, history[-1]
+                report(n_newton, cfl_step)
+                continue
+            ratio = rn / history[-1]
+            if step == 1.0 and ratio < 1.0:
+                cfl = min(max(growth * cfl, cfl0 * (r_ref / rn) ** 1.5), 10.0 * cfl, cfl_max)
+            elif step < 1.0 and ratio > 1.0:
+                cfl = max(0.5 * cfl, cfl_min)
+            elif step == 1.0:
+                cfl = min(1.25 * cfl, cfl_max)  # a transient may raise the residual: keep moving in pseudo-time
+            q, R, J = qn, Rn, None
+            history.append(rn)
+            if chord and ratio < 1.0:
+                # Chord (modified Newton) steps with the frozen factorisation while they converge fast: each
+                # costs one back-substitution and one residual.
+                n_c = 0
+                while history[-1] > target and n_c < max_chord:
+                    t2 = time.perf_counter()
+                    dq = -solve(R.ravel()).reshape(q.shape)
+                    info["t_solve"] += time.perf_counter() - t2
+                    info["n_solve"] += 1
+                    qn = q + dq
+                    rho_n, _, _, p_n = primitive(qn, gamma)
+                    rho, _, _, p = primitive(q, gamma)
+                    if not (_positive(qn, gamma) and max(np.max(np.abs(rho_n - rho) / rho),
+                                                         np.max(np.abs(p_n - p) / p)) <= max_change):
+                        break
+                    Rn = residual(grid, qn, flow, scheme=scheme)
+                    rn = norm(Rn)
+                    if not (np.isfinite(rn) and rn < history[-1]):
+                        break
+                    n_c += 1
+                    info["n_chord"] += 1
+                    r_prev = history[-1]
+                    q, R = qn, Rn
+                    history.append(rn)
+                    if verbose:
+                        print(f"chord  {n_c:3d}  |R| {rn:.3e}  ratio {rn / r_prev:.3f}")
+                    if rn > chord_ratio * r_prev:
+                        break
             report(n_newton, cfl_step)
-            continue
-        ratio = rn / history[-1]
-        if step == 1.0 and ratio < 1.0:
-            cfl = min(max(growth * cfl, cfl0 * (r_ref / rn) ** 1.5), 10.0 * cfl, cfl_max)
-        elif step < 1.0 and ratio > 1.0:
-            cfl = max(0.5 * cfl, cfl_min)
-        elif step == 1.0:
-            cfl = min(1.25 * cfl, cfl_max)  # a transient may raise the residual: keep moving in pseudo-time
-        q, R, J = qn, Rn, None
-        history.append(rn)
-        if chord and ratio < 1.0:
-            # Chord (modified Newton) steps with the frozen factorisation while they converge fast: each
-            # costs one back-substitution and one residual.
-            n_c = 0
-            while history[-1] > target and n_c < max_chord:
-                t2 = time.perf_counter()
-                dq = -solve(R.ravel()).reshape(q.shape)
-                info["t_solve"] += time.perf_counter() - t2
-                info["n_solve"] += 1
-                qn = q + dq
-                rho_n, _, _, p_n = primitive(qn, gamma)
-                rho, _, _, p = primitive(q, gamma)
-                if not (_positive(qn, gamma) and max(np.max(np.abs(rho_n - rho) / rho),
-                                                     np.max(np.abs(p_n - p) / p)) <= max_change):
-                    break
-                Rn = residual(grid, qn, flow, scheme=scheme)
-                rn = norm(Rn)
-                if not (np.isfinite(rn) and rn < history[-1]):
-                    break
-                n_c += 1
-                info["n_chord"] += 1
-                r_prev = history[-1]
-                q, R = qn, Rn
-                history.append(rn)
-                if verbose:
-                    print(f"chord  {n_c:3d}  |R| {rn:.3e}  ratio {rn / r_prev:.3f}")
-                if rn > chord_ratio * r_prev:
-                    break
-        report(n_newton, cfl_step)
+
+    except KeyboardInterrupt as e:   # Ctrl-C or the progress callback: keep what was accepted
+        raise SolveInterrupted(
+            f"steady solve at M={mach}, alpha={alpha_deg} deg interrupted after {n_newton} Newton steps (residual "
+            f"{history[-1]:.3e}, target {target:.1e}); continue with solve_steady(..., q0=e.q)",
+            q=q.copy(), history=np.array(history), newton_steps=n_newton) from e
 
     info["newton_steps"] = n_newton
     info["wall_time"] = time.perf_counter() - t_start

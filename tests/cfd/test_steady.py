@@ -273,6 +273,26 @@ def test_a_far_field_close_to_the_section_is_reported(grid0012):
             cfd.solve_steady(near, 0.5, 2.0, max_newton=0, n_rk=0)
 
 
+@pytest.mark.parametrize("stop_at", [0, 3])   # after the Runge-Kutta start; after the third Newton step
+def test_an_interrupted_solve_keeps_its_state_and_goes_on_from_it(grid0012, stop_at):
+    # Ctrl-C (here: the progress callback) lost the whole solve before; now the interrupt carries the last
+    # accepted state, and a solve from it reaches the same tolerance (measured from the free stream's residual)
+    # and the same flow as one never interrupted
+    full = cfd.solve_steady(grid0012, 0.5, 2.0, tol=1e-10)
+
+    def stop(step, *_):
+        if step == stop_at:
+            raise KeyboardInterrupt
+
+    with pytest.raises(cfd.SolveInterrupted, match=r"interrupted after \d+ Newton steps.*q0=e\.q") as e:
+        cfd.solve_steady(grid0012, 0.5, 2.0, tol=1e-10, progress=stop)
+    assert isinstance(e.value, KeyboardInterrupt) and e.value.newton_steps == stop_at
+    assert e.value.q.shape == grid0012.cell_shape + (4,) and len(e.value.history) > stop_at + 1
+    again = cfd.solve_steady(grid0012, 0.5, 2.0, tol=1e-10, q0=e.value.q)
+    assert again.converged and again.history[-1] <= 1e-10 * full.history[0]
+    assert again.cl == pytest.approx(full.cl, abs=1e-8) and again.cm == pytest.approx(full.cm, abs=1e-8)
+
+
 def test_a_progress_that_is_not_callable_is_refused_before_any_work(grid0012):
     # it failed with Python's TypeError after the Runge-Kutta start
     with pytest.raises(FlowConditionError, match=r"progress must be a callable or None; got int 3"):
