@@ -33,7 +33,8 @@ The module paths of the flat package before this layout (``cfd.mesh_metrics``, `
 """
 
 from .legacy import install as _install_legacy_paths
-from .errors import ConvergenceError, FlowConditionError, GeometryError, MarchInterrupted, MeshError, SolveInterrupted
+from .errors import (ConvergenceError, FlowConditionError, GeometryError, MarchInterrupted, MeshError,
+                     SolveInterrupted, SweepInterrupted)
 from .mesh.geometry import Aerofoil, TabulatedAerofoil, naca, naca64a010
 from .mesh import Grid, GridQuality, c_grid, grid_from_nodes, grid_quality
 from .mesh.presets import GRID_PRESETS, preset_grid
@@ -57,7 +58,7 @@ _install_legacy_paths()
 __all__ = [
     "ConvergenceError", "FlowConditionError", "GeometryError", "MeshError", "AnalyticError", "GustError",
     "GustPositionError", "LinearError", "LocalMachError", "NonPhysicalStateError", "UnsteadyError",
-    "UnsteadyStepError", "MarchInterrupted", "SolveInterrupted",
+    "UnsteadyStepError", "MarchInterrupted", "SolveInterrupted", "SweepInterrupted",
     "Aerofoil", "TabulatedAerofoil", "naca", "naca64a010",
     "Grid", "GridQuality", "c_grid", "grid_from_nodes", "grid_quality", "GRID_PRESETS", "preset_grid",
     "FlowCondition", "conserved", "primitive", "Scheme", "residual", "jacobian", "force_coefficients", "wall_cp",

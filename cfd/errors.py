@@ -95,6 +95,22 @@ class SolveInterrupted(KeyboardInterrupt):
         self.newton_steps = newton_steps
 
 
+class SweepInterrupted(KeyboardInterrupt):
+    """A fast frequency sweep (:func:`cfd.sweep.fast_sweep`, :func:`cfd.lfd_response` with the fast path) was
+    interrupted (Ctrl-C, or a ``KeyboardInterrupt`` raised by its ``progress`` callback): the interrupt propagates
+    and carries the reduced basis with every factorisation made so far, from which ``fast_sweep(..., basis=e.basis)``
+    goes on (a basis grows in place; its factorisations are the sweep's cost).
+
+    Attributes
+    ----------
+    basis : cfd.sweep.SweepBasis
+    """
+
+    def __init__(self, message, basis=None):
+        super().__init__(message)
+        self.basis = basis
+
+
 class MarchInterrupted(KeyboardInterrupt):
     """A time march (:func:`cfd.unsteady_response`, :func:`cfd.ltd_response`, :func:`cfd.ltd_responses`) was
     interrupted (Ctrl-C, or a ``KeyboardInterrupt`` raised by its ``progress`` callback): the interrupt propagates

@@ -58,6 +58,7 @@ from ..frequencies import check_motion_frequencies, check_pivot, check_tol, chec
 from ..linear import LinearError, check_gust_method, check_linear_system, check_outputs
 from ..motion import check_inputs
 from ..checks import whole_number
+from ..errors import SweepInterrupted
 from .basis import SAFETY, SweepBasis, face_gust_vector, gust_operator  # noqa: F401
 from .workers import shift_workers
 
@@ -240,6 +241,9 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
     LinearError
         Bad tolerance, ``workers``, frequencies (``inf`` with a motion input), gust, input or output names, a
         basis of another system, or ``lin`` not a ``LinearSystem``.
+    SweepInterrupted
+        A ``KeyboardInterrupt`` (Ctrl-C, or raised by ``progress``) during the sweep: re-raised as this subclass of
+        ``KeyboardInterrupt``, carrying ``.basis`` with every factorisation made (``basis=e.basis`` goes on).
 
     Warns
     -----
@@ -298,6 +302,11 @@ def fast_sweep(lin, omega, gust="svm", outputs=("Cl", "Cm"), tol=1e-8, max_shift
         try:
             y, est, res, ratio, missed, why = _greedy(basis, wf, gust, x_ref, inputs, pivot, caches, sel, tol,
                                                       max_shifts, pool, progress, log_interval, t_start)
+        except KeyboardInterrupt as e:   # Ctrl-C or the progress callback: the factorisations made are kept
+            raise SweepInterrupted(
+                f"fast_sweep interrupted with {len(basis.shifts)} shifted factorisations in its basis (size "
+                f"{basis.size}); continue with fast_sweep(..., basis=e.basis) (or lfd_response(..., basis=e.basis))",
+                basis=basis) from e
         finally:
             if pool is not None:
                 pool.close()

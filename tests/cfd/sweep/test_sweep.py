@@ -13,6 +13,7 @@ sys.path.append(str(Path(__file__).parents[1]))  # tests/cfd: flowgrids
 
 from flowgrids import parabolic_c_grid  # noqa: E402
 
+import cfd  # noqa: E402
 import sysid  # noqa: E402
 from cfd import gust as cgust  # noqa: E402
 from cfd import solve_steady  # noqa: E402
@@ -290,6 +291,29 @@ def test_fast_options_are_the_keywords_fast_sweep_takes_beyond_lfd_response():
 
     own = set(inspect.signature(lfd_response).parameters)
     assert set(FAST_OPTIONS) == set(inspect.signature(fast_sweep).parameters) - own
+
+
+def test_an_interrupted_sweep_keeps_its_factorisations_and_goes_on_from_them(plate):
+    # Ctrl-C (here: the progress callback, after the second shift) lost every factorisation before; now the
+    # interrupt carries the basis, and a sweep from it gives the uninterrupted sweep's response
+    grid_w = sysid.mckelvey_grid(M, T)
+
+    def stop(basis, worst, failing):
+        if len(basis.shifts) == 2:
+            raise KeyboardInterrupt
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        full = fast_sweep(plate, grid_w, tol=1e-8, n_moments=3, max_shifts=12)
+        with pytest.raises(cfd.SweepInterrupted, match=r"2 shifted factorisations .*basis=e\.basis") as e:
+            fast_sweep(plate, grid_w, tol=1e-8, n_moments=3, max_shifts=12, progress=stop)
+        kept = list(e.value.basis.shifts)
+        assert isinstance(e.value, KeyboardInterrupt) and len(kept) == 2
+        again = fast_sweep(plate, grid_w, tol=1e-8, n_moments=3, max_shifts=10, basis=e.value.basis)
+    # the two factorisations are not made again; the sweep meets its tolerance from there, and both responses are
+    # within it of each other (each estimated within 1e-8 of the exact one, relative to the output's scale)
+    assert again.metadata["shifts"][:2] == kept and again.metadata["tol_met"] and full.metadata["tol_met"]
+    np.testing.assert_allclose(again.H, full.H, rtol=0, atol=1e-7 * np.abs(full.H).max())
 
 
 def test_progress_reports_every_shift_and_changes_nothing(plate, caplog):
