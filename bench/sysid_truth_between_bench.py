@@ -6,7 +6,8 @@ Run: ``python bench/sysid_truth_between_bench.py`` (about a minute on the 2-core
 ``10 + seed``), one line per fit and the median ratio per row, of the max errors between the samples and of the
 RMS errors over the dense points. ``--estimate``: the default fits of the 12-state rows of seeds 1 - 21 at orders
 8, 12 and 16, the estimate of their error between the samples against the truth, and the distribution of that
-truth (a few minutes; ``--last-seed 60 --orders 10,12,14,16`` for seeds 1 - 60 at those orders).
+truth (a few minutes; ``--last-seed 60 --orders 10,12,14,16`` for seeds 1 - 60 at those orders; ``--rows
+"sears 1 %"`` or ``--rows "order 4"`` for other noisy rows, by the start of their names).
 
 Data (McKelvey's grid, M = 64 intervals, T = 1, so 65 samples with omega = 0 and inf; the truth on 7999 points of
 ``omega_d`` strictly between 0 and pi, i.e. about 125 per interval):
@@ -132,15 +133,16 @@ def over_seeds(seeds):
               f"default closer at {sum(x < 1 for x in q)} of {len(q)}")
 
 
-def estimate_against_truth(seeds, orders=(8, 12, 16)):
+def estimate_against_truth(seeds, orders=(8, 12, 16), rows=("12 states",)):
     """The estimate of the error between the samples (``result.between_error``, no truth used) against the true
-    max error between them, for the default fits of the noisy 12-state rows at ``orders``: one line per realisation
-    and the counts of fits whose estimate is within a factor 2 of the truth, more than 2 times above it and more
-    than 2 times below it."""
+    max error between them, for the default fits of the noisy rows whose names start with one of ``rows`` (the
+    12-state ones by default) at ``orders``: one line per realisation, the counts of fits whose estimate is within a
+    factor 2 of the truth, more than 2 times above it and more than 2 times below it, and the distribution of the
+    truth."""
     log_ratios, truths = [], []
     for seed in seeds:
         for name, G, truth in cases(seed):
-            if not name.startswith("12 states"):
+            if not name.startswith(tuple(rows)):
                 continue
             frf = sysid.FrequencyResponse(G, WD, 1.0, outputs=["y"], inputs=["u"])
             peak = np.abs(G).max()
@@ -174,7 +176,9 @@ def main():
         last = int(sys.argv[sys.argv.index("--last-seed") + 1]) if "--last-seed" in sys.argv else 21
         orders = ((8, 12, 16) if "--orders" not in sys.argv
                   else tuple(int(x) for x in sys.argv[sys.argv.index("--orders") + 1].split(",")))
-        estimate_against_truth(range(1, last + 1), orders)
+        rows = (("12 states",) if "--rows" not in sys.argv
+                else tuple(sys.argv[sys.argv.index("--rows") + 1].split(",")))
+        estimate_against_truth(range(1, last + 1), orders, rows)
         return
 
     rows = ["| data | order (sweep) | default: samples | default: between (truth) | default: estimate | "
