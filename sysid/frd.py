@@ -28,7 +28,8 @@ import numpy as np
 
 from .arrays import read_only
 from .errors import ArgumentTypeError, FrequencyDataError, FrequencyGridError, FrequencyIndexError
-from .grids import GRID_RTOL, check_period, continuous_to_discrete, discrete_to_continuous, mckelvey_grid
+from .grids import (GRID_RTOL, check_period, continuous_to_discrete, discrete_to_continuous, mckelvey_grid,
+                    real_frequencies)
 from .state_space import shifted_solve
 
 __all__ = ["FrequencyResponse", "mckelvey_grid", "discrete_to_continuous", "continuous_to_discrete"]  # (the last three
@@ -70,13 +71,7 @@ def _as_freq(x: Any, name: str, K: int) -> np.ndarray:
     """Coerce a frequency vector to a float (K,) array; NaN is refused, inf is left to the caller."""
     if np.ndim(x) > 1:
         raise FrequencyGridError(f"{name} must be 1-D, got shape {np.shape(x)}")
-    if np.iscomplexobj(x):
-        raise FrequencyGridError(f"{name} must be real frequencies; got complex values (the imaginary part would be "
-                                 "dropped): pass the frequencies, not s = i omega")
-    try:
-        arr = np.array(x, dtype=float).reshape(-1)
-    except (TypeError, ValueError):
-        raise FrequencyGridError(f"{name} must be a 1-D array of real frequencies, got {x!r}") from None
+    arr = real_frequencies(x, name, allow_nan=True).copy()   # a copy: the caller's array is not held
     if arr.shape[0] != K:
         raise FrequencyDataError(
             f"{name} has {arr.shape[0]} frequencies but H has K={K} (H.shape[2]); give one frequency per sample"
