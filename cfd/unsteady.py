@@ -533,6 +533,10 @@ class _March:
             x = q
         F, r = evaluate(x)
         norms = [r]
+        if not math.isfinite(r):   # NaN > target is False: the step was accepted at its predictor, NaN and all
+            self._fail(NonPhysicalStateError, k, s, norms,
+                       "the residual at the step's predictor is not finite (the gust's forcing or the state "
+                       "overflowed); reduce the amplitude or dt")
         # Round-off level of F: its largest term is the mass term 3 V x / (2 h).
         roundoff = 16.0 * np.finfo(float).eps * float(np.linalg.norm(1.5 * self.V * x / self.h))
         target = max(self.rtol * r, self.floor, roundoff)

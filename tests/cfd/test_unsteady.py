@@ -148,6 +148,26 @@ def test_non_physical_state_is_a_typed_error_naming_step_and_amplitude(coarse):
         unsteady_response(coarse, g, 0.2, 4.0, max_phase_error=np.inf, max_local_mach=np.inf, separation_mach=np.inf)
 
 
+def test_a_residual_that_is_not_finite_at_a_step_is_a_typed_error(coarse, monkeypatch):
+    # a NaN residual at a step's predictor (an overflowed forcing) compared False with the target and the step was
+    # taken as converged, NaN and all; now NonPhysicalStateError names the step, with the history before it
+    import cfd.unsteady as unsteady
+
+    real = unsteady._March._forcing
+
+    def nan_like(v):
+        return tuple(nan_like(x) for x in v) if isinstance(v, (tuple, list)) else np.asarray(v) * np.nan
+
+    def forcing(self, s):   # the gust's face velocities overflow from s = 1 on
+        out = real(self, s)
+        return nan_like(out) if s >= 1.0 else out
+
+    monkeypatch.setattr(unsteady._March, "_forcing", forcing)
+    with pytest.raises(NonPhysicalStateError, match=r"step 10 \(s = 1\) .* residual at the step's predictor is not finite") as e:
+        unsteady_response(coarse, gust(1.0), 0.1, 2.0, max_phase_error=1.0)
+    assert e.value.partial is not None and np.all(np.isfinite(e.value.partial.cl))
+
+
 def test_non_converged_steady_solution_is_refused(coarse):
     rng = np.random.default_rng(0)
     rough = replace(coarse, q=coarse.q * (1.0 + 1e-6 * rng.normal(size=coarse.q.shape)))
