@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from .checks import real_values
 from .errors import FlightPointError, GustError
 
 __all__ = ["FlightPoint", "alleviation_factor", "check_point", "FT", "G0", "ALTITUDE_RANGE", "H_RANGE_FT",
@@ -292,14 +293,9 @@ def check_point(point: Any) -> FlightPoint:
 
 def _gradients(H_m: Any) -> np.ndarray:
     """``H_m`` as a float array of gust gradients (m), each finite and > 0, else :class:`GustError`."""
-    try:
-        H = np.asarray(H_m)
-        bad = H.dtype.kind not in "iuf"
-    except (TypeError, ValueError):
-        bad = True
-    if bad:
+    H = real_values(H_m)
+    if H is None:
         raise GustError(f"the gust gradient H_m must be a real number of metres or an array of them, got {H_m!r}")
-    H = H.astype(float)
     wrong = ~(np.isfinite(H) & (H > 0.0))
     if wrong.any():
         got = (repr(float(H)) if H.ndim == 0

@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from .atmosphere import FlightPoint, check_point
+from .checks import real_values
 from .errors import LoadsModelError
 
 __all__ = ["GustSystem", "gust_system", "moment_output_name", "moment_outputs", "check_moment_axes",
@@ -91,15 +92,11 @@ class GustSystem:
             ``omega`` not real numbers (a string gave a bare ValueError), or a NaN or inf among them (the response
             was NaN; at ``omega = inf`` it is the feedthrough ``d``).
         """
-        try:
-            w = np.asarray(omega)
-            bad = w.dtype.kind not in "iuf"
-        except (TypeError, ValueError):
-            bad = True
-        if bad:
+        w = real_values(omega)
+        if w is None:
             raise LoadsModelError(f"omega must be real convective frequencies (rad per c/U: a number or an array of "
                                   f"numbers), got {omega!r}")
-        w = w.astype(float).reshape(-1)
+        w = w.reshape(-1)
         if not np.all(np.isfinite(w)):
             raise LoadsModelError(f"omega must be finite (rad per c/U), got {np.count_nonzero(~np.isfinite(w))} NaN or "
                                   f"inf value(s) (first {float(w[~np.isfinite(w)][0])!r}); the response at omega = inf "

@@ -35,6 +35,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from .atmosphere import FT, FlightPoint, check_point
+from .checks import real_values
 from .errors import GustError, LoadsModelError, SpectrumError
 from .system import GustSystem, check_distinct_outputs, check_moment_axes, gust_system, moment_outputs
 
@@ -83,14 +84,8 @@ def von_karman(Omega: Any, L: float = SCALE_LENGTH) -> np.ndarray:
         real numbers, or NaN or inf (``Phi`` was NaN).
     """
     L = _check_scale("L", L)
-    try:
-        w = np.asarray(Omega)
-        bad = w.dtype.kind not in "iuf"
-        if not bad:
-            w = w.astype(float)
-    except (TypeError, ValueError):
-        bad = True
-    if bad:
+    w = real_values(Omega)
+    if w is None:
         raise GustError(f"Omega must be real spatial frequencies (rad/m: a number or an array of numbers), got "
                         f"{Omega!r}")
     if not np.all(np.isfinite(w)):

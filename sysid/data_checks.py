@@ -14,7 +14,7 @@ import numpy as np
 from .errors import ArgumentTypeError, ConstraintError, FrequencyDataError, FrequencyGridError, OptionError
 
 __all__ = ["check_weights", "check_constraint", "check_nonzero_outputs", "check_flag", "check_data_scale",
-           "check_fit_data", "MAX_DATA_SCALE"]
+           "check_fit_data", "check_tolerance", "MAX_DATA_SCALE"]
 
 MAX_DATA_SCALE = 1e150
 """Largest peak magnitude of an output (and ``1 / MAX_DATA_SCALE`` the smallest nonzero one) that the
@@ -32,6 +32,16 @@ def check_flag(value: Any, name: str) -> bool:
     if isinstance(value, (bool, np.bool_)):
         return bool(value)
     raise OptionError(f"{name} must be True or False, got {value!r}")
+
+
+def check_tolerance(value, name: str, *, positive: bool = True) -> float:
+    """``value`` as a float, or :class:`OptionError` naming ``name`` unless it is a finite number ``> 0`` (``>= 0``
+    when not ``positive``): ``tol=-1`` and ``rtol=nan`` were accepted by the refits, ``holdout_tol=nan`` by
+    ``order_sweep``."""
+    if isinstance(value, (bool, np.bool_)) or np.ndim(value) != 0 or np.asarray(value).dtype.kind not in "iuf" \
+            or not np.isfinite(value) or (value <= 0 if positive else value < 0):
+        raise OptionError(f"{name} must be a finite number {'> 0' if positive else '>= 0'}; got {value!r}.")
+    return float(value)
 
 
 def check_data_scale(H: Any, outputs: Sequence[str] | None = None) -> None:

@@ -33,8 +33,8 @@ import scipy.linalg
 
 from .arrays import freeze_array_fields
 from .between import BETWEEN_MIN_ERROR, BETWEEN_RATIO, between_error
-from .data_checks import check_fit_data, check_flag
-from .errors import OptionError, OrderError
+from .data_checks import check_fit_data, check_flag, check_tolerance
+from .errors import OrderError
 from .state_space import lstsq_bd_phi, modal_form, resolvent_C
 from .subspace import HankelSVD, hankel_svd
 
@@ -246,10 +246,8 @@ def order_sweep(
     t0 = time.perf_counter()
     check_fit_data(frf, "order_sweep")   # identify's checks: the sweep's errors were NaN where identify refuses
     check_flag(holdout, "holdout")
-    for name, v in (("holdout_tol", holdout_tol), ("holdout_atol", holdout_atol)):
-        if isinstance(v, (bool, np.bool_)) or np.ndim(v) != 0 or np.asarray(v).dtype.kind not in "iuf" \
-                or not (np.isfinite(v) and float(v) >= 0.0):
-            raise OptionError(f"{name} must be a finite number >= 0 (a tolerance of the hold-out rule), got {v!r}")
+    holdout_tol = check_tolerance(holdout_tol, "holdout_tol", positive=False)
+    holdout_atol = check_tolerance(holdout_atol, "holdout_atol", positive=False)
     if max_order is None:
         max_order = min(40, hankel_svd(frf, method=method, q=q, r=r).max_order)
     if isinstance(max_order, bool) or not isinstance(max_order, (int, np.integer)) or max_order < 1:

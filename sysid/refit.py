@@ -45,7 +45,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .arrays import freeze_array_fields
-from .data_checks import check_constraint, check_weights
+from .data_checks import check_constraint, check_tolerance, check_weights
 from .errors import ConstraintError, FrequencyDataError, FrequencyGridError, OptionError
 from .refit_solvers import clear_refit_cache, null_space_solve, reduce_regression, solve_compiled  # noqa: F401
 from .state_space import evaluate_ss, modal_form, resolvent_C
@@ -65,16 +65,6 @@ __all__ = [
 POLE_TOL = 1e-8
 #: Largest ``| |z| - 1 |`` of a sample point ``z = exp(1j omega_d)`` (round-off of the exponential is 1e-16).
 UNIT_CIRCLE_TOL = 1e-9
-
-
-def check_tolerance(value, name: str, *, positive: bool = True) -> float:
-    """``value`` as a float, or :class:`OptionError` naming ``name`` unless it is a finite number ``> 0`` (``>= 0``
-    when not ``positive``): ``tol=-1`` and ``rtol=nan`` were accepted, and made every fit need polishing or never
-    stop early."""
-    if isinstance(value, (bool, np.bool_)) or np.ndim(value) != 0 or np.asarray(value).dtype.kind not in "iuf" \
-            or not np.isfinite(value) or (value <= 0 if positive else value < 0):
-        raise OptionError(f"{name} must be a finite number {'> 0' if positive else '>= 0'}; got {value!r}.")
-    return float(value)
 
 
 # --------------------------------------------------------------------------------------------- results
